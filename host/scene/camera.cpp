@@ -1,0 +1,45 @@
+#include "scene/camera.h"
+
+#include <cmath>
+
+namespace zz {
+
+Camera Camera::look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov) {
+  Camera c;
+  c.position = eye;
+  c.forward = glm::normalize(target - eye);
+  c.right = glm::normalize(glm::cross(c.forward, up_hint));
+  c.up = glm::cross(c.right, c.forward);
+  c.yfov = yfov;
+  return c;
+}
+
+CameraRays::CameraRays(const Camera& camera, int width, int height) {
+  // The image plane at distance 1: half height tan(yfov/2); square pixels.
+  float half_h = std::tan(camera.yfov * 0.5f);
+  float pixel = 2.0f * half_h / float(height);
+  float half_w = pixel * float(width) * 0.5f;
+  origin = camera.position;
+  du = camera.right * pixel;
+  dv = -camera.up * pixel;
+  dir00 = camera.forward - camera.right * half_w + camera.up * half_h;
+}
+
+glm::vec3 CameraRays::direction(float px, float py) const {
+  // Same arithmetic as the packet path, so single rays and packets agree bit for bit.
+  float4 x, y, z;
+  directions4(float4(px), float4(py), x, y, z);
+  return {x[0], y[0], z[0]};
+}
+
+void CameraRays::directions4(float4 px, float4 py, float4& dx, float4& dy, float4& dz) const {
+  float4 x = float4(dir00.x) + px * float4(du.x) + py * float4(dv.x);
+  float4 y = float4(dir00.y) + px * float4(du.y) + py * float4(dv.y);
+  float4 z = float4(dir00.z) + px * float4(du.z) + py * float4(dv.z);
+  float4 inv_len = rcp_exact(sqrt(x * x + y * y + z * z));
+  dx = x * inv_len;
+  dy = y * inv_len;
+  dz = z * inv_len;
+}
+
+}  // namespace zz

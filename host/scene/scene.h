@@ -1,0 +1,62 @@
+// The scene as the renderer sees it: flat world-space triangle arrays (3 vertices per
+// triangle, no index buffer, so the BVH, the raster pass and the shader share one
+// triangle numbering), materials, textures, lights, cameras and render settings.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene/camera.h"
+#include "scene/lights.h"
+#include "scene/materials.h"
+#include "scene/texture.h"
+
+namespace zz {
+
+// The effects a scene calls for; the shader specialises on it so that a scene without
+// lights spawns no shadow ray and one without glass runs no refraction code.
+struct EffectSet {
+  bool shadows = false;      // any light
+  bool reflection = false;   // any material with a mirror component
+  bool refraction = false;   // any transmissive material
+  bool absorption = false;   // any transmissive material with volume attenuation
+  bool textures = false;     // any sampled texture
+  bool emission = false;     // any emissive material
+
+  std::vector<std::string> names() const;  // e.g. {"shadows", "reflection"}
+};
+
+struct Scene {
+  std::string name;
+
+  // Triangle t has vertices positions[3t .. 3t+2] (world space).
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;     // shading normals, 3 per triangle (world space, unit)
+  std::vector<glm::vec2> uvs;         // 3 per triangle (zero when the mesh has none)
+  std::vector<uint32_t> material_of;  // 1 per triangle, index into materials
+
+  std::vector<Material> materials;
+  std::vector<WhittedMaterial> whitted;  // 1 per material, from whitted_from_gltf
+  std::vector<Texture> textures;
+  std::vector<Light> lights;
+  std::vector<Camera> cameras;  // at least one after loading
+
+  glm::vec3 background{0.0f};
+  float exposure = 1.0f;
+  int max_depth = 2;  // trace depth: 1 = primary rays only (plus shadows)
+  int default_width = 512;
+  int default_height = 512;
+
+  // Load-time bookkeeping, reported in stats.
+  size_t dropped_degenerate = 0;
+
+  size_t triangle_count() const { return material_of.size(); }
+  // Fill `whitted` from `materials`; call after editing materials.
+  void finalize_materials();
+  EffectSet effects() const;
+};
+
+}  // namespace zz
