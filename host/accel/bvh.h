@@ -10,6 +10,7 @@
 #include <span>
 #include <vector>
 
+#include "accel/bvh_node.h"
 #include "accel/ray.h"
 #include "core/simd.h"
 
@@ -41,13 +42,13 @@ class Bvh {
   size_t triangle_count() const;
   bool empty() const { return triangle_count() == 0; }
 
-  struct Node;
-  struct TriangleData;
+  using Node = BvhNode;
+  using TriangleData = BvhTriangle;
 
  private:
-  std::vector<Node> nodes_;              // opaque layout, defined in bvh.cpp
-  std::vector<TriangleData> triangles_;  // reordered, precomputed for the kernel
-  std::vector<uint32_t> prim_ids_;       // original triangle index per slot
+  std::vector<Node> nodes_;              // depth-first, siblings adjacent; [0] = root
+  std::vector<TriangleData> triangles_;  // leaf order; carries the original index
+  size_t triangle_count_ = 0;            // input triangles, degenerate ones included
 };
 
 }  // namespace zz

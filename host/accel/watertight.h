@@ -1,0 +1,117 @@
+// Watertight ray/triangle intersection (Woop, Benthin & Wald, "Watertight Ray/Triangle
+// Intersection", JCGT 2(1), 2013), written once as a template over the lane type:
+// F = float for single rays, F = float4 for 4-ray packets. Both instantiations execute
+// the same IEEE operations in the same order (no FMA: -ffp-contract=off), so a lane of a
+// packet and the single ray it came from produce bit-identical t, u, v.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cmath>
+#include <cstdint>
+
+#include "core/simd.h"
+
+namespace zz::watertight {
+
+// Scalar counterparts of the float4 helpers so the template reads the same for both.
+inline bool any(bool m) { return m; }
+inline float select(bool m, float a, float b) { return m ? a : b; }
+inline bool lane(bool m, int) { return m; }
+inline bool lane(mask4 m, int i) { return m[i]; }
+inline bool any(mask4 m) { return m.any(); }
+inline float get(float f, int) { return f; }
+inline float get(float4 f, int i) { return f[i]; }
+inline void set(float& f, int, float x) { f = x; }
+inline void set(float4& f, int i, float x) {
+  alignas(16) float a[4];
+  f.store(a);
+  a[i] = x;
+  f = float4::load(a);
+}
+
+// Per-ray constants of the paper's Section 3 (Figure 1, first block): kz is the
+// dimension where |dir| is largest, kx/ky the other two, swapped when dir[kz] < 0 to
+// keep the triangle's winding; S shears the ray onto +z with unit length.
+struct RayShear {
+  int kx, ky, kz;
+  float sx, sy, sz;
+  bool valid;  // false for NaN/inf/zero directions: such rays never hit
+};
+
+inline RayShear make_shear(glm::vec3 d) {
+  RayShear s{};
+  float ax = std::fabs(d.x), ay = std::fabs(d.y), az = std::fabs(d.z);
+  s.kz = (ax > ay) ? (ax > az ? 0 : 2) : (ay > az ? 1 : 2);
+  s.kx = s.kz == 2 ? 0 : s.kz + 1;
+  s.ky = s.kx == 2 ? 0 : s.kx + 1;
+  if (d[s.kz] < 0.0f) std::swap(s.kx, s.ky);
+  s.sx = d[s.kx] / d[s.kz];
+  s.sy = d[s.ky] / d[s.kz];
+  s.sz = 1.0f / d[s.kz];
+  // A NaN component fails every comparison above, so test the results, not d.
+  s.valid = std::isfinite(s.sx) && std::isfinite(s.sy) && std::isfinite(s.sz) &&
+            std::isfinite(d.x) && std::isfinite(d.y) && std::isfinite(d.z);
+  return s;
+}
+
+// The paper's double-precision fallback (Section 3, "if U, V or W is exactly 0"): products
+// of two floats are exact in double, so the sign of the 2x2 determinant is exact too.
+inline void edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u,
+                         float& v, float& w) {
+  u = float(double(cx) * double(by) - double(cy) * double(bx));
+  v = float(double(ax) * double(cy) - double(ay) * double(cx));
+  w = float(double(bx) * double(ay) - double(by) * double(ax));
+}
+
+template <class F>
+struct Result {
+  decltype(F() < F()) hit;
+  F t, u, v;  // u, v: barycentrics of vertices 1 and 2
+};
+
+// The triangle's vertices relative to the ray origin, already permuted: a* = A[kx],
+// A[ky], A[kz] and so on. sx, sy, sz from RayShear. Returns the hit mask for 0 <= t and
+// a non-degenerate, not-missed triangle; the caller compares t against its tmax.
+template <class F>
+inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F cky, F ckz, F sx,
+                           F sy, F sz) {
+  // Shear and scale the vertices into ray space (Eq. 1 of the paper, x and y only).
+  F ax = akx - sx * akz, ay = aky - sy * akz;
+  F bx = bkx - sx * bkz, by = bky - sy * bkz;
+  F cx = ckx - sx * ckz, cy = cky - sy * ckz;
+  // Scaled barycentrics: 2D edge functions of the ray (the origin of ray space).
+  F u = cx * by - cy * bx;
+  F v = ax * cy - ay * cx;
+  F w = bx * ay - by * ax;
+  F zero(0.0f);
+  auto on_edge = (u == zero) | (v == zero) | (w == zero);
+  if (any(on_edge)) {
+    // Rare (rays through edges/vertices): redo those lanes exactly enough in double.
+    for (int i = 0; i < int(sizeof(F) / sizeof(float)); ++i) {
+      if (!lane(on_edge, i)) continue;
+      float uu, vv, ww;
+      edges_double(get(ax, i), get(ay, i), get(bx, i), get(by, i), get(cx, i), get(cy, i), uu, vv,
+                   ww);
+      set(u, i, uu);
+      set(v, i, vv);
+      set(w, i, ww);
+    }
+  }
+  auto negative = (u < zero) | (v < zero) | (w < zero);
+  auto positive = (u > zero) | (v > zero) | (w > zero);
+  F det = u + v + w;
+  // Hit z of ray space, scaled by det (the paper's T; two-sided, no culling).
+  F t_scaled = u * (sz * akz) + v * (sz * bkz) + w * (sz * ckz);
+  F rcp = F(1.0f) / det;
+  Result<F> r;
+  r.t = t_scaled * rcp;
+  r.u = v * rcp;
+  r.v = w * rcp;
+  // Outside when the signs are mixed; det == 0 means a degenerate projection.
+  auto mixed = negative & positive;
+  r.hit = (!mixed) & (det != zero) & (r.t >= zero);
+  return r;
+}
+
+}  // namespace zz::watertight
