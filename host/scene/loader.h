@@ -18,7 +18,13 @@ struct LoadOptions {
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 
+// A camera that frames the bounding sphere of the scene's triangles, looking from the
+// front (+Z), slightly right and above; used when neither the rig nor the model has one.
+Camera auto_camera(const Scene& scene, float yfov = 0.8f);
+
 // Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs).
+// Appends triangles, materials, textures, lights and cameras (all moved by `transform`);
+// does not finalize materials nor add an auto camera.
 void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::mat4& transform,
                     const LoadOptions& options);
 

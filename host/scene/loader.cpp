@@ -1,0 +1,277 @@
+// load_scene(): dispatch by extension, the JSON scene rig (format in scenes/README.md),
+// and the automatic framing camera.
+#include "scene/loader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <initializer_list>
+#include <limits>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+// ---- strict JSON field access: wrong types and unknown keys are errors -----------------
+struct Json {
+  const std::string& file;
+
+  [[noreturn]] void fail(const std::string& msg) const { throw Error(file + ": " + msg); }
+
+  void check_keys(const json& obj, std::initializer_list<const char*> allowed, const std::string& where) const {
+    if (!obj.is_object()) fail(where + " must be an object");
+    for (auto it = obj.begin(); it != obj.end(); ++it) {
+      bool ok = std::any_of(allowed.begin(), allowed.end(), [&](const char* k) { return it.key() == k; });
+      if (!ok) fail("unknown key '" + it.key() + "' in " + where);
+    }
+  }
+  float number(const json& v, const std::string& what) const {
+    if (!v.is_number()) fail(what + " must be a number");
+    double d = v.get<double>();
+    if (!std::isfinite(d) || std::abs(d) > 1e30) fail(what + " must be finite");
+    return float(d);
+  }
+  int integer(const json& v, const std::string& what, int lo, int hi) const {
+    if (!v.is_number_integer()) fail(what + " must be an integer");
+    auto i = v.get<int64_t>();
+    if (i < lo || i > hi) fail(what + " must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return int(i);
+  }
+  bool boolean(const json& v, const std::string& what) const {
+    if (!v.is_boolean()) fail(what + " must be true or false");
+    return v.get<bool>();
+  }
+  std::string string(const json& v, const std::string& what) const {
+    if (!v.is_string()) fail(what + " must be a string");
+    return v.get<std::string>();
+  }
+  glm::vec3 vec3(const json& v, const std::string& what) const {
+    if (!v.is_array() || v.size() != 3) fail(what + " must be an array of 3 numbers");
+    return {number(v[0], what), number(v[1], what), number(v[2], what)};
+  }
+  // A colour or scale: one number (grey / uniform) or three.
+  glm::vec3 vec3_or_scalar(const json& v, const std::string& what) const {
+    return v.is_number() ? glm::vec3(number(v, what)) : vec3(v, what);
+  }
+};
+
+glm::mat4 parse_transform(const Json& J, const json& t) {
+  J.check_keys(t, {"matrix", "scale", "rotate_y_deg", "translate"}, "transform");
+  if (t.contains("matrix")) {
+    const json& m = t["matrix"];
+    if (!m.is_array() || m.size() != 16) J.fail("transform.matrix must be 16 numbers (column-major, as glTF)");
+    if (t.size() != 1) J.fail("transform.matrix cannot be combined with scale/rotate/translate");
+    glm::mat4 out;
+    for (int i = 0; i < 16; ++i) glm::value_ptr(out)[i] = J.number(m[size_t(i)], "transform.matrix");
+    return out;
+  }
+  // model = translate * rotate_y * scale (scale first, as glTF's TRS).
+  glm::mat4 out(1.0f);
+  if (t.contains("translate")) out = glm::translate(out, J.vec3(t["translate"], "transform.translate"));
+  if (t.contains("rotate_y_deg"))
+    out = glm::rotate(out, glm::radians(J.number(t["rotate_y_deg"], "transform.rotate_y_deg")), glm::vec3(0, 1, 0));
+  if (t.contains("scale")) out = glm::scale(out, J.vec3_or_scalar(t["scale"], "transform.scale"));
+  return out;
+}
+
+Camera parse_camera(const Json& J, const json& c, const std::string& where) {
+  J.check_keys(c, {"name", "eye", "target", "up", "yfov_deg", "aspect"}, where);
+  if (!c.contains("eye") || !c.contains("target")) J.fail(where + " needs \"eye\" and \"target\"");
+  glm::vec3 eye = J.vec3(c["eye"], where + ".eye");
+  glm::vec3 target = J.vec3(c["target"], where + ".target");
+  glm::vec3 up = c.contains("up") ? J.vec3(c["up"], where + ".up") : glm::vec3(0, 1, 0);
+  float yfov_deg = c.contains("yfov_deg") ? J.number(c["yfov_deg"], where + ".yfov_deg") : 45.0f;
+  if (!(yfov_deg > 0.1f && yfov_deg < 179.0f)) J.fail(where + ".yfov_deg must be in (0.1, 179)");
+  glm::vec3 f = target - eye;
+  if (glm::length(f) <= 0.0f || glm::length(glm::cross(f, up)) <= 1e-6f * glm::length(f) * glm::length(up))
+    J.fail(where + ": eye equals target or up is parallel to the view direction");
+  Camera cam = Camera::look_at(eye, target, up, glm::radians(yfov_deg));
+  cam.name = c.contains("name") ? J.string(c["name"], where + ".name") : "rig";
+  if (c.contains("aspect")) cam.aspect = J.number(c["aspect"], where + ".aspect");
+  // Near/far from the eye-target distance: the raster pass needs finite planes.
+  float dist = glm::length(f);
+  cam.znear = dist * 1e-3f;
+  cam.zfar = dist * 1e3f;
+  return cam;
+}
+
+Light parse_light(const Json& J, const json& l, const std::string& where) {
+  J.check_keys(l, {"type", "name", "position", "direction", "color", "intensity", "range",
+                   "inner_cone_deg", "outer_cone_deg"}, where);
+  Light out;
+  std::string type = l.contains("type") ? J.string(l["type"], where + ".type") : "point";
+  if (type == "point") out.type = Light::Type::Point;
+  else if (type == "spot") out.type = Light::Type::Spot;
+  else if (type == "directional") out.type = Light::Type::Directional;
+  else J.fail(where + ".type must be point, spot or directional");
+  if (out.type != Light::Type::Directional) {
+    if (!l.contains("position")) J.fail(where + " needs \"position\"");
+    out.position = J.vec3(l["position"], where + ".position");
+  }
+  if (out.type != Light::Type::Point) {
+    if (!l.contains("direction")) J.fail(where + " needs \"direction\"");
+    glm::vec3 d = J.vec3(l["direction"], where + ".direction");
+    if (glm::length(d) <= 0.0f) J.fail(where + ".direction must be non-zero");
+    out.direction = glm::normalize(d);
+  }
+  out.name = l.contains("name") ? J.string(l["name"], where + ".name") : where;
+  glm::vec3 color = l.contains("color") ? J.vec3_or_scalar(l["color"], where + ".color") : glm::vec3(1.0f);
+  float intensity = l.contains("intensity") ? J.number(l["intensity"], where + ".intensity") : 1.0f;
+  out.intensity = color * intensity;
+  if (l.contains("range")) out.range = J.number(l["range"], where + ".range");
+  if (l.contains("inner_cone_deg")) out.inner_cone = glm::radians(J.number(l["inner_cone_deg"], where));
+  if (l.contains("outer_cone_deg")) out.outer_cone = glm::radians(J.number(l["outer_cone_deg"], where));
+  return out;
+}
+
+void apply_material_override(const Json& J, Material& m, const json& o, const std::string& where) {
+  J.check_keys(o, {"base_color", "metallic", "roughness", "transmission", "ior", "emissive",
+                   "attenuation_color", "attenuation_distance", "double_sided"}, where);
+  if (o.contains("base_color")) m.base_color = J.vec3_or_scalar(o["base_color"], where + ".base_color");
+  if (o.contains("metallic")) m.metallic = J.number(o["metallic"], where + ".metallic");
+  if (o.contains("roughness")) m.roughness = J.number(o["roughness"], where + ".roughness");
+  if (o.contains("transmission")) m.transmission = J.number(o["transmission"], where + ".transmission");
+  if (o.contains("ior")) m.ior = J.number(o["ior"], where + ".ior");
+  if (o.contains("emissive")) m.emissive = J.vec3_or_scalar(o["emissive"], where + ".emissive");
+  if (o.contains("attenuation_color"))
+    m.attenuation_color = J.vec3_or_scalar(o["attenuation_color"], where + ".attenuation_color");
+  if (o.contains("attenuation_distance"))
+    m.attenuation_distance = J.number(o["attenuation_distance"], where + ".attenuation_distance");
+  if (o.contains("double_sided")) m.double_sided = J.boolean(o["double_sided"], where + ".double_sided");
+}
+
+fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
+  if (!options.assets_dir.empty()) return options.assets_dir;
+  if (const char* env = std::getenv("ZIGZAG_ASSETS"); env && *env) return fs::path(env);
+  // Rigs live in <repo>/scenes/; the shared assets sit next to the checkout.
+  return (json_dir / ".." / ".." / "shared" / "scenes").lexically_normal();
+}
+
+Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
+  const std::string file = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(file + ": file not found");
+  json j;
+  try {
+    j = json::parse(in);
+  } catch (const json::exception& e) {
+    std::string what = e.what();
+    std::replace(what.begin(), what.end(), '\n', ' ');
+    throw Error(file + ": invalid JSON: " + what);
+  }
+  const Json J{file};
+  J.check_keys(j, {"name", "description", "model", "transform", "camera", "cameras",
+                   "use_model_cameras", "lights", "replace_lights", "background", "exposure",
+                   "max_depth", "width", "height", "materials_override"}, "scene");
+  if (!j.contains("model")) J.fail("missing \"model\"");
+
+  Scene scene;
+  scene.name = j.contains("name") ? J.string(j["name"], "name") : path.stem().string();
+  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
+  const std::string model = J.string(j["model"], "model");
+  fs::path model_path;
+  std::error_code ec;
+  if (model.rfind("assets:", 0) == 0) {
+    model_path = assets_root(dir, options) / model.substr(7);
+    if (!fs::is_regular_file(model_path, ec))
+      throw Error("missing asset: " + model_path.string() + " (referenced by " + file +
+                  "; set ZIGZAG_ASSETS or --assets to the folder holding the shared scenes)");
+  } else {
+    model_path = dir / model;
+    if (!fs::is_regular_file(model_path, ec)) J.fail("model '" + model_path.string() + "' not found");
+  }
+  const glm::mat4 transform = j.contains("transform") ? parse_transform(J, j["transform"]) : glm::mat4(1.0f);
+  load_gltf_into(scene, model_path, transform, options);
+
+  // Cameras: the rig's own first, then the model's (unless disabled).
+  std::vector<Camera> model_cameras = std::move(scene.cameras);
+  scene.cameras.clear();
+  if (j.contains("camera")) scene.cameras.push_back(parse_camera(J, j["camera"], "camera"));
+  if (j.contains("cameras")) {
+    if (!j["cameras"].is_array()) J.fail("cameras must be an array");
+    for (size_t i = 0; i < j["cameras"].size(); ++i)
+      scene.cameras.push_back(parse_camera(J, j["cameras"][i], "cameras[" + std::to_string(i) + "]"));
+  }
+  bool use_model_cameras = j.contains("use_model_cameras") ? J.boolean(j["use_model_cameras"], "use_model_cameras") : true;
+  if (use_model_cameras) scene.cameras.insert(scene.cameras.end(), model_cameras.begin(), model_cameras.end());
+  if (scene.cameras.empty()) scene.cameras.push_back(auto_camera(scene));
+
+  if (j.contains("replace_lights") && J.boolean(j["replace_lights"], "replace_lights")) scene.lights.clear();
+  if (j.contains("lights")) {
+    if (!j["lights"].is_array()) J.fail("lights must be an array");
+    for (size_t i = 0; i < j["lights"].size(); ++i)
+      scene.lights.push_back(parse_light(J, j["lights"][i], "lights[" + std::to_string(i) + "]"));
+  }
+
+  if (j.contains("background")) scene.background = J.vec3_or_scalar(j["background"], "background");
+  if (j.contains("exposure")) {
+    scene.exposure = J.number(j["exposure"], "exposure");
+    if (!(scene.exposure > 0.0f)) J.fail("exposure must be positive");
+  }
+  if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", 1, 16);
+  if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, 16384);
+  if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, 16384);
+
+  if (j.contains("materials_override")) {
+    const json& o = j["materials_override"];
+    if (!o.is_object()) J.fail("materials_override must be an object keyed by material name");
+    for (auto it = o.begin(); it != o.end(); ++it) {
+      bool found = false;
+      for (Material& m : scene.materials)
+        if (m.name == it.key()) {
+          apply_material_override(J, m, it.value(), "materials_override." + it.key());
+          found = true;
+        }
+      if (!found) J.fail("materials_override: no material named '" + it.key() + "'");
+    }
+  }
+  scene.finalize_materials();
+  return scene;
+}
+
+}  // namespace
+
+Camera auto_camera(const Scene& scene, float yfov) {
+  if (scene.positions.empty()) return Camera{};
+  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+  for (const glm::vec3& p : scene.positions) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  // The bounding sphere just fits the vertical field of view: d = r / sin(fov / 2).
+  const float dist = radius / std::sin(0.5f * yfov);
+  const glm::vec3 dir = glm::normalize(glm::vec3(0.35f, 0.3f, 1.0f));
+  Camera c = Camera::look_at(centre + dir * dist, centre, glm::vec3(0.0f, 1.0f, 0.0f), yfov);
+  c.name = "auto";
+  c.znear = std::max(dist - radius, radius * 1e-3f);
+  c.zfar = dist + 2.0f * radius;
+  return c;
+}
+
+Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".json") return load_json_scene(path, options);
+  if (ext != ".gltf" && ext != ".glb")
+    throw Error(path.string() + ": unknown scene format (expected .json, .gltf or .glb)");
+  Scene scene;
+  scene.name = path.stem().string();
+  load_gltf_into(scene, path, glm::mat4(1.0f), options);
+  if (scene.cameras.empty()) scene.cameras.push_back(auto_camera(scene));
+  scene.finalize_materials();
+  return scene;
+}
+
+}  // namespace zz
