@@ -1,0 +1,49 @@
+// Layouts shared by the C++ visibility pass (host/gpu/visibility.cpp) and its GLSL
+// shaders, so both sides agree on push constants and packing by construction.
+#ifndef ZZ_VISIBILITY_SHARED_H
+#define ZZ_VISIBILITY_SHARED_H
+
+#ifdef __cplusplus
+#include <glm/glm.hpp>
+
+#include <cstdint>
+namespace zz::gpu {
+using vec4 = glm::vec4;
+using ivec4 = glm::ivec4;
+using mat4 = glm::mat4;
+#endif
+
+// Compute threads per group; each thread flags ZZ_PIXELS_PER_WORD horizontal pixels
+// and writes them as one uint (byte k = pixel 4*word + k), so no 8-bit storage is needed.
+#define ZZ_FLAG_GROUP_X 8
+#define ZZ_FLAG_GROUP_Y 8
+#define ZZ_PIXELS_PER_WORD 4
+
+// Vertex stage: clip = clip_from_view * (position - origin, 1). Camera-relative
+// positions keep float precision when the scene sits far from the world origin.
+struct RasterPush {
+  mat4 clip_from_view;
+  vec4 origin;
+};
+
+// Compute stage. Supersample (gx, gy) of the frame (gx in [-1, W*S]) has the ray
+// direction dir00 + gx*du + gy*dv (unnormalised), i.e. CameraRays at image point
+// ((gx + 0.5)/S, (gy + 0.5)/S). The id image of a tile holds supersamples
+// gx in [tile.x*S - 1, (tile.x + tile.z)*S], gy likewise: the tile plus a one-sample ring.
+struct FlagPush {
+  vec4 origin;   // camera position
+  vec4 dir00;    // ray direction through supersample (0, 0)
+  vec4 du;       // direction step per supersample to the right
+  vec4 dv;       // direction step per supersample downwards
+  ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
+  ivec4 frame;   // frame width, height in pixels, S, uints per output row
+  vec4 limits;   // cos(normal angle threshold), relative distance threshold, 0, 0
+};
+
+#ifdef __cplusplus
+static_assert(sizeof(RasterPush) == 80);
+static_assert(sizeof(FlagPush) == 112);  // within the 128-byte push-constant minimum
+}  // namespace zz::gpu
+#endif
+
+#endif  // ZZ_VISIBILITY_SHARED_H
