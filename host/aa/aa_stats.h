@@ -1,0 +1,38 @@
+// Counts of the adaptive sampler (ALGORITHM.md §10), one per tile, merged in tile order.
+// Integers only, so merging is exact and the totals do not depend on thread count.
+#pragma once
+
+#include <cstdint>
+
+namespace zz {
+
+struct AaStats {
+  uint64_t pixels = 0;             // pixels written (a tile's own pixels)
+  uint64_t rays[3] = {0, 0, 0};    // rays traced at level 1 (corners), 2 (E..H), 3 (zigzags)
+  uint64_t margin_rays = 0;        // part of rays[] spent on the Mitchell margin (§8)
+  uint64_t level2_pixels = 0;      // own pixels that reached level 2 (or 3)
+  uint64_t level3_pixels = 0;      // own pixels that traced at least one zone
+  uint64_t vertical_pixels = 0;    // own refined pixels in the vertical orientation
+  uint64_t zones_traced = 0;       // over own refined pixels
+  uint64_t zones_interpolated = 0;
+  uint64_t geo_pixels = 0;         // own pixels whose geo flag was set
+
+  void merge(const AaStats& o) {
+    pixels += o.pixels;
+    for (int i = 0; i < 3; ++i) rays[i] += o.rays[i];
+    margin_rays += o.margin_rays;
+    level2_pixels += o.level2_pixels;
+    level3_pixels += o.level3_pixels;
+    vertical_pixels += o.vertical_pixels;
+    zones_traced += o.zones_traced;
+    zones_interpolated += o.zones_interpolated;
+    geo_pixels += o.geo_pixels;
+  }
+  uint64_t total_rays() const { return rays[0] + rays[1] + rays[2]; }
+  double per_pixel(uint64_t n) const { return pixels ? double(n) / double(pixels) : 0.0; }
+  double rays_per_pixel() const { return per_pixel(total_rays()); }
+  double level2_fraction() const { return per_pixel(level2_pixels); }
+  double level3_fraction() const { return per_pixel(level3_pixels); }
+};
+
+}  // namespace zz

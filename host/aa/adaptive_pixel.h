@@ -1,0 +1,133 @@
+// Levels 1–3 of one pixel (ALGORITHM.md §4–§6), as small inline steps that the tile
+// sampler, the analytic harness and the table tuner all call. Colours of a pixel's
+// corners are packed SoA in physical order TL, TR, BL, BR (A, B, C, D of the horizontal
+// frame). Every colour comparison is one SSE op over 4 pairs -> 4-bit mask -> table.
+#pragma once
+
+#include <bit>
+
+#include "aa/case_table.h"
+#include "aa/lattice.h"
+#include "aa/sample_source.h"
+#include "aa/table_set.h"
+#include "core/color.h"
+#include "core/simd.h"
+#include "core/tonemap.h"
+
+namespace zz {
+
+// ---- SSE helpers -------------------------------------------------------------
+template <int a, int b, int c, int d>
+inline float4 shuffle4(float4 v) {
+  return _mm_shuffle_ps(v, v, _MM_SHUFFLE(d, c, b, a));
+}
+template <int a, int b, int c, int d>
+inline Rgb4 shuffle4(const Rgb4& v) {
+  return {shuffle4<a, b, c, d>(v.r), shuffle4<a, b, c, d>(v.g), shuffle4<a, b, c, d>(v.b)};
+}
+template <int lane>
+inline Rgb4 broadcast(const Rgb4& v) {
+  return shuffle4<lane, lane, lane, lane>(v);
+}
+
+// 4 colours stored AoS as float4 (r, g, b, 0) <-> one SoA Rgb4.
+inline Rgb4 soa_from_aos(float4 a, float4 b, float4 c, float4 d) {
+  __m128 r0 = a, r1 = b, r2 = c, r3 = d;
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  return {r0, r1, r2};
+}
+inline void aos_from_soa(const Rgb4& s, float4& a, float4& b, float4& c, float4& d) {
+  __m128 r0 = s.r, r1 = s.g, r2 = s.b, r3 = _mm_setzero_ps();
+  _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+  a = r0, b = r1, c = r2, d = r3;
+}
+
+// d(p, q) of §2 for 4 pairs at once: bit i set where max_rgb |p_i - q_i| > eps
+// (inputs already tone mapped; a distance equal to eps is no discontinuity).
+inline int differs4(const Rgb4& p, const Rgb4& q, float4 eps) {
+  float4 d = max(max(abs(p.r - q.r), abs(p.g - q.g)), abs(p.b - q.b));
+  return (d > eps).bits();
+}
+
+// ---- level 1 (§4) -----------------------------------------------------------
+// Mask a0=d(A,B) a1=d(C,D) a2=d(A,C) a3=d(B,D): pairs [A,C,A,B] vs [B,D,C,D].
+inline int corner_mask(const Rgb4& display, float4 eps) {
+  return differs4(shuffle4<0, 2, 0, 1>(display), shuffle4<1, 3, 2, 3>(display), eps);
+}
+
+// Physical TL, TR, BL, BR -> canonical A, B, C, D of orientation o (lattice.h).
+inline Rgb4 canonical_corners(const Rgb4& physical, Orientation o) {
+  mask4 vertical(o == Orientation::Vertical);
+  return select(vertical, shuffle4<2, 0, 3, 1>(physical), physical);
+}
+
+// ---- level 2 (§5) -----------------------------------------------------------
+struct Level2 {
+  Orientation orientation;
+  Rgb4 corners;  // linear, canonical lanes [A, B, C, D]
+  Rgb4 efgh;     // linear, lanes [E, F, G, H]
+  int b, c0, c1; // the three masks
+};
+
+template <SampleSource S>
+inline Level2 trace_level2(S& source, float4 px, float4 py, Orientation o, const Rgb4& corners_linear,
+                           const Rgb4& corners_display, const ToneMap& tonemap, float4 eps) {
+  const PacketOffsets& off = kOrientationTables[int(o)].level2;
+  Level2 r;
+  r.orientation = o;
+  r.corners = canonical_corners(corners_linear, o);
+  r.efgh = source.sample4(px + float4::load(off.x), py + float4::load(off.y));
+  const Rgb4 d = tonemap.apply4(r.efgh);
+  const Rgb4 k = canonical_corners(corners_display, o);
+  r.b = differs4(shuffle4<0, 1, 0, 2>(d), shuffle4<1, 3, 2, 3>(d), eps);   // EF FH EG GH
+  r.c0 = differs4(shuffle4<0, 3, 0, 3>(k), d, eps);                        // AE DF AG DH
+  r.c1 = differs4(k, shuffle4<1, 3, 0, 2>(d), eps);                        // AF BH CE DG
+  return r;
+}
+
+// Zone set of a level-2 pixel: tables OR-ed; `full` (geo policy, refine_all) adds all.
+inline int zone_set(const TableSet& t, const Level2& l2, bool full) {
+  return t.zones(l2.b, l2.c0, l2.c1) | (-int(full) & kAllZones);
+}
+
+// ---- level 3 (§6) -----------------------------------------------------------
+// Fills the 25 canonical lattice values (AoS, linear): traced zones from one packet each,
+// the others interpolated with the §6 weights. lattice[0] is canonical A.
+template <SampleSource S>
+inline void trace_level3(S& source, float4 px, float4 py, const Level2& l2, int zones, float4* lattice) {
+  const OrientationTables& t = kOrientationTables[int(l2.orientation)];
+  const Rgb4 src[8] = {broadcast<0>(l2.corners), broadcast<1>(l2.corners), broadcast<2>(l2.corners),
+                       broadcast<3>(l2.corners), broadcast<0>(l2.efgh),    broadcast<1>(l2.efgh),
+                       broadcast<2>(l2.efgh),    broadcast<3>(l2.efgh)};
+  for (int z = 0; z < kZones; ++z) {
+    Rgb4 v;
+    if ((zones >> z) & 1) {
+      v = source.sample4(px + float4::load(t.zone[z].x), py + float4::load(t.zone[z].y));
+    } else {
+      const ZoneInterp& w = kZoneInterp[z];
+      v = src[w.source[0]] * float4::load(w.weight[0]) + src[w.source[1]] * float4::load(w.weight[1]);
+      if (w.count == 3) v = v + src[w.source[2]] * float4::load(w.weight[2]);
+    }
+    aos_from_soa(v, lattice[5 * z + 1], lattice[5 * z + 2], lattice[5 * z + 3], lattice[5 * z + 4]);
+  }
+  float4 dummy;
+  aos_from_soa(l2.efgh, lattice[kE], lattice[kF], lattice[kG], lattice[kH]);
+  aos_from_soa(l2.corners, lattice[0], dummy, dummy, dummy);
+}
+
+// Rays of a pixel: its corner (1), E..H (4), 4 per traced zone.
+inline int refined_rays(int zones) { return 5 + 4 * std::popcount(unsigned(zones)); }
+
+// ---- box filter (§8) -------------------------------------------------------
+// Unrefined: the mean of the corners (physical order; the same expression everywhere).
+inline float4 corner_mean(float4 tl, float4 tr, float4 bl, float4 br) {
+  return (((tl + tr) + bl) + br) * float4(0.25f);
+}
+// Refined: (1/4 (A+B+C+D) + sum of the 24 inner points) / 25.
+inline float4 box_lattice(float4 tl, float4 tr, float4 bl, float4 br, const float4* lattice) {
+  float4 inner(0.0f);
+  for (int k = 1; k < kLatticePoints; ++k) inner += lattice[k];
+  return (corner_mean(tl, tr, bl, br) + inner) / float4(25.0f);
+}
+
+}  // namespace zz

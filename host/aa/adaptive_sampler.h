@@ -1,0 +1,205 @@
+// The adaptive sampler of one tile (ALGORITHM.md §1–§8).
+//
+// Level 1 traces the (w+1) x (h+1) corner grid of the tile (its pixels' corners plus the
+// ring it shares with its neighbours, traced again by them: the paper's one-pixel
+// overlap) in 2x2 packets. Every pixel then runs levels 1–3 of adaptive_pixel.h.
+//
+// Filters. Box needs only the pixel's own lattice. Mitchell (radius 2) needs the lattice
+// of the neighbouring pixels too, across tile borders. Design: the tile runs levels 1–3
+// over its rect grown by a 2-pixel margin (clipped to the frame) into a per-thread
+// buffer, then filters its own pixels from that buffer. A pixel's lattice is a pure
+// function of its position (corners are lane-independent samples at fixed points; the
+// rest follows from them), so the image is bit-identical for any tile size, thread
+// count or order. Memory is one region buffer per thread ((64+4)² pixels x 24 points x
+// 16 B = 1.8 MB), independent of the frame size. Cost: margin pixels are traced twice;
+// for 64² tiles that is (68² - 64²)/64² = 12.9 % more level-1 rays and as much again of
+// the refinement rays near tile borders, all counted in AaStats::rays and reported in
+// AaStats::margin_rays.
+#pragma once
+
+#include <algorithm>
+#include <cassert>
+#include <vector>
+
+#include "aa/aa_stats.h"
+#include "aa/adaptive_pixel.h"
+#include "aa/adaptive_settings.h"
+#include "aa/mitchell.h"
+#include "core/geo_map.h"
+#include "core/tile.h"
+
+namespace zz {
+
+// Per-thread buffers, grown on first use and then reused (no allocation per pixel).
+struct AdaptiveScratch {
+  std::vector<float4> corner_linear;   // (rw+1)*(rh+1) AoS (r, g, b, 0)
+  std::vector<float4> corner_display;  // tone-mapped
+  std::vector<float4> inner;           // Mitchell: 24 per region pixel, physical k = 1..24
+  std::vector<uint8_t> refined;        // Mitchell: per region pixel
+
+  static AdaptiveScratch& local() {
+    static thread_local AdaptiveScratch s;
+    return s;
+  }
+};
+
+template <SampleSource S>
+void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
+                          AaStats& stats) {
+  const TileRect tile = target.rect;
+  const int W = target.frame_width, H = target.frame_height;
+  if (tile.width() <= 0 || tile.height() <= 0) return;
+  assert(geo.empty() || (geo.width == W && geo.height == H));
+  const bool mitchell = settings.filter == Filter::Mitchell;
+  const int m = mitchell ? kMitchellRadius : 0;
+  const TileRect region{std::max(0, tile.x0 - m), std::max(0, tile.y0 - m), std::min(W, tile.x1 + m),
+                        std::min(H, tile.y1 + m)};
+  const int rw = region.width(), rh = region.height();
+  const int cw = rw + 1, ch = rh + 1;
+
+  AdaptiveScratch& scratch = AdaptiveScratch::local();
+  if (scratch.corner_linear.size() < size_t(cw) * ch) {
+    scratch.corner_linear.resize(size_t(cw) * ch);
+    scratch.corner_display.resize(size_t(cw) * ch);
+  }
+  if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
+    scratch.inner.resize(size_t(rw) * rh * (kLatticePoints - 1));
+    scratch.refined.resize(size_t(rw) * rh);
+  }
+  float4* corner_lin = scratch.corner_linear.data();
+  float4* corner_disp = scratch.corner_display.data();
+  const float4 eps(settings.eps);
+  const ToneMap& tonemap = settings.tonemap;
+  const TableSet& tables = *settings.tables;
+
+  // ---- level 1: corner grid in 2x2 packets (odd edges repeat a lane, not counted) ----
+  uint64_t corner_rays = 0;
+  for (int j = 0; j < ch; j += 2) {
+    const int j1 = std::min(j + 1, ch - 1);
+    for (int i = 0; i < cw; i += 2) {
+      const int i1 = std::min(i + 1, cw - 1);
+      const float x0 = float(region.x0 + i), x1 = float(region.x0 + i1);
+      const float y0 = float(region.y0 + j), y1 = float(region.y0 + j1);
+      const Rgb4 c = source.sample4(float4(x0, x1, x0, x1), float4(y0, y0, y1, y1));
+      const Rgb4 d = tonemap.apply4(c);
+      float4 l[4], t[4];
+      aos_from_soa(c, l[0], l[1], l[2], l[3]);
+      aos_from_soa(d, t[0], t[1], t[2], t[3]);
+      // Write lanes back to front so a repeated lane never overwrites a distinct one.
+      const int idx[4] = {j * cw + i, j * cw + i1, j1 * cw + i, j1 * cw + i1};
+      for (int lane = 3; lane >= 0; --lane) corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane];
+      corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
+    }
+  }
+  stats.rays[0] += corner_rays;
+  stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
+
+  // ---- levels 1–3 per pixel of the region ----
+  alignas(16) float4 lattice[kLatticePoints];
+  for (int ry = 0; ry < rh; ++ry) {
+    const int y = region.y0 + ry;
+    for (int rx = 0; rx < rw; ++rx) {
+      const int x = region.x0 + rx;
+      const bool own = x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1;
+      const int ci = ry * cw + rx;
+      const float4 tl = corner_lin[ci], tr = corner_lin[ci + 1];
+      const float4 bl = corner_lin[ci + cw], br = corner_lin[ci + cw + 1];
+      const Rgb4 disp = soa_from_aos(corner_disp[ci], corner_disp[ci + 1], corner_disp[ci + cw], corner_disp[ci + cw + 1]);
+
+      const PixelCase pcase = kCaseTable[corner_mask(disp, eps)];
+      const bool g = geo.at(x, y);
+      const bool refine = pcase != PixelCase::None || g || settings.refine_all;
+      float4 value;
+      int rays = 1, level = 1, zones = 0;
+      Orientation o = Orientation::Horizontal;
+      if (!refine) {
+        value = corner_mean(tl, tr, bl, br);
+      } else {
+        o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
+        const float4 px{float(x)}, py{float(y)};
+        const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, tonemap, eps);
+        const bool no_mask = (l2.b | l2.c0 | l2.c1) == 0;
+        const bool full = settings.refine_all || (g && (settings.geo_policy == GeoPolicy::All || no_mask));
+        zones = zone_set(tables, l2, full);
+        trace_level3(source, px, py, l2, zones, lattice);
+        value = box_lattice(tl, tr, bl, br, lattice);
+        rays = refined_rays(zones);
+        level = zones ? 3 : 2;
+        const int traced = std::popcount(unsigned(zones));
+        stats.rays[1] += 4;
+        stats.rays[2] += uint64_t(4 * traced);
+        if (own) {
+          stats.level2_pixels += 1;
+          stats.level3_pixels += zones != 0;
+          stats.vertical_pixels += o == Orientation::Vertical;
+          stats.zones_traced += uint64_t(traced);
+          stats.zones_interpolated += uint64_t(kZones - traced);
+        } else {
+          stats.margin_rays += uint64_t(rays - 1);
+        }
+      }
+      if (mitchell) {
+        const size_t pi = size_t(ry) * rw + rx;
+        scratch.refined[pi] = refine;
+        if (refine) {
+          float4* inner = &scratch.inner[pi * (kLatticePoints - 1)];
+          for (int p = 1; p < kLatticePoints; ++p) inner[p - 1] = lattice[canonical_k(o, p)];
+        }
+      }
+      if (!own) continue;
+      stats.pixels += 1;
+      stats.geo_pixels += g;
+      const size_t fi = size_t(y) * W + x;
+      if (!mitchell) {
+        alignas(16) float v[4];
+        value.store(v);
+        target.radiance[fi] = glm::vec3(v[0], v[1], v[2]);
+      }
+      if (target.rays) target.rays[fi] = uint8_t(std::min(rays, 255));
+      if (target.level) target.level[fi] = uint8_t(level + (o == Orientation::Vertical ? 4 : 0));
+    }
+  }
+  if (!mitchell) return;
+
+  // ---- Mitchell: filter own pixels over the region's lattice (§8) ----
+  const MitchellLatticeWeights& mw = mitchell_lattice_weights();
+  for (int y = tile.y0; y < tile.y1; ++y)
+    for (int x = tile.x0; x < tile.x1; ++x) {
+      float4 acc(0.0f);
+      float wsum = 0.0f;
+      for (int dy = -2; dy <= 2; ++dy) {
+        const int qy = y + dy;
+        if (qy < 0 || qy > H) continue;
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int qx = x + dx;
+          if (qx < 0 || qx > W) continue;
+          const int ci = (qy - region.y0) * cw + (qx - region.x0);
+          const float* w = mw.point[dy + 2][dx + 2];
+          if (qx == W || qy == H) {  // the frame's corner ring: only point k = 0 exists
+            acc += corner_lin[ci] * float4(w[0]);
+            wsum += w[0];
+            continue;
+          }
+          const size_t pi = size_t(qy - region.y0) * rw + (qx - region.x0);
+          if (scratch.refined[pi]) {
+            acc += corner_lin[ci] * float4(w[0]);
+            const float4* inner = &scratch.inner[pi * (kLatticePoints - 1)];
+            for (int p = 1; p < kLatticePoints; ++p) acc += inner[p - 1] * float4(w[p]);
+          } else {
+            const float* c = mw.corner[dy + 2][dx + 2];
+            acc += corner_lin[ci] * float4(c[0]);
+            acc += corner_lin[ci + 1] * float4(c[1]);
+            acc += corner_lin[ci + cw] * float4(c[2]);
+            acc += corner_lin[ci + cw + 1] * float4(c[3]);
+          }
+          wsum += mw.sum[dy + 2][dx + 2];
+        }
+      }
+      // Negative lobes: clamp the output, never the weights (§8).
+      alignas(16) float v[4];
+      max(acc / float4(wsum), float4(0.0f)).store(v);
+      target.radiance[size_t(y) * W + x] = glm::vec3(v[0], v[1], v[2]);
+    }
+}
+
+}  // namespace zz

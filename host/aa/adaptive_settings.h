@@ -1,0 +1,35 @@
+// User settings of the adaptive sampler (ALGORITHM.md §2, §5, §8, §9).
+#pragma once
+
+#include <string_view>
+
+#include "aa/table_set.h"
+#include "core/tonemap.h"
+
+namespace zz {
+
+// What a pixel with the visibility map's geo flag traces (§9):
+//   Paper: the zone tables; every zone only when no level-2 mask fired.
+//   All:   every zone.
+enum class GeoPolicy { Paper, All };
+enum class Filter { Box, Mitchell };
+
+struct AdaptiveSettings {
+  float eps = 0.1f;  // on tone-mapped display values; rho <= eps is no discontinuity
+  const TableSet* tables = &paper_table_set();
+  GeoPolicy geo_policy = GeoPolicy::Paper;
+  Filter filter = Filter::Box;
+  ToneMap tonemap;
+  // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
+  // run through the same level 1–3 code (orientation and sums as the adaptive path).
+  bool refine_all = false;
+};
+
+// Parse user-facing names; throw zz::Error listing the valid names.
+GeoPolicy parse_geo_policy(std::string_view name);
+Filter parse_filter(std::string_view name);
+const TableSet& parse_table_set(std::string_view name);
+const char* to_string(GeoPolicy p);
+const char* to_string(Filter f);
+
+}  // namespace zz
