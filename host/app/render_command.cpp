@@ -1,0 +1,252 @@
+// `zigzag render SCENE... [options]`: headless batch rendering to PNG/EXR + JSON stats.
+// One failed job is reported and the others still run; the exit code says whether any
+// failed.
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "accel/bvh.h"
+#include "app/commands.h"
+#include "core/error.h"
+#include "render/image_io.h"
+#include "render/renderer.h"
+#include "scene/loader.h"
+
+namespace zz {
+
+namespace {
+
+struct RenderOptions {
+  std::vector<std::string> scenes;
+  std::string output;
+  std::string stats;
+  std::string camera = "0";
+  int width = 0, height = 0;
+  std::string aa = "none";
+  int spp = 25;
+  std::string pattern = "stratified";
+  int threads = 0;
+  std::string assets;
+  float exposure = 0.0f;  // 0 = the scene's
+  int max_depth = 0;      // 0 = the scene's
+  bool quiet = false;
+};
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string replace_all(std::string s, const std::string& from, const std::string& to) {
+  for (size_t pos = 0; (pos = s.find(from, pos)) != std::string::npos; pos += to.size()) s.replace(pos, from.size(), to);
+  return s;
+}
+
+std::string expand_pattern(const std::string& pattern, const std::string& scene, const std::string& camera) {
+  return replace_all(replace_all(pattern, "{scene}", scene), "{camera}", camera);
+}
+
+RenderSettings make_settings(const RenderOptions& o, const Scene& scene) {
+  RenderSettings s;
+  s.width = o.width > 0 ? o.width : scene.default_width;
+  s.height = o.height > 0 ? o.height : scene.default_height;
+  if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+    throw Error("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                " is out of range (1..16384 per side)");
+  s.threads = o.threads;
+  s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
+  if (o.aa == "none") {
+    s.aa = AaMode::None;
+  } else if (o.aa == "uniform") {
+    s.aa = AaMode::Uniform;
+    if (o.pattern == "lattice") {
+      if (o.spp != 25) throw Error("--pattern lattice needs --spp 25 (the 25-point lattice)");
+      s.uniform = {UniformPattern::Lattice, 25};
+    } else {
+      const int n = int(std::lround(std::sqrt(double(o.spp))));
+      if (o.spp < 1 || n * n != o.spp) throw Error("--spp must be a perfect square (4, 9, 16, 25, ...) for --pattern " + o.pattern);
+      s.uniform = {o.pattern == "grid" ? UniformPattern::Grid : UniformPattern::Stratified, o.spp};
+    }
+  }
+  return s;
+}
+
+// Progress on stderr: a live bar on a terminal, nothing per tile otherwise.
+class Progress {
+ public:
+  Progress(int tiles, bool live) : tiles_(tiles), live_(live), start_(std::chrono::steady_clock::now()) {}
+  void tile_done() {
+    const int done = ++done_;
+    if (!live_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    const double t = seconds_since(start_);
+    const double eta = done > 0 ? t * (tiles_ - done) / done : 0.0;
+    const int width = 30, filled = tiles_ > 0 ? width * done / tiles_ : width;
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d tiles  %.1fs  ETA %.1fs ", filled, "##############################",
+                 width - filled, "", done, tiles_, t, eta);
+    if (done == tiles_) std::fprintf(stderr, "\r%*s\r", 70, "");
+  }
+
+ private:
+  int tiles_;
+  bool live_;
+  std::atomic<int> done_{0};
+  std::mutex mutex_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+void render_job(const RenderOptions& o, const std::filesystem::path& scene_path) {
+  const auto t_total = std::chrono::steady_clock::now();
+  LoadOptions load;
+  load.assets_dir = o.assets;
+  load.quiet = o.quiet;
+  auto t = std::chrono::steady_clock::now();
+  Scene scene = load_scene(scene_path, load);
+  if (o.max_depth > 0) scene.max_depth = o.max_depth;
+  const double load_s = seconds_since(t);
+  const std::string scene_name = scene_path.stem().string();
+
+  std::vector<int> cameras;
+  if (o.camera == "all") {
+    for (size_t i = 0; i < scene.cameras.size(); ++i) cameras.push_back(int(i));
+  } else {
+    int index = -1;
+    try {
+      size_t used = 0;
+      index = std::stoi(o.camera, &used);
+      if (used != o.camera.size()) index = -1;
+    } catch (const std::exception&) {
+    }
+    if (index < 0 || index >= int(scene.cameras.size()))
+      throw Error(scene_path.string() + ": --camera " + o.camera + " does not exist (the scene has " +
+                  std::to_string(scene.cameras.size()) + " camera(s); use 0.." +
+                  std::to_string(scene.cameras.size() - 1) + " or all)");
+    cameras.push_back(index);
+  }
+
+  t = std::chrono::steady_clock::now();
+  BvhBuildStats bvh_stats;
+  const Bvh bvh = Bvh::build(scene.positions, &bvh_stats);
+  const double bvh_s = seconds_since(t);
+  const Shader shader(scene, bvh);
+
+  for (int camera_index : cameras) {
+    const auto t_job = std::chrono::steady_clock::now();
+    const RenderSettings settings = make_settings(o, scene);
+    const std::string camera_name = std::to_string(camera_index);
+    const std::string default_output = o.camera == "all" ? "{scene}_{camera}.png" : "{scene}.png";
+    const std::filesystem::path output = expand_pattern(o.output.empty() ? default_output : o.output, scene_name, camera_name);
+
+    Film film;
+    RenderStats stats;
+    Progress progress(int(make_tiles(settings.width, settings.height, settings.tile_size).size()),
+                      !o.quiet && isatty(STDERR_FILENO));
+    RenderCallbacks callbacks;
+    callbacks.tile_done = [&](const TileRect&) { progress.tile_done(); };
+    render_frame(shader, scene.cameras[size_t(camera_index)], GeoMap{}, settings, film, stats, callbacks);
+
+    t = std::chrono::steady_clock::now();
+    write_film(output, film, settings.tonemap);
+    const double write_s = seconds_since(t);
+    const double pixels = double(settings.width) * settings.height;
+    const double rays_per_pixel = double(stats.rays.primary) / pixels;
+
+    nlohmann::json j;
+    j["scene"] = scene_name;
+    j["camera"] = camera_index;
+    j["output"] = output.string();
+    j["width"] = settings.width;
+    j["height"] = settings.height;
+    j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
+    j["aa"] = o.aa;
+    if (o.aa == "uniform") {
+      j["spp"] = o.spp;
+      j["pattern"] = o.pattern;
+    }
+    j["triangles"] = scene.triangle_count();
+    j["dropped_degenerate_triangles"] = scene.dropped_degenerate;
+    j["lights"] = scene.lights.size();
+    j["max_depth"] = scene.max_depth;
+    j["effects"] = shader.effects().names();
+    j["rays_per_pixel"] = rays_per_pixel;
+    j["rays"] = {{"primary", stats.rays.primary},
+                 {"shadow", stats.rays.shadow},
+                 {"reflection", stats.rays.reflection},
+                 {"refraction", stats.rays.refraction},
+                 {"total", stats.rays.total()}};
+    j["bvh"] = {{"nodes", bvh_stats.node_count},
+                {"leaves", bvh_stats.leaf_count},
+                {"max_depth", bvh_stats.max_depth},
+                {"sah_cost", bvh_stats.sah_cost},
+                {"build_s", bvh_stats.build_seconds}};
+    const double job_s = seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0);
+    j["time_s"] = {{"load", load_s}, {"bvh", bvh_s}, {"render", stats.render_seconds}, {"write", write_s}, {"total", job_s}};
+    j["mrays_per_s"] = stats.render_seconds > 0 ? double(stats.rays.total()) / stats.render_seconds * 1e-6 : 0.0;
+    if (!o.stats.empty()) {
+      const std::filesystem::path stats_path = expand_pattern(o.stats, scene_name, camera_name);
+      if (stats_path.has_parent_path()) std::filesystem::create_directories(stats_path.parent_path());
+      std::ofstream f(stats_path);
+      f << j.dump(2) << "\n";
+      if (!f) throw Error("cannot write " + stats_path.string());
+    }
+    if (!o.quiet) {
+      std::string effects;
+      for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
+      std::fprintf(stderr,
+                   "%s cam %d: %dx%d aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
+                   "load %.2fs bvh %.2fs -> %s\n",
+                   scene_name.c_str(), camera_index, settings.width, settings.height, o.aa.c_str(), rays_per_pixel,
+                   double(stats.rays.total()) / pixels, effects.c_str(), stats.render_seconds,
+                   j["mrays_per_s"].get<double>(), load_s, bvh_s, output.string().c_str());
+    }
+  }
+  (void)t_total;
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<RenderOptions>();
+  CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
+  cmd->add_option("scenes", o->scenes, "Scene files")->required();
+  cmd->add_option("-o,--output", o->output,
+                  "Output image; {scene} and {camera} are replaced (.png = display, .exr = linear HDR)");
+  cmd->add_option("--stats", o->stats, "Write JSON stats per job ({scene}/{camera} patterns allowed)");
+  cmd->add_option("--camera", o->camera, "Camera index, or 'all'");
+  cmd->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--aa", o->aa, "Antialiasing: none | uniform")->check(CLI::IsMember({"none", "uniform"}));
+  cmd->add_option("--spp", o->spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
+  cmd->add_option("--pattern", o->pattern, "Uniform pattern: grid | stratified | lattice")
+      ->check(CLI::IsMember({"grid", "stratified", "lattice"}));
+  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
+  cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
+  cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--max-depth", o->max_depth, "Trace depth (default: the scene's)")->check(CLI::Range(1, 64));
+  cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");
+  cmd->callback([o, &exit_code] {
+    int failed = 0;
+    for (const std::string& scene : o->scenes) {
+      try {
+        render_job(*o, scene);
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "zigzag: error: %s\n", e.what());
+        ++failed;
+      }
+    }
+    if (failed > 0 && o->scenes.size() > 1)
+      std::fprintf(stderr, "zigzag: %d of %zu jobs failed\n", failed, o->scenes.size());
+    exit_code = failed > 0 ? 1 : 0;
+  });
+}
+
+}  // namespace zz

@@ -1,0 +1,69 @@
+#include "render/renderer.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <chrono>
+#include <vector>
+
+#include "render/scene_source.h"
+
+namespace zz {
+
+namespace {
+
+struct TileResult {
+  RayCounters rays;
+  uint64_t samples = 0;
+  bool done = false;
+};
+
+}  // namespace
+
+void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
+                  Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
+  (void)geo;
+  const auto start = std::chrono::steady_clock::now();
+  if (film.width != settings.width || film.height != settings.height) film = Film(settings.width, settings.height);
+  const CameraRays rays(camera, settings.width, settings.height);
+  std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
+  if (settings.centre_out) tiles = centre_out(std::move(tiles), settings.width, settings.height);
+  std::vector<TileResult> results(tiles.size());
+
+  const size_t scratch_size = size_t(settings.tile_size + 1) * (settings.tile_size + 1) +
+                              size_t(settings.tile_size) * settings.tile_size;
+  tbb::enumerable_thread_specific<std::vector<glm::vec3>> scratch([&] { return std::vector<glm::vec3>(scratch_size); });
+  UniformSettings uniform = settings.uniform;
+  if (settings.aa == AaMode::None) uniform = {UniformPattern::Center, 1};
+
+  auto render_tile = [&](size_t index) {
+    if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+    const TileTarget target = film.target(tiles[index]);
+    SceneSource source(shader, rays);
+    UniformStats uniform_stats;
+    render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats);
+    results[index] = {source.counters, uniform_stats.samples, true};
+    if (callbacks.tile_done) callbacks.tile_done(tiles[index]);
+  };
+
+  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
+      for (size_t i = range.begin(); i != range.end(); ++i) render_tile(i);
+    });
+  });
+
+  stats = {};
+  for (const TileResult& r : results) {
+    stats.rays += r.rays;
+    stats.samples += r.samples;
+    if (!r.done) stats.cancelled = true;
+  }
+  stats.tiles = int(tiles.size());
+  stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace zz

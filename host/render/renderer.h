@@ -1,0 +1,50 @@
+// Renders a frame: 64x64 tiles as oneTBB tasks, each tile sampled by the chosen
+// sampler through a SceneSource. Output is bit-identical whatever the thread count or
+// tile order: a pixel's value depends only on its own (deterministic) samples.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+
+#include "aa/uniform.h"
+#include "core/geo_map.h"
+#include "core/tonemap.h"
+#include "render/film.h"
+#include "render/ray_counters.h"
+#include "render/shader.h"
+
+namespace zz {
+
+enum class AaMode { None, Uniform };
+
+struct RenderSettings {
+  int width = 512;
+  int height = 512;
+  AaMode aa = AaMode::None;
+  UniformSettings uniform;
+  ToneMap tonemap;
+  int threads = 0;  // 0 = all cores
+  int tile_size = kTileSize;
+  bool centre_out = false;  // tile order (no effect on the image)
+};
+
+struct RenderStats {
+  RayCounters rays;
+  uint64_t samples = 0;  // image-plane points evaluated
+  double render_seconds = 0.0;
+  int tiles = 0;
+  bool cancelled = false;
+};
+
+struct RenderCallbacks {
+  // Called from a worker thread as soon as a tile's pixels are final.
+  std::function<void(const TileRect&)> tile_done;
+  // Set by another thread to stop promptly; unfinished tiles are left as they were.
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
+                  Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});
+
+}  // namespace zz

@@ -1,0 +1,138 @@
+#include "render/renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "test_scenes.h"
+
+namespace zz {
+namespace {
+
+// A floor with a box on it (shadow edges, silhouettes) and a mirror ball-ish box.
+Scene box_scene() {
+  Scene s = test::lit_floor(0.6f, 80.0f, 3.0f);
+  s.lights[0].position = {1.5f, 1.0f, 3.0f};
+  Material metal;
+  metal.base_color = glm::vec3(0.9f);
+  metal.metallic = 1.0f;
+  metal.roughness = 0.0f;
+  s.materials.push_back(metal);
+  s.materials.push_back(test::glass_material(1.5f));
+  test::add_box(s, {-0.8f, -0.6f, 0.0f}, {0.2f, 0.4f, 0.7f}, 1);
+  test::add_box(s, {0.4f, -0.9f, 0.0f}, {0.9f, -0.2f, 0.5f}, 2);
+  s.cameras[0] = Camera::look_at({1.5f, -3.0f, 2.5f}, {0, 0, 0.3f}, {0, 0, 1}, 0.7f);
+  s.finalize_materials();
+  return s;
+}
+
+Film render(const Scene& scene, RenderSettings settings, RenderStats* stats_out = nullptr) {
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  Film film;
+  RenderStats stats;
+  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats);
+  if (stats_out) *stats_out = stats;
+  return film;
+}
+
+bool bit_identical(const Film& a, const Film& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0;
+}
+
+TEST(Renderer, OneRayPerPixelCountsExactly) {
+  RenderSettings s;
+  s.width = 70;
+  s.height = 33;
+  RenderStats stats;
+  render(box_scene(), s, &stats);
+  // 70*33 = 2310 points, streamed 4 at a time over 2 tiles (64 + 6 columns): each tile
+  // pads its last packet.
+  EXPECT_EQ(stats.samples, 2310u);
+  EXPECT_EQ(stats.rays.primary, 4u * ((64 * 33 + 3) / 4 + (6 * 33 + 3) / 4));
+  EXPECT_GT(stats.rays.shadow, 0u);
+  EXPECT_GT(stats.rays.reflection, 0u);
+  EXPECT_GT(stats.rays.refraction, 0u);
+}
+
+TEST(Renderer, BitIdenticalAcrossThreadsTileSizesAndOrder) {
+  for (UniformPattern pattern : {UniformPattern::Center, UniformPattern::Stratified, UniformPattern::Lattice}) {
+    RenderSettings s;
+    s.width = 97;
+    s.height = 70;
+    s.aa = pattern == UniformPattern::Center ? AaMode::None : AaMode::Uniform;
+    s.uniform = {pattern, pattern == UniformPattern::Stratified ? 9 : 25};
+    s.threads = 1;
+    const Film reference = render(box_scene(), s);
+    s.threads = 2;
+    EXPECT_TRUE(bit_identical(reference, render(box_scene(), s)));
+    s.tile_size = 16;
+    s.centre_out = true;
+    EXPECT_TRUE(bit_identical(reference, render(box_scene(), s)));
+    s.tile_size = 7;
+    EXPECT_TRUE(bit_identical(reference, render(box_scene(), s)));
+  }
+}
+
+TEST(Renderer, LatticeTracesTwentyFiveRaysPerPixelPlusTheRing) {
+  RenderSettings s;
+  s.width = 64;
+  s.height = 64;
+  s.aa = AaMode::Uniform;
+  s.uniform = {UniformPattern::Lattice, 25};
+  RenderStats stats;
+  render(box_scene(), s, &stats);
+  EXPECT_EQ(stats.samples, 64u * 64u * 24u + 65u * 65u);
+}
+
+TEST(Renderer, UniformPatternsConvergeToEachOther) {
+  RenderSettings s;
+  s.width = 48;
+  s.height = 48;
+  s.aa = AaMode::Uniform;
+  s.uniform = {UniformPattern::Grid, 256};
+  const Film grid = render(box_scene(), s);
+  s.uniform = {UniformPattern::Lattice, 25};
+  const Film lattice = render(box_scene(), s);
+  double sum = 0.0, sum_sq = 0.0;
+  for (size_t i = 0; i < grid.radiance.size(); ++i) {
+    const glm::vec3 d = grid.radiance[i] - lattice.radiance[i];
+    sum_sq += double(glm::dot(d, d)) / 3.0;
+    sum += double(grid.radiance[i].g);
+  }
+  const double rmse = std::sqrt(sum_sq / double(grid.radiance.size()));
+  const double mean = sum / double(grid.radiance.size());
+  EXPECT_GT(mean, 0.0);
+  EXPECT_LT(rmse, 0.05 * mean);  // 25 well-spread points are close to 256 on this scene
+}
+
+TEST(Renderer, CancelStopsPromptly) {
+  RenderSettings s;
+  s.width = 256;
+  s.height = 256;
+  const Scene scene = box_scene();
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  std::atomic<bool> cancel{true};
+  RenderCallbacks callbacks;
+  callbacks.cancel = &cancel;
+  Film film;
+  RenderStats stats;
+  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  EXPECT_TRUE(stats.cancelled);
+  EXPECT_EQ(stats.rays.primary, 0u);
+}
+
+TEST(Tiles, CoverTheFrameExactlyOnce) {
+  for (auto [w, h] : {std::pair{1, 1}, {1, 200}, {64, 64}, {65, 129}, {300, 7}}) {
+    std::vector<int> cover(size_t(w) * h, 0);
+    for (const TileRect& t : centre_out(make_tiles(w, h), w, h))
+      for (int y = t.y0; y < t.y1; ++y)
+        for (int x = t.x0; x < t.x1; ++x) ++cover[size_t(y) * w + x];
+    for (int c : cover) ASSERT_EQ(c, 1);
+  }
+}
+
+}  // namespace
+}  // namespace zz
