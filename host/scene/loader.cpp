@@ -171,7 +171,7 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   }
   const Json J{file};
   J.check_keys(j, {"name", "description", "model", "transform", "camera", "cameras",
-                   "use_model_cameras", "lights", "replace_lights", "background", "exposure",
+                   "use_model_cameras", "default_camera", "lights", "replace_lights", "background", "exposure",
                    "max_depth", "width", "height", "materials_override"}, "scene");
   if (!j.contains("model")) J.fail("missing \"model\"");
 
@@ -204,6 +204,13 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   }
   bool use_model_cameras = j.contains("use_model_cameras") ? J.boolean(j["use_model_cameras"], "use_model_cameras") : true;
   if (use_model_cameras) scene.cameras.insert(scene.cameras.end(), model_cameras.begin(), model_cameras.end());
+  if (j.contains("default_camera")) {
+    // Moves the named camera to the front (cameras[0] is what renders by default).
+    const std::string name = J.string(j["default_camera"], "default_camera");
+    auto it = std::find_if(scene.cameras.begin(), scene.cameras.end(), [&](const Camera& c) { return c.name == name; });
+    if (it == scene.cameras.end()) J.fail("default_camera: no camera named '" + name + "'");
+    std::rotate(scene.cameras.begin(), it, it + 1);
+  }
   if (scene.cameras.empty()) scene.cameras.push_back(auto_camera(scene));
 
   if (j.contains("replace_lights") && J.boolean(j["replace_lights"], "replace_lights")) scene.lights.clear();

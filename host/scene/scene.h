@@ -46,7 +46,7 @@ struct Scene {
 
   glm::vec3 background{0.0f};
   float exposure = 1.0f;
-  int max_depth = 2;  // trace depth: 1 = primary rays only (plus shadows)
+  int max_depth = 2;  // trace depth: reflection/refraction bounces along a path (0 = none)
   int default_width = 512;
   int default_height = 512;
 

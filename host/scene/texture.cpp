@@ -5,11 +5,13 @@
 namespace zz {
 
 glm::vec4 Texture::sample(glm::vec2 uv) const {
-  if (width <= 0 || height <= 0) return glm::vec4(1.0f);
+  if (width <= 0 || height <= 0 || texels.size() < size_t(width) * size_t(height)) return glm::vec4(1.0f);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texels[0];
-  // Texel centres at (i + 0.5) / width; REPEAT wrapping.
-  float x = uv.x * float(width) - 0.5f;
-  float y = uv.y * float(height) - 0.5f;
+  // Texel centres at (i + 0.5) / width; REPEAT wrapping. Reduce to [0, 1] first: a large
+  // uv (1e20) would overflow the conversion to long and lose the fraction in x.
+  const float u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
+  float x = u * float(width) - 0.5f;
+  float y = v * float(height) - 0.5f;
   float fx = std::floor(x), fy = std::floor(y);
   float tx = x - fx, ty = y - fy;
   auto wrap = [](long i, int n) { long m = i % n; return int(m < 0 ? m + n : m); };

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/camera.h"
+
+namespace zz {
+namespace {
+
+void expect_vec(glm::vec3 a, glm::vec3 b, float tol = 1e-6f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+Camera tilted() { return Camera::look_at({1, 2, 3}, {-2, 0.5f, -4}, {0, 1, 0}, 0.9f); }
+
+TEST(Camera, LookAtBuildsAnOrthonormalRightHandedBasis) {
+  Camera c = tilted();
+  expect_vec(c.forward, glm::normalize(glm::vec3(-3, -1.5f, -7)));
+  EXPECT_NEAR(glm::dot(c.right, c.up), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(c.right, c.forward), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(c.up), 1.0f, 1e-6f);
+  expect_vec(glm::cross(c.right, c.up), -c.forward);  // looking down -z in camera space
+  EXPECT_GT(c.up.y, 0.0f);
+}
+
+TEST(CameraRays, CentrePixelLooksForward) {
+  Camera c = tilted();
+  CameraRays rays(c, 640, 480);
+  expect_vec(rays.origin, c.position);
+  expect_vec(rays.direction(320.0f, 240.0f), c.forward);
+}
+
+TEST(CameraRays, CornersMatchFieldOfViewAndAspect) {
+  Camera c = tilted();
+  const int w = 640, h = 480;
+  CameraRays rays(c, w, h);
+  const float t = std::tan(0.5f * c.yfov);
+  auto check = [&](float px, float py, float sx, float sy) {
+    glm::vec3 d = rays.direction(px, py);
+    float z = glm::dot(d, c.forward);
+    EXPECT_NEAR(glm::dot(d, c.right) / z, sx * t * float(w) / float(h), 1e-5f);
+    EXPECT_NEAR(glm::dot(d, c.up) / z, sy * t, 1e-5f);
+    EXPECT_NEAR(glm::length(d), 1.0f, 1e-6f);
+  };
+  check(0, 0, -1, 1);  // top-left: y grows downwards
+  check(float(w), 0, 1, 1);
+  check(0, float(h), -1, -1);
+  check(float(w), float(h), 1, -1);
+}
+
+TEST(CameraRays, PacketMatchesScalarBitForBit) {
+  CameraRays rays(tilted(), 333, 217);
+  const float xs[4] = {0.5f, 100.25f, 332.9f, 17.0f}, ys[4] = {0.5f, 216.0f, 3.75f, 108.5f};
+  float4 dx, dy, dz;
+  rays.directions4(float4(xs[0], xs[1], xs[2], xs[3]), float4(ys[0], ys[1], ys[2], ys[3]), dx, dy, dz);
+  for (int i = 0; i < 4; ++i) {
+    glm::vec3 d = rays.direction(xs[i], ys[i]);
+    EXPECT_EQ(d.x, dx[i]);
+    EXPECT_EQ(d.y, dy[i]);
+    EXPECT_EQ(d.z, dz[i]);
+  }
+}
+
+TEST(CameraRays, PixelStepsAreSquare) {
+  CameraRays rays(tilted(), 800, 200);
+  EXPECT_NEAR(glm::length(rays.du), glm::length(rays.dv), 1e-7f);
+  EXPECT_NEAR(glm::length(rays.dv), 2.0f * std::tan(0.45f) / 200.0f, 1e-7f);
+}
+
+}  // namespace
+}  // namespace zz

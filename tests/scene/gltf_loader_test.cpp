@@ -1,0 +1,395 @@
+#include <gtest/gtest.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include <cmath>
+#include <limits>
+
+#include "core/error.h"
+#include "gltf_fixture.h"
+#include "scene/loader.h"
+
+namespace zz {
+namespace {
+
+using test::GltfBuilder;
+using test::kTriNrm;
+using test::kTriPos;
+
+const LoadOptions kQuiet{{}, true};
+
+void expect_vec(glm::vec3 a, glm::vec3 b, float tol = 1e-5f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+glm::vec3 geometric_normal(const Scene& s, size_t t) {
+  return glm::normalize(glm::cross(s.positions[3 * t + 1] - s.positions[3 * t], s.positions[3 * t + 2] - s.positions[3 * t]));
+}
+
+// The loader's expected-failure contract: a zz::Error whose message contains `needle`.
+template <typename F>
+void expect_error(F&& f, const std::string& needle) {
+  try {
+    f();
+    ADD_FAILURE() << "no error; expected one containing '" << needle << "'";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "message must be one line";
+  }
+}
+
+TEST(GltfLoader, TranslatedRotatedScaledNode) {
+  GltfBuilder b;
+  int m = b.mesh("tri", kTriPos, kTriNrm);
+  // M = T * R * S: scale 2, then 90 degrees about +z, then translate (1, 2, 3).
+  const float h = std::sqrt(0.5f);
+  b.node({{"mesh", m}, {"translation", {1, 2, 3}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 2, 2}}});
+  Scene s = load_scene(b.write(test::temp_dir("trs")), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.positions[0], {1, 2, 3});
+  expect_vec(s.positions[1], {1, 4, 3});   // (1,0,0) -> (2,0,0) -> (0,2,0) -> +T
+  expect_vec(s.positions[2], {-1, 2, 3});  // (0,1,0) -> (0,2,0) -> (-2,0,0) -> +T
+  expect_vec(s.normals[0], {0, 0, 1});
+  expect_vec(geometric_normal(s, 0), {0, 0, 1});
+}
+
+TEST(GltfLoader, MatrixNodeAndHierarchyCompose) {
+  GltfBuilder b;
+  int m = b.mesh("tri", kTriPos, kTriNrm);
+  int child = b.node({{"mesh", m}, {"translation", {0, 0, 5}}}, false);
+  // Column-major matrix: uniform scale 3 and translation (10, 0, 0).
+  b.node({{"matrix", {3, 0, 0, 0, 0, 3, 0, 0, 0, 0, 3, 0, 10, 0, 0, 1}}, {"children", {child}}});
+  Scene s = load_scene(b.write(test::temp_dir("matrix")), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.positions[0], {10, 0, 15});  // parent * child: 3 * (0,0,5) + (10,0,0)
+  expect_vec(s.positions[1], {13, 0, 15});
+}
+
+TEST(GltfLoader, NormalsUseInverseTranspose) {
+  GltfBuilder b;
+  const float k = 1.0f / std::sqrt(3.0f);
+  int m = b.mesh("slanted", {1, 0, 0, 0, 1, 0, 0, 0, 1}, {k, k, k, k, k, k, k, k, k});
+  b.node({{"mesh", m}, {"scale", {2, 1, 1}}});
+  Scene s = load_scene(b.write(test::temp_dir("it")), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  // Non-uniform scale: the transformed plane's normal is (1,2,2)/3, not M * n.
+  expect_vec(s.normals[0], glm::vec3(1, 2, 2) / 3.0f);
+  expect_vec(geometric_normal(s, 0), glm::vec3(1, 2, 2) / 3.0f);
+}
+
+TEST(GltfLoader, NegativeScaleFlipsWinding) {
+  GltfBuilder b;
+  int m = b.mesh("tri", kTriPos, kTriNrm);
+  b.node({{"mesh", m}, {"scale", {-1, 1, 1}}});
+  Scene s = load_scene(b.write(test::temp_dir("neg")), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.normals[0], {0, 0, 1});
+  // Without the flip the mirrored triangle would wind clockwise (geometric normal -z).
+  expect_vec(geometric_normal(s, 0), {0, 0, 1});
+  EXPECT_LE(s.positions[1].x + s.positions[2].x, -0.99f);
+}
+
+TEST(GltfLoader, IndexedAndNonIndexedGiveSameTriangles) {
+  const std::vector<float> quad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+  const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
+  std::vector<float> flat;
+  for (uint16_t i : idx) flat.insert(flat.end(), quad.begin() + 3 * i, quad.begin() + 3 * i + 3);
+  GltfBuilder a, b;
+  a.node({{"mesh", a.mesh("q", quad, {}, idx)}});
+  b.node({{"mesh", b.mesh("q", flat)}});
+  Scene sa = load_scene(a.write(test::temp_dir("a")), kQuiet);
+  Scene sb = load_scene(b.write(test::temp_dir("b")), kQuiet);
+  ASSERT_EQ(sa.triangle_count(), 2u);
+  ASSERT_EQ(sa.positions.size(), sb.positions.size());
+  for (size_t i = 0; i < sa.positions.size(); ++i) {
+    EXPECT_EQ(sa.positions[i], sb.positions[i]) << i;
+    EXPECT_EQ(sa.normals[i], sb.normals[i]) << i;  // flat normals, generated
+  }
+  expect_vec(sa.normals[0], {0, 0, 1});
+}
+
+TEST(GltfLoader, StripsAndFansBecomeConsistentlyWoundTriangles) {
+  const std::vector<float> strip = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0};
+  const std::vector<float> fan = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, -1, 0.5f, 0};
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("strip", strip, {}, {}, 5)}});
+  b.node({{"mesh", b.mesh("fan", fan, {}, {}, 6)}});
+  Scene s = load_scene(b.write(test::temp_dir("strip")), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 6u);  // 3 from the strip, 3 from the fan
+  for (size_t t = 0; t < s.triangle_count(); ++t) expect_vec(geometric_normal(s, t), {0, 0, 1});
+}
+
+TEST(GltfLoader, PointsAndLinesAreSkipped) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("lines", kTriPos, {}, {}, 1)}});
+  b.node({{"mesh", b.mesh("points", kTriPos, {}, {}, 0)}});
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  Scene s = load_scene(b.write(test::temp_dir("lines")), kQuiet);
+  EXPECT_EQ(s.triangle_count(), 1u);
+}
+
+TEST(GltfLoader, DegenerateTrianglesAreDroppedAndCounted) {
+  GltfBuilder b;
+  // Second triangle repeats a vertex, third is collinear.
+  b.node({{"mesh", b.mesh("mixed", {0, 0, 0, 1, 0, 0, 0, 1, 0,  0, 0, 0, 1, 0, 0, 1, 0, 0,  0, 0, 0, 1, 1, 1, 2, 2, 2})}});
+  Scene s = load_scene(b.write(test::temp_dir("degen")), kQuiet);
+  EXPECT_EQ(s.triangle_count(), 1u);
+  EXPECT_EQ(s.dropped_degenerate, 2u);
+}
+
+TEST(GltfLoader, NanVertexIsAnErrorNamingTheMesh) {
+  GltfBuilder b;
+  std::vector<float> pos = kTriPos;
+  pos[4] = std::numeric_limits<float>::quiet_NaN();
+  b.node({{"mesh", b.mesh("broken_wing", pos)}});
+  auto path = b.write(test::temp_dir("nan"));
+  expect_error([&] { load_scene(path, kQuiet); }, "broken_wing");
+  GltfBuilder c;
+  std::vector<float> nrm = kTriNrm;
+  nrm[0] = std::numeric_limits<float>::infinity();
+  c.node({{"mesh", c.mesh("inf_normal", kTriPos, nrm)}});
+  auto path2 = c.write(test::temp_dir("inf"));
+  expect_error([&] { load_scene(path2, kQuiet); }, "inf_normal");
+}
+
+TEST(GltfLoader, MissingAndTruncatedFilesAreErrorsNamingTheFile) {
+  auto dir = test::temp_dir("trunc");
+  expect_error([&] { load_scene(dir / "nope.gltf", kQuiet); }, "nope.gltf");
+
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  auto path = b.write(dir, "whole");
+  const std::string text = test::read_text(path);
+  test::write_text(dir / "half.gltf", text.substr(0, text.size() / 2));
+  std::filesystem::copy_file(dir / "whole.bin", dir / "half.bin");
+  expect_error([&] { load_scene(dir / "half.gltf", kQuiet); }, "half.gltf");
+
+  // Buffer shorter than its declared byteLength.
+  const std::string bin = test::read_text(dir / "whole.bin");
+  test::write_text(dir / "whole.bin", bin.substr(0, bin.size() - 8));
+  expect_error([&] { load_scene(path, kQuiet); }, "whole.gltf");
+
+  // Missing buffer file.
+  std::filesystem::remove(dir / "whole.bin");
+  expect_error([&] { load_scene(path, kQuiet); }, "whole.gltf");
+}
+
+TEST(GltfLoader, OutOfRangeReferencesAreErrors) {
+  auto dir = test::temp_dir("range");
+  auto broken = [&](auto edit, const std::string& needle) {
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("victim", kTriPos, kTriNrm, {0, 1, 2})}});
+    edit(b.doc);
+    auto path = b.write(dir);
+    expect_error([&] { load_scene(path, kQuiet); }, needle);
+  };
+  broken([](auto& d) { d["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99; }, "victim");
+  broken([](auto& d) { d["accessors"][0]["count"] = 1000; }, "victim");
+  broken([](auto& d) { d["accessors"][0]["byteOffset"] = 4096; }, "model.gltf");
+  broken([](auto& d) { d["accessors"][2]["bufferView"] = 42; }, "model.gltf");
+  broken([](auto& d) { d["bufferViews"][0]["byteLength"] = 1 << 20; }, "model.gltf");
+  broken([](auto& d) { d["nodes"][0]["mesh"] = 7; }, "model.gltf");
+  broken([](auto& d) { d["scenes"][0]["nodes"] = {5}; }, "model.gltf");
+  broken([](auto& d) { d["nodes"][0]["children"] = {0}; }, "cyclic");
+}
+
+TEST(GltfLoader, OutOfRangeIndexIsAnError) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("bad_index", kTriPos, {}, {0, 1, 7})}});
+  auto path = b.write(test::temp_dir("idx"));
+  expect_error([&] { load_scene(path, kQuiet); }, "bad_index");
+}
+
+// Every truncation of a valid file either loads or throws zz::Error; never crashes.
+TEST(GltfLoader, TruncationsNeverCrash) {
+  auto dir = test::temp_dir("fuzz");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm, {0, 1, 2}, 4, -1, {0, 0, 1, 0, 0, 1})}});
+  auto glb = b.write_glb(dir);
+  const std::string bytes = test::read_text(glb);
+  int loaded = 0, errors = 0;
+  for (size_t n = 0; n < bytes.size(); n += 3) {
+    test::write_text(dir / "cut.glb", bytes.substr(0, n));
+    try {
+      load_scene(dir / "cut.glb", kQuiet);
+      ++loaded;
+    } catch (const Error&) {
+      ++errors;
+    }
+  }
+  EXPECT_GT(errors, 0);
+  test::write_text(dir / "full.glb", bytes);
+  EXPECT_EQ(load_scene(dir / "full.glb", kQuiet).triangle_count(), 1u);
+}
+
+TEST(GltfLoader, GlbMatchesGltf) {
+  auto dir = test::temp_dir("glb");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}, {"translation", {0, 1, 0}}});
+  Scene a = load_scene(b.write(dir), kQuiet);
+  Scene g = load_scene(b.write_glb(dir), kQuiet);
+  ASSERT_EQ(g.triangle_count(), 1u);
+  EXPECT_EQ(a.positions, g.positions);
+}
+
+TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  b.doc["cameras"] = {{{"type", "perspective"}, {"name", "cam"},
+                       {"perspective", {{"yfov", 0.5}, {"znear", 0.1}, {"zfar", 50}, {"aspectRatio", 1.5}}}}};
+  // Rotated 90 degrees about +y: looks down -x instead of -z.
+  const float h = std::sqrt(0.5f);
+  b.node({{"camera", 0}, {"translation", {4, 0, 0}}, {"rotation", {0, h, 0, h}}});
+  b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.doc["extensions"] = {{"KHR_lights_punctual",
+                          {{"lights", {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 8}},
+                                       {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.4}}}},
+                                       {{"type", "directional"}, {"intensity", 2}}}}}}};
+  int parent = b.node({{"translation", {0, 10, 0}}});
+  int point = b.node({{"translation", {1, 0, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}, false);
+  b.doc["nodes"][parent]["children"] = {point};
+  b.node({{"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});  // points down -y
+  b.node({{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
+  Scene s = load_scene(b.write(test::temp_dir("cam")), kQuiet);
+  ASSERT_EQ(s.cameras.size(), 1u);
+  const Camera& c = s.cameras[0];
+  EXPECT_EQ(c.name, "cam");
+  expect_vec(c.position, {4, 0, 0});
+  expect_vec(c.forward, {-1, 0, 0});
+  expect_vec(c.up, {0, 1, 0});
+  expect_vec(c.right, {0, 0, -1});
+  EXPECT_FLOAT_EQ(c.yfov, 0.5f);
+  EXPECT_FLOAT_EQ(c.aspect, 1.5f);
+  EXPECT_FLOAT_EQ(c.znear, 0.1f);
+  EXPECT_FLOAT_EQ(c.zfar, 50.0f);
+  ASSERT_EQ(s.lights.size(), 3u);
+  EXPECT_EQ(s.lights[0].type, Light::Type::Point);
+  expect_vec(s.lights[0].position, {1, 10, 0});
+  expect_vec(s.lights[0].intensity, {8, 4, 2});
+  EXPECT_EQ(s.lights[1].type, Light::Type::Spot);
+  expect_vec(s.lights[1].direction, {0, -1, 0});
+  EXPECT_FLOAT_EQ(s.lights[1].outer_cone, 0.4f);
+  EXPECT_EQ(s.lights[2].type, Light::Type::Directional);
+  expect_vec(s.lights[2].direction, {0, 0, -1});
+}
+
+TEST(GltfLoader, AutoCameraFramesTheBoundsWhenTheFileHasNone) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}, {"translation", {100, 0, 0}}});
+  Scene s = load_scene(b.write(test::temp_dir("auto")), kQuiet);
+  ASSERT_EQ(s.cameras.size(), 1u);
+  const Camera& c = s.cameras[0];
+  const glm::vec3 centre(100.5f, 0.5f, 0.0f);
+  // Looks at the centre of the bounds from outside the bounding sphere.
+  expect_vec(glm::normalize(centre - c.position), c.forward, 1e-4f);
+  EXPECT_GT(glm::length(centre - c.position), std::sqrt(0.5f));
+  EXPECT_EQ(s.background, glm::vec3(0.0f));
+  EXPECT_EQ(s.max_depth, 2);
+  EXPECT_EQ(s.exposure, 1.0f);
+  EXPECT_TRUE(s.lights.empty());
+}
+
+TEST(GltfLoader, MaterialsAndExtensions) {
+  GltfBuilder b;
+  b.doc["materials"] = {
+      {{"name", "glass"}, {"doubleSided", true},
+       {"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.6, 0.7, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.1}}},
+       {"emissiveFactor", {1, 0.5, 0}},
+       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.9}}},
+                       {"KHR_materials_ior", {{"ior", 1.33}}},
+                       {"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}},
+                       {"KHR_materials_volume", {{"attenuationColor", {0.5, 0.25, 1}}, {"attenuationDistance", 2}}}}}},
+      {{"name", "plain"}}};
+  b.node({{"mesh", b.mesh("a", kTriPos, {}, {}, 4, 0)}});
+  b.node({{"mesh", b.mesh("b", kTriPos, {}, {}, 4, 1)}, {"translation", {0, 0, 1}}});
+  b.node({{"mesh", b.mesh("c", kTriPos)}, {"translation", {0, 0, 2}}});  // no material
+  Scene s = load_scene(b.write(test::temp_dir("mat")), kQuiet);
+  ASSERT_EQ(s.materials.size(), 3u);  // two + the default
+  ASSERT_EQ(s.whitted.size(), 3u);
+  const Material& g = s.materials[0];
+  EXPECT_EQ(g.name, "glass");
+  expect_vec(g.base_color, {0.5f, 0.6f, 0.7f});
+  EXPECT_FLOAT_EQ(g.roughness, 0.1f);
+  EXPECT_FLOAT_EQ(g.transmission, 0.9f);
+  EXPECT_FLOAT_EQ(g.ior, 1.33f);
+  expect_vec(g.emissive, {4, 2, 0});
+  expect_vec(g.attenuation_color, {0.5f, 0.25f, 1.0f});
+  EXPECT_FLOAT_EQ(g.attenuation_distance, 2.0f);
+  EXPECT_TRUE(g.double_sided);
+  // glTF defaults for an empty material: base 1, metallic 1, roughness 1.
+  const Material& p = s.materials[1];
+  expect_vec(p.base_color, {1, 1, 1});
+  EXPECT_FLOAT_EQ(p.metallic, 1.0f);
+  EXPECT_FALSE(p.double_sided);
+  EXPECT_EQ(s.material_of, (std::vector<uint32_t>{0, 1, 2}));
+  EXPECT_EQ(s.materials[2].name, "default");
+}
+
+TEST(GltfLoader, UvsAreCarriedPerVertex) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, {}, {}, 4, -1, {0.25f, 0.5f, 1, 0, 0, 1})}});
+  Scene s = load_scene(b.write(test::temp_dir("uv")), kQuiet);
+  ASSERT_EQ(s.uvs.size(), 3u);
+  EXPECT_EQ(s.uvs[0], glm::vec2(0.25f, 0.5f));
+  EXPECT_EQ(s.uvs[2], glm::vec2(0.0f, 1.0f));
+}
+
+TEST(GltfLoader, UnknownFileFormatIsAnError) {
+  auto dir = test::temp_dir("ext");
+  expect_error([&] { load_scene(dir / "model.obj", kQuiet); }, "model.obj");
+}
+
+// ---- the project's own scenes and the shared third-party ones -----------------------
+
+struct SceneCase {
+  const char* file;
+  size_t triangles, lights, cameras;
+  int depth;
+};
+
+TEST(ProjectScenes, LoadWithExpectedCounts) {
+  const SceneCase cases[] = {{"room.json", 10196, 9, 1, 2}, {"glass.json", 12700, 3, 1, 2}, {"default.json", 1724, 2, 1, 2}};
+  for (const SceneCase& c : cases) {
+    Scene s = load_scene(std::filesystem::path(ZZ_SOURCE_DIR) / "scenes" / c.file, kQuiet);
+    EXPECT_EQ(s.triangle_count(), c.triangles) << c.file;
+    EXPECT_EQ(s.lights.size(), c.lights) << c.file;
+    EXPECT_EQ(s.cameras.size(), c.cameras) << c.file;
+    EXPECT_EQ(s.max_depth, c.depth) << c.file;
+    EXPECT_EQ(s.dropped_degenerate, 0u) << c.file;
+    EXPECT_EQ(s.positions.size(), 3 * s.triangle_count());
+    EXPECT_EQ(s.normals.size(), 3 * s.triangle_count());
+    EXPECT_EQ(s.uvs.size(), 3 * s.triangle_count());
+    for (const glm::vec3& n : s.normals) ASSERT_NEAR(glm::length(n), 1.0f, 1e-4f) << c.file;
+  }
+}
+
+TEST(SharedScenes, LoadWhenPresent) {
+  const auto root = test::shared_scenes();
+  if (!std::filesystem::exists(root / "toycar"))
+    GTEST_SKIP() << "shared third-party scenes not found at " << root << " (optional)";
+  LoadOptions opt = kQuiet;
+  opt.assets_dir = root;
+  const SceneCase cases[] = {{"car.json", 108936, 2, 8, 3}, {"vase.json", 14036, 3, 1, 3}, {"lamp.json", 6000, 5, 1, 2}};
+  for (const SceneCase& c : cases) {
+    Scene s = load_scene(std::filesystem::path(ZZ_SOURCE_DIR) / "scenes" / c.file, opt);
+    EXPECT_EQ(s.triangle_count(), c.triangles) << c.file;
+    EXPECT_EQ(s.lights.size(), c.lights) << c.file;
+    EXPECT_EQ(s.cameras.size(), c.cameras) << c.file;
+    EXPECT_EQ(s.max_depth, c.depth) << c.file;
+    EXPECT_FALSE(s.textures.empty()) << c.file;
+  }
+  // The raw glTF files load directly too (ToyCar's 8 cameras, the lamp's 5 lights).
+  Scene car = load_scene(root / "toycar/glTF/ToyCar.gltf", kQuiet);
+  EXPECT_EQ(car.cameras.size(), 8u);
+  EXPECT_EQ(car.cameras[0].name, "Camera001");
+  EXPECT_TRUE(car.lights.empty());
+  Scene lamp = load_scene(root / "lightspunctuallamp/glTF/LightsPunctualLamp.gltf", kQuiet);
+  EXPECT_EQ(lamp.lights.size(), 5u);
+  EXPECT_EQ(lamp.cameras.size(), 1u);  // auto camera
+  EXPECT_EQ(lamp.cameras[0].name, "auto");
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "core/error.h"
+#include "gltf_fixture.h"
+#include "scene/loader.h"
+
+namespace zz {
+namespace {
+
+using test::GltfBuilder;
+
+const LoadOptions kQuiet{{}, true};
+
+// A directory with model.gltf (one triangle + a model camera + a model light) and a rig.
+struct Rig {
+  std::filesystem::path dir;
+  explicit Rig(const std::string& name) : dir(test::temp_dir(name)) {
+    GltfBuilder b;
+    b.doc["materials"] = {{{"name", "paint"}}};
+    b.node({{"mesh", b.mesh("tri", test::kTriPos, test::kTriNrm, {}, 4, 0)}});
+    b.doc["cameras"] = {{{"type", "perspective"}, {"name", "model_cam"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}};
+    b.node({{"camera", 0}, {"translation", {0, 0, 3}}});
+    b.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 5}}}}}}};
+    b.node({{"translation", {0, 2, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    b.write(dir);
+  }
+  Scene load(const std::string& json, const LoadOptions& opt = kQuiet) const {
+    test::write_text(dir / "rig.json", json);
+    return load_scene(dir / "rig.json", opt);
+  }
+  std::string error(const std::string& json, const LoadOptions& opt = kQuiet) const {
+    try {
+      load(json, opt);
+    } catch (const Error& e) {
+      return e.what();
+    }
+    return "";
+  }
+};
+
+TEST(JsonScene, FullRig) {
+  Rig r("full");
+  Scene s = r.load(R"({
+    "name": "tiny", "description": "test rig", "model": "model.gltf",
+    "transform": {"scale": 2, "translate": [1, 0, 0]},
+    "camera": {"eye": [0, 0, 10], "target": [0, 0, 0], "yfov_deg": 30},
+    "cameras": [{"name": "side", "eye": [10, 0, 0], "target": [0, 0, 0]}],
+    "lights": [{"type": "point", "position": [0, 5, 0], "color": [1, 0.5, 0.5], "intensity": 2}],
+    "background": [0.1, 0.2, 0.3], "exposure": 0.5, "max_depth": 4, "width": 320, "height": 200,
+    "materials_override": {"paint": {"base_color": [0, 1, 0], "roughness": 0.05, "metallic": 1}}
+  })");
+  EXPECT_EQ(s.name, "tiny");
+  ASSERT_EQ(s.triangle_count(), 1u);
+  EXPECT_EQ(s.positions[1], glm::vec3(3, 0, 0));  // translate(1,0,0) * scale(2) * (1,0,0)
+  ASSERT_EQ(s.cameras.size(), 3u);               // rig camera, rig extra, model camera
+  EXPECT_EQ(s.cameras[0].name, "rig");
+  EXPECT_NEAR(s.cameras[0].yfov, glm::radians(30.0f), 1e-6f);
+  EXPECT_EQ(s.cameras[1].name, "side");
+  EXPECT_EQ(s.cameras[2].name, "model_cam");
+  EXPECT_EQ(s.cameras[2].position, glm::vec3(1, 0, 6));  // model cameras move with the model
+  ASSERT_EQ(s.lights.size(), 2u);                        // model light + rig light
+  EXPECT_EQ(s.lights[0].position, glm::vec3(1, 4, 0));
+  EXPECT_EQ(s.lights[1].intensity, glm::vec3(2, 1, 1));
+  EXPECT_EQ(s.background, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(s.exposure, 0.5f);
+  EXPECT_EQ(s.max_depth, 4);
+  EXPECT_EQ(s.default_width, 320);
+  EXPECT_EQ(s.default_height, 200);
+  EXPECT_EQ(s.materials[0].base_color, glm::vec3(0, 1, 0));
+  EXPECT_EQ(s.whitted[0].mirror, glm::vec3(0, 0.75f, 0));  // overrides reach `whitted`
+}
+
+TEST(JsonScene, ReplaceLightsModelCamerasAndDefaultCamera) {
+  Rig r("replace");
+  Scene s = r.load(R"({"model": "model.gltf", "replace_lights": true, "use_model_cameras": false,
+                       "lights": [{"position": [0, 1, 0]}]})");
+  ASSERT_EQ(s.lights.size(), 1u);
+  EXPECT_EQ(s.lights[0].position, glm::vec3(0, 1, 0));
+  ASSERT_EQ(s.cameras.size(), 1u);
+  EXPECT_EQ(s.cameras[0].name, "auto");
+  EXPECT_EQ(s.name, "rig");  // file stem when "name" is absent
+
+  Scene d = r.load(R"({"model": "model.gltf", "cameras": [{"eye": [0, 0, 9], "target": [0, 0, 0]}],
+                       "default_camera": "model_cam"})");
+  ASSERT_EQ(d.cameras.size(), 2u);
+  EXPECT_EQ(d.cameras[0].name, "model_cam");
+}
+
+TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
+  Rig r("unknown");
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "exposrue": 2})").find("'exposrue'"), std::string::npos);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "camera": {"eye": [0,0,1], "target": [0,0,0], "fov": 3}})").find("'fov'"),
+            std::string::npos);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,0,0], "power": 3}]})").find("'power'"),
+            std::string::npos);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"shiny": 1}}})").find("'shiny'"),
+            std::string::npos);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "materials_override": {"nosuch": {}}})").find("nosuch"), std::string::npos);
+}
+
+TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
+  Rig r("bad");
+  for (const char* json : {R"({"model": "model.gltf", "max_depth": 0})", R"({"model": "model.gltf", "exposure": "x"})",
+                           R"({"model": "model.gltf", "background": [1, 2]})", R"({"model": "model.gltf",)",
+                           R"({"model": "missing.gltf"})", R"({"name": "no model"})", R"([1, 2, 3])",
+                           R"({"model": "model.gltf", "camera": {"eye": [0,0,0], "target": [0,0,0]}})",
+                           R"({"model": "model.gltf", "default_camera": "nope"})"}) {
+    std::string e = r.error(json);
+    EXPECT_NE(e.find("rig.json"), std::string::npos) << json << " -> " << e;
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+  }
+}
+
+TEST(JsonScene, AssetsResolveThroughOptionsAndEnvironment) {
+  Rig r("assets");
+  auto assets = test::temp_dir("assetroot");
+  std::filesystem::create_directories(assets / "thing");
+  std::filesystem::copy_file(r.dir / "model.gltf", assets / "thing" / "model.gltf");
+  std::filesystem::copy_file(r.dir / "model.bin", assets / "thing" / "model.bin");
+  const std::string json = R"({"model": "assets:thing/model.gltf"})";
+
+  LoadOptions opt = kQuiet;
+  opt.assets_dir = assets;
+  EXPECT_EQ(r.load(json, opt).triangle_count(), 1u);
+
+  ::setenv("ZIGZAG_ASSETS", assets.c_str(), 1);
+  EXPECT_EQ(r.load(json).triangle_count(), 1u);
+  ::unsetenv("ZIGZAG_ASSETS");
+
+  LoadOptions empty = kQuiet;
+  empty.assets_dir = test::temp_dir("empty");
+  std::string e = r.error(json, empty);
+  EXPECT_EQ(e.rfind("missing asset:", 0), 0u) << e;
+}
+
+TEST(JsonScene, ProjectRigsOnlyUseDocumentedKeys) {
+  // Every committed rig loads (third-party ones may report a missing asset, nothing else).
+  for (const auto& entry : std::filesystem::directory_iterator(std::filesystem::path(ZZ_SOURCE_DIR) / "scenes")) {
+    if (entry.path().extension() != ".json") continue;
+    try {
+      Scene s = load_scene(entry.path(), kQuiet);
+      EXPECT_GT(s.triangle_count(), 0u) << entry.path();
+      EXPECT_FALSE(s.cameras.empty()) << entry.path();
+      EXPECT_EQ(s.whitted.size(), s.materials.size());
+    } catch (const Error& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("missing asset:", 0), 0u) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,117 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "scene/materials.h"
+
+namespace zz {
+namespace {
+
+void expect_vec(glm::vec3 a, glm::vec3 b, float tol = 1e-6f) {
+  EXPECT_NEAR(a.x, b.x, tol);
+  EXPECT_NEAR(a.y, b.y, tol);
+  EXPECT_NEAR(a.z, b.z, tol);
+}
+
+Material make(glm::vec3 base, float metallic, float roughness, float transmission = 0.0f) {
+  Material m;
+  m.base_color = base;
+  m.metallic = metallic;
+  m.roughness = roughness;
+  m.transmission = transmission;
+  return m;
+}
+
+const glm::vec3 kRed(0.8f, 0.2f, 0.1f);
+
+TEST(WhittedFromGltf, RoughDielectricIsPureLambert) {
+  WhittedMaterial w = whitted_from_gltf(make(kRed, 0.0f, 1.0f));
+  expect_vec(w.diffuse, kRed);
+  expect_vec(w.specular, glm::vec3(0.04f));  // F0 of ior 1.5
+  EXPECT_FALSE(w.reflects());
+  EXPECT_FALSE(w.transmits());
+  EXPECT_FLOAT_EQ(w.shininess, 1.0f);  // alpha = 1 -> n = 2/1 - 2 = 0, clamped to 1
+}
+
+TEST(WhittedFromGltf, SmoothDielectricMirrorsWithFresnel) {
+  WhittedMaterial w = whitted_from_gltf(make(kRed, 0.0f, 0.0f));
+  expect_vec(w.diffuse, kRed);
+  expect_vec(w.mirror, glm::vec3(0.04f));
+  EXPECT_TRUE(w.fresnel_mirror);
+  // Half way to the mirror limit: half the mirror weight.
+  WhittedMaterial h = whitted_from_gltf(make(kRed, 0.0f, 0.5f * kMirrorRoughnessLimit));
+  expect_vec(h.mirror, glm::vec3(0.02f));
+}
+
+TEST(WhittedFromGltf, PolishedMetalMirrorsItsBaseColour) {
+  WhittedMaterial w = whitted_from_gltf(make(kRed, 1.0f, 0.0f));
+  expect_vec(w.diffuse, glm::vec3(0.0f));
+  expect_vec(w.mirror, kRed);
+  expect_vec(w.specular, kRed);
+  EXPECT_FALSE(w.fresnel_mirror);
+  WhittedMaterial half = whitted_from_gltf(make(kRed, 1.0f, 0.1f));
+  expect_vec(half.mirror, kRed * 0.5f, 1e-5f);
+  WhittedMaterial rough = whitted_from_gltf(make(kRed, 1.0f, kMirrorRoughnessLimit));
+  EXPECT_FALSE(rough.reflects());
+}
+
+TEST(WhittedFromGltf, PartialMetalMixesBothMirrors) {
+  WhittedMaterial w = whitted_from_gltf(make(kRed, 0.5f, 0.0f));
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), kRed, 0.5f);
+  expect_vec(w.mirror, f0 * 0.5f + glm::vec3(0.04f * 0.5f));
+  expect_vec(w.diffuse, kRed * 0.5f);
+}
+
+TEST(WhittedFromGltf, TransmissionBendsWithIorAndReflectsFresnel) {
+  Material m = make(glm::vec3(0.9f, 1.0f, 0.8f), 0.0f, 0.7f, 1.0f);
+  m.ior = 1.33f;
+  WhittedMaterial w = whitted_from_gltf(m);
+  expect_vec(w.transmission, m.base_color);
+  expect_vec(w.diffuse, glm::vec3(0.0f));
+  EXPECT_FLOAT_EQ(w.ior, 1.33f);
+  const float f0 = std::pow((1.33f - 1.0f) / (1.33f + 1.0f), 2.0f);
+  expect_vec(w.mirror, glm::vec3(f0), 1e-6f);  // rough or not, glass mirrors
+  EXPECT_TRUE(w.fresnel_mirror);
+  // Half transmissive: the other half stays diffuse.
+  WhittedMaterial half = whitted_from_gltf(make(kRed, 0.0f, 1.0f, 0.5f));
+  expect_vec(half.diffuse, kRed * 0.5f);
+  expect_vec(half.transmission, kRed * 0.5f);
+  // Metal does not transmit.
+  EXPECT_FALSE(whitted_from_gltf(make(kRed, 1.0f, 0.0f, 1.0f)).transmits());
+}
+
+TEST(WhittedFromGltf, InvalidIorFallsBackTo15) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.ior = std::nanf("");
+  EXPECT_FLOAT_EQ(whitted_from_gltf(m).ior, 1.5f);
+  m.ior = 0.5f;
+  EXPECT_FLOAT_EQ(whitted_from_gltf(m).ior, 1.5f);
+}
+
+TEST(WhittedFromGltf, VolumeAttenuationIsBeerLambert) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.attenuation_color = glm::vec3(0.5f, 0.25f, 1.0f);
+  m.attenuation_distance = 2.0f;
+  WhittedMaterial w = whitted_from_gltf(m);
+  // sigma_a = -ln(c) / d, so exp(-sigma_a * d) = c.
+  expect_vec(w.absorption, glm::vec3(std::log(2.0f) / 2.0f, std::log(4.0f) / 2.0f, 0.0f));
+  Material clear = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  expect_vec(whitted_from_gltf(clear).absorption, glm::vec3(0.0f));  // infinite distance
+}
+
+TEST(WhittedFromGltf, ShininessFollowsGgxAlpha) {
+  // alpha = r^2 = 0.25 -> n = 2 / alpha^2 - 2 = 30.
+  EXPECT_NEAR(whitted_from_gltf(make(kRed, 0.0f, 0.5f)).shininess, 30.0f, 1e-3f);
+  EXPECT_FLOAT_EQ(whitted_from_gltf(make(kRed, 0.0f, 0.0f)).shininess, 10000.0f);  // clamped
+}
+
+TEST(WhittedFromGltf, EmissionIsNonNegativeAndOutOfRangeInputsClamp) {
+  Material m = make(glm::vec3(2.0f, -1.0f, 0.5f), 3.0f, -1.0f);
+  m.emissive = glm::vec3(1.0f, -2.0f, 0.0f);
+  WhittedMaterial w = whitted_from_gltf(m);
+  expect_vec(w.emission, glm::vec3(1.0f, 0.0f, 0.0f));
+  expect_vec(w.mirror, glm::vec3(1.0f, 0.0f, 0.5f));  // metallic 1, roughness 0 after clamping
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,98 @@
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "gltf_fixture.h"
+#include "scene/loader.h"
+#include "scene/texture.h"
+
+namespace zz {
+namespace {
+
+// 2 x 2: red, green / blue, white (row 0 is v in [0, 0.5)).
+Texture checker() {
+  Texture t;
+  t.width = 2;
+  t.height = 2;
+  t.texels = {{1, 0, 0, 1}, {0, 1, 0, 1}, {0, 0, 1, 1}, {1, 1, 1, 1}};
+  return t;
+}
+
+void expect_rgba(glm::vec4 a, glm::vec4 b, float tol = 1e-6f) {
+  for (int i = 0; i < 4; ++i) EXPECT_NEAR(a[i], b[i], tol) << i;
+}
+
+TEST(Texture, TexelCentresAreExact) {
+  Texture t = checker();
+  expect_rgba(t.sample({0.25f, 0.25f}), {1, 0, 0, 1});
+  expect_rgba(t.sample({0.75f, 0.25f}), {0, 1, 0, 1});
+  expect_rgba(t.sample({0.25f, 0.75f}), {0, 0, 1, 1});
+  expect_rgba(t.sample({0.75f, 0.75f}), {1, 1, 1, 1});
+}
+
+TEST(Texture, BilinearBetweenCentres) {
+  Texture t = checker();
+  expect_rgba(t.sample({0.5f, 0.5f}), {0.5f, 0.5f, 0.5f, 1});  // all four equally
+  expect_rgba(t.sample({0.5f, 0.25f}), {0.5f, 0.5f, 0, 1});    // red-green midpoint
+  expect_rgba(t.sample({0.375f, 0.25f}), {0.75f, 0.25f, 0, 1});
+}
+
+TEST(Texture, RepeatWraps) {
+  Texture t = checker();
+  // u = 0 lies between texel 1 (wrapped from the left) and texel 0.
+  expect_rgba(t.sample({0.0f, 0.25f}), {0.5f, 0.5f, 0, 1});
+  expect_rgba(t.sample({1.25f, 0.25f}), {1, 0, 0, 1});
+  expect_rgba(t.sample({-0.75f, -0.25f}), {0, 0, 1, 1});  // (0.25, 0.75)
+  expect_rgba(t.sample({3.75f, 10.75f}), {1, 1, 1, 1});
+  // Huge or non-finite coordinates stay in range (no overflow, no out-of-bounds read).
+  glm::vec4 big = t.sample({1e20f, -3e19f});
+  for (int i = 0; i < 4; ++i) EXPECT_TRUE(big[i] >= 0.0f && big[i] <= 1.0f);
+  expect_rgba(t.sample({std::nanf(""), 0.5f}), {1, 0, 0, 1});
+  expect_rgba(Texture{}.sample({0.5f, 0.5f}), {1, 1, 1, 1});
+}
+
+TEST(Texture, BaseColourImagesAreSrgbDecoded) {
+  auto dir = test::temp_dir("png");
+  // 2 x 1 PNG: (188, 0, 255) and (128, 128, 128).
+  const unsigned char pixels[] = {188, 0, 255, 128, 128, 128};
+  auto out = OIIO::ImageOutput::create((dir / "tex.png").string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(2, 1, 3, OIIO::TypeDesc::UINT8);
+  ASSERT_TRUE(out->open((dir / "tex.png").string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  out->close();
+
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", "tex.png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"name", "textured"}, {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0, {0, 0, 1, 0, 0, 1})}});
+  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  ASSERT_EQ(s.textures.size(), 1u);
+  ASSERT_EQ(s.materials[0].base_color_texture, 0);
+  const Texture& t = s.textures[0];
+  ASSERT_EQ(t.width, 2);
+  ASSERT_EQ(t.height, 1);
+  auto srgb = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
+  expect_rgba(t.texels[0], {srgb(188 / 255.0f), 0, 1, 1}, 1e-5f);
+  expect_rgba(t.texels[1], glm::vec4(glm::vec3(srgb(128 / 255.0f)), 1), 1e-5f);
+  EXPECT_NEAR(t.texels[0].r, 0.5029f, 1e-3f);  // a familiar value: sRGB 188 is linear ~0.5
+  EXPECT_TRUE(s.effects().textures);
+}
+
+TEST(Texture, MissingImageIsIgnoredNotFatal) {
+  auto dir = test::temp_dir("noimg");
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", "absent.png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
+  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  EXPECT_EQ(s.materials[0].base_color_texture, -1);
+  EXPECT_TRUE(s.textures.empty());
+}
+
+}  // namespace
+}  // namespace zz
