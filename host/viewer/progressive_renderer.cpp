@@ -1,0 +1,131 @@
+#include "viewer/progressive_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+
+namespace zz {
+
+ProgressiveRenderer::ProgressiveRenderer(const Shader& shader, DisplayFrame& display, GeoSource geo)
+    : shader_(shader), display_(display), geo_(std::move(geo)) {
+  thread_ = std::thread([this] { run(); });
+}
+
+ProgressiveRenderer::~ProgressiveRenderer() { stop(); }
+
+void ProgressiveRenderer::stop() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+    cancel_ = true;
+  }
+  changed_.notify_all();
+  if (thread_.joinable()) thread_.join();
+}
+
+uint64_t ProgressiveRenderer::request(const FrameRequest& request) {
+  uint64_t id;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    id = ++next_id_;
+    pending_ = request;
+    pending_id_ = id;
+    cancel_ = true;  // the frame in flight stops at its next tile
+  }
+  changed_.notify_all();
+  return id;
+}
+
+ProgressStatus ProgressiveRenderer::status() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  ProgressStatus s = status_;
+  s.tiles_done = tiles_done_.load();
+  return s;
+}
+
+bool ProgressiveRenderer::wait_for(uint64_t id, double timeout_seconds) const {
+  std::unique_lock<std::mutex> lock(mutex_);
+  return changed_.wait_for(lock, std::chrono::duration<double>(timeout_seconds),
+                           [&] { return stopping_ || status_.completed >= id || next_id_ > id; });
+}
+
+void ProgressiveRenderer::run() {
+  for (;;) {
+    FrameRequest request;
+    uint64_t id;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      changed_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
+      if (stopping_) return;
+      request = std::move(*pending_);
+      pending_.reset();
+      id = pending_id_;
+      cancel_ = false;  // under the lock: a request() after this point cancels this frame
+    }
+    render(request, id);
+  }
+}
+
+void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
+  const auto start = std::chrono::steady_clock::now();
+  const RenderSettings& full = request.settings;
+  display_.resize(full.width, full.height);
+  const int full_tiles = int(make_tiles(full.width, full.height, full.tile_size).size());
+  tiles_done_ = 0;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.request = id;
+    status_.tiles_total = full_tiles;
+    status_.preview = request.preview_scale > 1;
+  }
+
+  RenderCallbacks callbacks;
+  callbacks.cancel = &cancel_;
+  const GeoMap geo = geo_ ? geo_(request.camera, full.width, full.height) : GeoMap{};
+  if (cancel_) return;
+  display_.set_geo(geo);
+
+  if (request.preview_scale > 1) {
+    // 1 ray/px at reduced size: cheap enough to follow the mouse, then refined below.
+    const int s = request.preview_scale;
+    RenderSettings preview = full;
+    preview.width = std::max(1, (full.width + s - 1) / s);
+    preview.height = std::max(1, (full.height + s - 1) / s);
+    preview.aa = AaMode::None;
+    preview.centre_out = true;
+    Film film;
+    RenderStats stats;
+    callbacks.tile_done = [&](const TileRect& rect) { display_.put_tile(film, rect, s, full.tonemap); };
+    render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
+    if (cancel_) return;
+  }
+
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.preview = false;
+  }
+  RenderSettings settings = full;
+  settings.centre_out = true;
+  Film film;
+  RenderStats stats;
+  callbacks.tile_done = [&](const TileRect& rect) {
+    display_.put_tile(film, rect, 1, full.tonemap);
+    ++tiles_done_;
+  };
+  render_frame(shader_, request.camera, geo, settings, film, stats, callbacks);
+  if (stats.cancelled || cancel_) return;
+
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.completed = id;
+    ++status_.frames_completed;
+    status_.last_full_seconds = seconds;
+    status_.rays_per_pixel = double(stats.rays.primary) / (double(full.width) * full.height);
+    if (status_.first_full_seconds < 0)
+      status_.first_full_seconds =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - created_).count();
+  }
+  changed_.notify_all();
+}
+
+}  // namespace zz

@@ -1,0 +1,80 @@
+// Progressive rendering for the viewer: a background thread runs render_frame() for the
+// latest request — first a coarse preview (1 ray/px at 1/preview_scale size, shown with
+// nearest upscaling), then the full frame — and every finished tile goes straight into
+// the DisplayFrame. A new request cancels the one in flight (render_frame stops at the
+// next tile) and restarts; the UI thread never waits for a frame.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "core/geo_map.h"
+#include "render/renderer.h"
+#include "scene/camera.h"
+#include "viewer/display_frame.h"
+
+namespace zz {
+
+struct FrameRequest {
+  Camera camera;
+  RenderSettings settings;  // width/height = the display size
+  int preview_scale = 4;    // 0 or 1: no preview pass
+};
+
+struct ProgressStatus {
+  uint64_t request = 0;       // id of the request being (or last) rendered
+  uint64_t completed = 0;     // id of the last request whose full frame finished (0: none yet)
+  int frames_completed = 0;   // full frames finished since start
+  bool preview = false;       // the preview pass is running
+  int tiles_done = 0;         // full-frame tiles finished for `request`
+  int tiles_total = 0;
+  double last_full_seconds = 0.0;   // preview + full render of the last completed frame
+  double first_full_seconds = -1.0; // from construction to the first completed frame
+  double rays_per_pixel = 0.0;      // primary rays / pixel of the last completed frame
+};
+
+class ProgressiveRenderer {
+ public:
+  // Builds the frame's visibility map on the render thread (may return an empty map).
+  using GeoSource = std::function<GeoMap(const Camera& camera, int width, int height)>;
+
+  ProgressiveRenderer(const Shader& shader, DisplayFrame& display, GeoSource geo = {});
+  ~ProgressiveRenderer();  // cancels and joins
+  ProgressiveRenderer(const ProgressiveRenderer&) = delete;
+  ProgressiveRenderer& operator=(const ProgressiveRenderer&) = delete;
+
+  // Replaces whatever is pending or in flight; returns the request's id.
+  uint64_t request(const FrameRequest& request);
+  ProgressStatus status() const;
+  // Blocks until the full frame of request `id` is done (or a newer request replaced it);
+  // false on timeout. For tests and scripted runs; the UI never calls it.
+  bool wait_for(uint64_t id, double timeout_seconds) const;
+  void stop();
+
+ private:
+  void run();
+  void render(const FrameRequest& request, uint64_t id);
+
+  const Shader& shader_;
+  DisplayFrame& display_;
+  GeoSource geo_;
+  const std::chrono::steady_clock::time_point created_ = std::chrono::steady_clock::now();
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  std::optional<FrameRequest> pending_;
+  uint64_t next_id_ = 0;
+  uint64_t pending_id_ = 0;
+  bool stopping_ = false;
+  ProgressStatus status_;
+  std::atomic<bool> cancel_{false};
+  std::atomic<int> tiles_done_{0};
+  std::thread thread_;
+};
+
+}  // namespace zz

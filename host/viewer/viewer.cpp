@@ -1,0 +1,393 @@
+#include "viewer/viewer.h"
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <memory>
+
+#include "core/error.h"
+#include "gpu/device.h"
+#include "render/image_io.h"
+#include "viewer/display_frame.h"
+#include "viewer/orbit_camera.h"
+#include "viewer/presenter.h"
+#include "viewer/script.h"
+
+namespace zz {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+struct WindowDeleter {
+  void operator()(GLFWwindow* w) const { glfwDestroyWindow(w); }
+};
+
+class Viewer {
+ public:
+  Viewer(const Shader& shader, const ViewerOptions& options);
+  ~Viewer();
+  int run();
+
+ private:
+  // Input, shared by GLFW callbacks and the script.
+  void on_key(int key);
+  void on_button(int button, bool pressed, double x, double y);
+  void on_cursor(double x, double y);
+  void on_scroll(double steps);
+  void on_framebuffer(int width, int height);
+
+  void restart();
+  void camera_moved();
+  void save_screenshot(const std::filesystem::path& path);
+  void update_title(bool force);
+  bool frame_done() const;
+  // Runs script events until one must wait; false once the viewer should close.
+  void step_script();
+
+  const Shader& shader_;
+  ViewerOptions options_;
+  Clock::time_point start_ = Clock::now();
+
+  std::unique_ptr<GLFWwindow, WindowDeleter> window_;
+  std::unique_ptr<VulkanContext> context_;
+  std::mutex queue_mutex_;
+  std::unique_ptr<Presenter> presenter_;
+  DisplayFrame display_;
+  std::unique_ptr<ProgressiveRenderer> renderer_;
+
+  Camera camera_;
+  OrbitCamera orbit_;
+  RenderSettings settings_;
+  ViewTweaks tweaks_;
+  ViewMode mode_ = ViewMode::Image;
+  uint64_t request_ = 0;
+  int render_width_ = 0, render_height_ = 0;
+
+  int drag_button_ = -1;
+  double last_x_ = 0, last_y_ = 0;
+  int screenshots_ = 0;
+
+  std::deque<ScriptEvent> script_;
+  Clock::time_point wait_start_;
+  bool waiting_ = false;
+  int pending_width_ = 0, pending_height_ = 0;  // a scripted resize not yet seen
+  int exit_code_ = 0;
+
+  uint64_t presented_version_ = ~uint64_t(0);
+  ViewMode presented_mode_ = ViewMode::Image;
+  int presented_fb_w_ = 0, presented_fb_h_ = 0;
+  Clock::time_point title_time_;
+  std::string title_;
+};
+
+Viewer* self(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
+    : shader_(shader), options_(options), camera_(options.camera), settings_(options.settings), tweaks_(options.tweaks) {
+  require_display();
+  if (!glfwVulkanSupported())
+    throw Error("the Vulkan loader cannot present to this display (glfwVulkanSupported is false); "
+                "install mesa-vulkan-drivers or use `zigzag render`");
+  for (const ScriptEvent& e : parse_script(options.script)) script_.push_back(e);
+
+  glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+  glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+  window_.reset(glfwCreateWindow(settings_.width, settings_.height, ("zigzag view - " + options.name).c_str(),
+                                 nullptr, nullptr));
+  if (!window_) throw Error("cannot open a window (glfwCreateWindow failed); use `zigzag render`");
+  glfwSetWindowUserPointer(window_.get(), this);
+
+  VulkanOptions vk;
+  vk.validate = options.validate;
+  uint32_t count = 0;
+  const char** extensions = glfwGetRequiredInstanceExtensions(&count);
+  if (!extensions) throw Error("GLFW found no Vulkan surface extensions for this display; use `zigzag render`");
+  vk.instance_extensions.assign(extensions, extensions + count);
+  vk.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
+  GLFWwindow* window = window_.get();
+  vk.create_surface = [window](VkInstance instance) {
+    VkSurfaceKHR surface = VK_NULL_HANDLE;
+    vk_check(glfwCreateWindowSurface(instance, window, nullptr, &surface), "glfwCreateWindowSurface");
+    return surface;
+  };
+  context_ = VulkanContext::create(vk);
+  presenter_ = std::make_unique<Presenter>(*context_, queue_mutex_);
+
+  ProgressiveRenderer::GeoSource geo;
+  if (options.make_geo_source) geo = options.make_geo_source(*context_, queue_mutex_);
+  renderer_ = std::make_unique<ProgressiveRenderer>(shader_, display_, std::move(geo));
+
+  glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
+    if (action == GLFW_PRESS || action == GLFW_REPEAT) self(w)->on_key(key);
+  });
+  glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
+    double x, y;
+    glfwGetCursorPos(w, &x, &y);
+    self(w)->on_button(button, action == GLFW_PRESS, x, y);
+  });
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { self(w)->on_cursor(x, y); });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) { self(w)->on_scroll(dy); });
+  glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int width, int height) {
+    self(w)->on_framebuffer(width, height);
+  });
+
+  orbit_ = OrbitCamera(camera_, focus_distance(camera_, options.scene_centre, options.scene_radius));
+  render_width_ = settings_.width;
+  render_height_ = settings_.height;
+}
+
+Viewer::~Viewer() {
+  // Order matters: the render thread may use the context (visibility pass); the surface
+  // (owned by the context) must go before its window.
+  renderer_.reset();
+  presenter_.reset();
+  context_.reset();
+  window_.reset();
+}
+
+void Viewer::restart() {
+  FrameRequest r;
+  r.camera = camera_;
+  r.settings = settings_;
+  r.settings.width = render_width_;
+  r.settings.height = render_height_;
+  apply_tweaks(tweaks_, r.settings);
+  r.preview_scale = options_.preview_scale;
+  request_ = renderer_->request(r);
+  update_title(true);
+}
+
+void Viewer::camera_moved() {
+  camera_ = orbit_.camera();
+  restart();
+}
+
+void Viewer::on_key(int key) {
+  switch (key) {
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(window_.get(), GLFW_TRUE); break;
+    case GLFW_KEY_1: mode_ = ViewMode::Image; break;
+    case GLFW_KEY_2: mode_ = ViewMode::Rays; break;
+    case GLFW_KEY_3: mode_ = ViewMode::Level; break;
+    case GLFW_KEY_4: mode_ = ViewMode::Geo; break;
+    case GLFW_KEY_R:
+      camera_ = options_.camera;  // exactly the scene's camera, not a round trip through the orbit
+      orbit_ = OrbitCamera(camera_, focus_distance(camera_, options_.scene_centre, options_.scene_radius));
+      restart();
+      break;
+    case GLFW_KEY_LEFT_BRACKET: tweaks_.eps_down(); restart(); break;
+    case GLFW_KEY_RIGHT_BRACKET: tweaks_.eps_up(); restart(); break;
+    case GLFW_KEY_F: tweaks_.mitchell = !tweaks_.mitchell; restart(); break;
+    case GLFW_KEY_E: tweaks_.edges = !tweaks_.edges; restart(); break;
+    case GLFW_KEY_S: {
+      char name[64];
+      std::snprintf(name, sizeof name, "zigzag_%s_%03d.png", to_string(mode_), ++screenshots_);
+      std::string file = options_.name + "_" + name;
+      for (char& c : file)
+        if (c == '/') c = '_';
+      save_screenshot(options_.screenshot_dir / file);
+      break;
+    }
+    default: break;
+  }
+  update_title(true);
+}
+
+void Viewer::on_button(int button, bool pressed, double x, double y) {
+  if (pressed && drag_button_ < 0) {
+    drag_button_ = button;
+    last_x_ = x;
+    last_y_ = y;
+  } else if (!pressed && button == drag_button_) {
+    drag_button_ = -1;
+  }
+}
+
+void Viewer::on_cursor(double x, double y) {
+  const double dx = x - last_x_, dy = y - last_y_;
+  last_x_ = x;
+  last_y_ = y;
+  if (drag_button_ < 0 || (dx == 0 && dy == 0)) return;
+  if (drag_button_ == GLFW_MOUSE_BUTTON_LEFT) orbit_.orbit(float(dx), float(dy), render_height_);
+  else orbit_.pan(float(dx), float(dy), render_height_);
+  camera_moved();
+}
+
+void Viewer::on_scroll(double steps) {
+  if (steps == 0) return;
+  orbit_.zoom(float(steps));
+  camera_moved();
+}
+
+void Viewer::on_framebuffer(int width, int height) {
+  if (width <= 0 || height <= 0) return;  // minimised: keep the frame, present nothing
+  if (width == pending_width_ && height == pending_height_) pending_width_ = pending_height_ = 0;
+  if (width == render_width_ && height == render_height_) return;
+  render_width_ = width;
+  render_height_ = height;
+  restart();
+}
+
+void Viewer::save_screenshot(const std::filesystem::path& path) {
+  // The composed view (not a swapchain read-back): in the image view these are exactly
+  // the bytes `zigzag render` writes for the same camera and size.
+  std::vector<uint8_t> rgb = display_.rgb(mode_);
+  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+  write_rgb8(path, display_.width(), display_.height(), rgb);
+  std::fprintf(stderr, "zigzag view: saved %s\n", path.string().c_str());
+}
+
+bool Viewer::frame_done() const {
+  const ProgressStatus s = renderer_->status();
+  return s.completed == request_ && pending_width_ == 0;
+}
+
+void Viewer::step_script() {
+  while (!script_.empty()) {
+    ScriptEvent& e = script_.front();
+    if (e.kind == ScriptEvent::Kind::Wait) {
+      if (!waiting_) {
+        waiting_ = true;
+        wait_start_ = Clock::now();
+      }
+      if (pending_width_ != 0 && since(wait_start_) > 5.0) pending_width_ = pending_height_ = 0;  // WM refused the size
+      if (!frame_done()) {
+        if (since(wait_start_) > options_.script_timeout_seconds) {
+          std::fprintf(stderr, "zigzag view: script 'wait' timed out after %.0f s\n", options_.script_timeout_seconds);
+          exit_code_ = 1;
+          glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+        }
+        return;
+      }
+      waiting_ = false;
+    } else if (e.kind == ScriptEvent::Kind::Drag) {
+      // The same path as a real drag: press, a few motion events, release.
+      on_button(e.button, true, e.x0, e.y0);
+      constexpr int kSteps = 8;
+      for (int i = 1; i <= kSteps; ++i)
+        on_cursor(e.x0 + (e.x1 - e.x0) * i / kSteps, e.y0 + (e.y1 - e.y0) * i / kSteps);
+      on_button(e.button, false, e.x1, e.y1);
+    } else if (e.kind == ScriptEvent::Kind::Scroll) {
+      on_scroll(e.steps);
+    } else if (e.kind == ScriptEvent::Kind::Key) {
+      static const std::pair<const char*, int> keys[] = {
+          {"R", GLFW_KEY_R}, {"S", GLFW_KEY_S}, {"F", GLFW_KEY_F}, {"E", GLFW_KEY_E}, {"1", GLFW_KEY_1},
+          {"2", GLFW_KEY_2}, {"3", GLFW_KEY_3}, {"4", GLFW_KEY_4}, {"[", GLFW_KEY_LEFT_BRACKET},
+          {"]", GLFW_KEY_RIGHT_BRACKET}, {"ESC", GLFW_KEY_ESCAPE}};
+      int key = -1;
+      for (const auto& [name, code] : keys)
+        if (e.text == name || (e.text.size() == 1 && std::toupper(e.text[0]) == name[0] && name[1] == 0)) key = code;
+      if (key < 0) {
+        std::fprintf(stderr, "zigzag view: script key '%s' is unknown\n", e.text.c_str());
+        exit_code_ = 1;
+      } else {
+        on_key(key);
+      }
+    } else if (e.kind == ScriptEvent::Kind::Resize) {
+      pending_width_ = int(e.x0);
+      pending_height_ = int(e.y0);
+      glfwSetWindowSize(window_.get(), pending_width_, pending_height_);
+    } else if (e.kind == ScriptEvent::Kind::Screenshot) {
+      save_screenshot(e.text);
+    } else if (e.kind == ScriptEvent::Kind::Quit) {
+      glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+    }
+    script_.pop_front();
+  }
+}
+
+void Viewer::update_title(bool force) {
+  if (!force && since(title_time_) < 0.25) return;
+  title_time_ = Clock::now();
+  const ProgressStatus s = renderer_->status();
+  char text[512];
+  std::string state;
+  if (s.completed == request_ && request_ != 0) state = "done";
+  else if (s.preview && s.request == request_) state = "preview";
+  else state = std::to_string(s.tiles_done) + "/" + std::to_string(s.tiles_total) + " tiles";
+  std::snprintf(text, sizeof text,
+                "zigzag view - %s - %dx%d - %s%s - %.2f rays/px - last full frame %.2f s - %s - eps %.3g %s edges %s",
+                options_.name.c_str(), render_width_, render_height_, to_string(mode_),
+                mode_ == ViewMode::Geo && !display_.has_geo() ? " (not available)" : "", s.rays_per_pixel,
+                s.last_full_seconds, state.c_str(), tweaks_.eps, tweaks_.mitchell ? "mitchell" : "box",
+                tweaks_.edges ? "on" : "off");
+  if (title_ != text) {
+    title_ = text;
+    glfwSetWindowTitle(window_.get(), text);
+  }
+}
+
+int Viewer::run() {
+  restart();
+  GLFWwindow* window = window_.get();
+  bool exit_frame_seen = false;
+  while (!glfwWindowShouldClose(window)) {
+    // Wake at ~60 Hz to show finished tiles; input wakes it earlier.
+    glfwWaitEventsTimeout(1.0 / 60.0);
+    step_script();
+    if (options_.exit_after_frame && script_.empty() && !exit_frame_seen && frame_done()) {
+      exit_frame_seen = true;
+      if (!options_.screenshot.empty()) save_screenshot(options_.screenshot);
+      glfwSetWindowShouldClose(window, GLFW_TRUE);
+    }
+
+    int fb_w = 0, fb_h = 0;
+    glfwGetFramebufferSize(window, &fb_w, &fb_h);
+    const uint64_t version = display_.version();
+    if (version != presented_version_ || mode_ != presented_mode_ || fb_w != presented_fb_w_ ||
+        fb_h != presented_fb_h_) {
+      if (presenter_->present(display_, mode_, uint32_t(std::max(fb_w, 0)), uint32_t(std::max(fb_h, 0)))) {
+        presented_version_ = version;
+        presented_mode_ = mode_;
+        presented_fb_w_ = fb_w;
+        presented_fb_h_ = fb_h;
+      }
+    }
+    update_title(false);
+  }
+
+  // Closing mid-render: cancel the tiles in flight and join before tearing down Vulkan.
+  renderer_->stop();
+  const ProgressStatus s = renderer_->status();
+  if (s.first_full_seconds >= 0)
+    std::fprintf(stderr, "zigzag view: first full frame %.3f s after the window opened; last full frame %.3f s, %.2f rays/px, %d frame(s)\n",
+                 s.first_full_seconds, s.last_full_seconds, s.rays_per_pixel, s.frames_completed);
+  presenter_.reset();  // its objects are destroyed before counting, so leaks would be reported
+  if (options_.validate) {
+    const int messages = context_->validation_message_count();
+    std::fprintf(stderr, "zigzag view: %d Vulkan validation message(s)\n", messages);
+    if (messages > 0 && exit_code_ == 0) exit_code_ = 3;
+  }
+  return exit_code_;
+}
+
+}  // namespace
+
+void require_display() {
+  static bool ready = false;
+  if (ready) return;
+  const char* x11 = std::getenv("DISPLAY");
+  const char* wayland = std::getenv("WAYLAND_DISPLAY");
+  if ((!x11 || !*x11) && (!wayland || !*wayland)) throw Error("no display; use `zigzag render`");
+  if (!glfwInit()) {
+    const char* why = nullptr;
+    glfwGetError(&why);
+    throw Error(std::string("no display") + (why ? " (" + std::string(why) + ")" : "") + "; use `zigzag render`");
+  }
+  std::atexit(glfwTerminate);
+  ready = true;
+}
+
+int run_viewer(const Shader& shader, const ViewerOptions& options) {
+  Viewer viewer(shader, options);
+  return viewer.run();
+}
+
+}  // namespace zz
