@@ -16,12 +16,14 @@
 
 namespace zz {
 
+// The tree is built binary (binned SAH) and then collapsed into 4-wide nodes; depth and
+// SAH cost describe the binary tree, node and leaf counts the 4-wide one.
 struct BvhBuildStats {
   double build_seconds = 0.0;
-  size_t node_count = 0;
-  size_t leaf_count = 0;
-  size_t max_depth = 0;
-  double sah_cost = 0.0;  // expected cost, traversal step = 1, triangle test = 1
+  size_t node_count = 0;  // 4-wide interior nodes
+  size_t leaf_count = 0;  // leaves (blocks of <= 4 triangles)
+  size_t max_depth = 0;   // of the binary SAH tree (root = 0)
+  double sah_cost = 0.0;  // of the binary tree: traversal step = 1, triangle test = 1
 };
 
 class Bvh {
@@ -42,12 +44,12 @@ class Bvh {
   size_t triangle_count() const;
   bool empty() const { return triangle_count() == 0; }
 
-  using Node = BvhNode;
-  using TriangleData = BvhTriangle;
+  using Node = Bvh4Node;
+  using TriangleData = BvhTriBlock;
 
  private:
-  std::vector<Node> nodes_;              // depth-first, siblings adjacent; [0] = root
-  std::vector<TriangleData> triangles_;  // leaf order; carries the original index
+  std::vector<Node> nodes_;              // [0] = root; empty when nothing can be hit
+  std::vector<TriangleData> triangles_;  // one block of <= 4 triangles per leaf
   size_t triangle_count_ = 0;            // input triangles, degenerate ones included
 };
 

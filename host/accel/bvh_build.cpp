@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "accel/bvh.h"
 
@@ -13,7 +14,7 @@ namespace zz {
 namespace {
 
 constexpr int kBins = 32;
-constexpr uint32_t kMaxLeafSize = 8;
+constexpr uint32_t kMaxLeafSize = 4;  // one SoA block (BvhTriBlock)
 // SAH constants: cost of one traversal step relative to one triangle test. Measured
 // (tools/bench_traversal): the packet triangle test costs about as much as two box
 // tests, which favours leaves of 2-4 triangles.
@@ -21,6 +22,16 @@ constexpr float kTraversalCost = 1.0f;
 constexpr float kTriangleCost = 1.0f;
 // From this depth on, split by object median so the tree depth stays bounded.
 constexpr int kMedianDepth = kBvhMaxDepth - 40;
+
+// The binary tree of the build: 32 bytes, children adjacent (first, first + 1).
+struct BinNode {
+  float lo[3];
+  uint32_t first;  // leaf: first ref; interior: left child
+  float hi[3];
+  uint32_t meta;   // leaf: count << 2 | 3; interior: split axis
+  bool leaf() const { return (meta & 3u) == 3u; }
+  uint32_t count() const { return meta >> 2; }
+};
 
 struct Box {
   glm::vec3 lo{kInfinity}, hi{-kInfinity};
@@ -36,10 +47,10 @@ struct Builder {
   std::vector<Box> tri_box;
   std::vector<glm::vec3> centroid;
   std::vector<uint32_t> refs;  // input triangle indices, partitioned in place
-  std::vector<BvhNode>* nodes;
+  std::vector<BinNode>* nodes;
   BvhBuildStats stats;
 
-  void make_leaf(BvhNode& node, uint32_t begin, uint32_t end) {
+  void make_leaf(BinNode& node, uint32_t begin, uint32_t end) {
     node.first = begin;
     node.meta = ((end - begin) << 2) | 3u;
     ++stats.leaf_count;
@@ -54,7 +65,7 @@ struct Builder {
       cbounds.grow(centroid[refs[i]]);
     }
     {
-      BvhNode& node = (*nodes)[index];
+      BinNode& node = (*nodes)[index];
       for (int k = 0; k < 3; ++k) node.lo[k] = bounds.lo[k], node.hi[k] = bounds.hi[k];
     }
     uint32_t n = end - begin;
@@ -142,14 +153,84 @@ bool degenerate(glm::vec3 a, glm::vec3 b, glm::vec3 c) {
   return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
 }
 
+// Collapses the binary tree into 4-wide nodes: a node's children are its binary
+// children, then the largest-area interior child is replaced by its two children until
+// there are four (the greedy SAH-friendly collapse of Wald et al. 2008, "Getting Rid of
+// Packets").
+struct Collapser {
+  const std::vector<BinNode>& bin;
+  const std::vector<uint32_t>& refs;
+  std::span<const glm::vec3> positions;
+  std::vector<Bvh4Node>& out;
+  std::vector<BvhTriBlock>& blocks;
+
+  static float area(const BinNode& n) {
+    glm::vec3 e(n.hi[0] - n.lo[0], n.hi[1] - n.lo[1], n.hi[2] - n.lo[2]);
+    return e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+
+  uint32_t leaf(const BinNode& n) {
+    BvhTriBlock b;
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    for (uint32_t j = 0; j < 4; ++j) {
+      bool used = j < n.count();
+      uint32_t t = used ? refs[n.first + j] : 0;
+      glm::vec3 v[3];
+      for (int k = 0; k < 3; ++k) v[k] = used ? positions[3 * t + size_t(k)] : glm::vec3(nan);
+      b.v0x[j] = v[0].x, b.v0y[j] = v[0].y, b.v0z[j] = v[0].z;
+      b.v1x[j] = v[1].x, b.v1y[j] = v[1].y, b.v1z[j] = v[1].z;
+      b.v2x[j] = v[2].x, b.v2y[j] = v[2].y, b.v2z[j] = v[2].z;
+      b.prim[j] = used ? int32_t(t) : -1;
+    }
+    blocks.push_back(b);
+    return uint32_t(blocks.size() - 1) | Bvh4Node::kLeafBit;
+  }
+
+  // Emits the 4-wide node for binary node `index` (an interior node, or the root leaf).
+  uint32_t emit(uint32_t index) {
+    uint32_t slot = uint32_t(out.size());
+    out.emplace_back();
+    uint32_t kids[4];
+    uint32_t count = 0;
+    if (bin[index].leaf()) {
+      kids[count++] = index;
+    } else {
+      kids[count++] = bin[index].first;
+      kids[count++] = bin[index].first + 1;
+      while (count < 4) {
+        int pick = -1;
+        float best = -1.0f;
+        for (uint32_t i = 0; i < count; ++i)
+          if (!bin[kids[i]].leaf() && area(bin[kids[i]]) > best) best = area(bin[kids[i]]), pick = int(i);
+        if (pick < 0) break;
+        uint32_t k = kids[pick];
+        kids[pick] = bin[k].first;
+        kids[count++] = bin[k].first + 1;
+      }
+    }
+    Bvh4Node node{};
+    for (uint32_t i = 0; i < 4; ++i) {
+      const BinNode& c = bin[kids[i < count ? i : 0]];
+      node.lo_x[i] = c.lo[0], node.lo_y[i] = c.lo[1], node.lo_z[i] = c.lo[2];
+      node.hi_x[i] = c.hi[0], node.hi_y[i] = c.hi[1], node.hi_z[i] = c.hi[2];
+    }
+    node.count = count;
+    for (uint32_t i = 0; i < count; ++i)
+      node.child[i] = bin[kids[i]].leaf() ? leaf(bin[kids[i]]) : emit(kids[i]);
+    out[slot] = node;
+    return slot;
+  }
+};
+
 }  // namespace
 
 Bvh Bvh::build(std::span<const glm::vec3> positions, BvhBuildStats* stats) {
   auto start = std::chrono::steady_clock::now();
   Bvh bvh;
   bvh.triangle_count_ = positions.size() / 3;
+  std::vector<BinNode> bin;
   Builder b;
-  b.nodes = &bvh.nodes_;
+  b.nodes = &bin;
   b.tri_box.resize(bvh.triangle_count_);
   b.centroid.resize(bvh.triangle_count_);
   for (size_t t = 0; t < bvh.triangle_count_; ++t) {
@@ -162,33 +243,20 @@ Bvh Bvh::build(std::span<const glm::vec3> positions, BvhBuildStats* stats) {
     b.refs.push_back(uint32_t(t));
   }
   if (!b.refs.empty()) {
-    bvh.nodes_.reserve(2 * b.refs.size());
-    bvh.nodes_.resize(1);
+    bin.reserve(2 * b.refs.size());
+    bin.resize(1);
     b.build(0, 0, uint32_t(b.refs.size()), 0);
-    bvh.triangles_.resize(b.refs.size());
-    for (size_t i = 0; i < b.refs.size(); ++i) {
-      uint32_t t = b.refs[i];
-      BvhTriangle& d = bvh.triangles_[i];
-      for (int k = 0; k < 3; ++k) {
-        d.v0[k] = positions[3 * t][k];
-        d.v1[k] = positions[3 * t + 1][k];
-        d.v2[k] = positions[3 * t + 2][k];
-      }
-      d.prim = int32_t(t);
-      d.pad1 = d.pad2 = 0.0f;
-    }
     // Expected cost (MacDonald & Booth 1990): area-weighted node and triangle counts.
-    double root_area = 0.0, cost = 0.0;
-    for (const BvhNode& node : bvh.nodes_) {
-      Box box;
-      box.lo = {node.lo[0], node.lo[1], node.lo[2]};
-      box.hi = {node.hi[0], node.hi[1], node.hi[2]};
-      if (root_area == 0.0) root_area = std::max(double(box.area()), 1e-30);
-      cost += double(box.area()) / root_area * (node.leaf() ? double(node.count()) : 1.0);
-    }
+    double root_area = std::max(double(Collapser::area(bin[0])), 1e-30), cost = 0.0;
+    for (const BinNode& node : bin)
+      cost += double(Collapser::area(node)) / root_area * (node.leaf() ? double(node.count()) : 1.0);
     b.stats.sah_cost = cost;
+    bvh.nodes_.reserve(bin.size() / 2 + 1);
+    bvh.triangles_.reserve(b.stats.leaf_count);
+    Collapser{bin, b.refs, positions, bvh.nodes_, bvh.triangles_}.emit(0);
   }
   b.stats.node_count = bvh.nodes_.size();
+  b.stats.leaf_count = bvh.triangles_.size();
   b.stats.build_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = b.stats;

@@ -8,34 +8,36 @@
 
 namespace zz {
 
-// A 32-byte binary node: two of them fill one 64-byte cache line, and a node's children
-// are always adjacent (first, first + 1), so the parent tests both with one fetch.
-struct alignas(32) BvhNode {
-  float lo[3];
-  uint32_t first;  // leaf: first triangle slot; interior: index of the left child
-  float hi[3];
-  uint32_t meta;   // leaf: count << 2 | 3; interior: split axis (0..2)
+// A 4-wide node (Embree-style BVH4, Dammertz et al. 2008 "Shallow Bounding Volume
+// Hierarchies"): the children's boxes in SoA so that one ray tests all four with one SSE
+// slab test, and a packet tests one child per step with broadcast planes. 128 bytes,
+// two cache lines.
+struct alignas(64) Bvh4Node {
+  float lo_x[4], lo_y[4], lo_z[4];
+  float hi_x[4], hi_y[4], hi_z[4];
+  uint32_t child[4];  // kLeafBit set: index of a BvhTriBlock; else a node index
+  uint32_t count;     // valid children, packed first (2..4, or 1 for a one-leaf tree)
+  uint32_t pad[3];
 
-  bool leaf() const { return (meta & 3u) == 3u; }
-  uint32_t count() const { return meta >> 2; }
-  uint32_t axis() const { return meta & 3u; }
+  static constexpr uint32_t kLeafBit = 0x80000000u;
 };
-static_assert(sizeof(BvhNode) == 32);
+static_assert(sizeof(Bvh4Node) == 128);
 
-// The three vertices of a triangle in leaf order, 16-byte rows so that the SSE kernel
-// loads a vertex with one aligned load and broadcasts its coordinates. The fourth word
-// of row 0 carries the original triangle index (the tie-break key).
-struct alignas(16) BvhTriangle {
-  float v0[3];
-  int32_t prim;
-  float v1[3];
-  float pad1;
-  float v2[3];
-  float pad2;
+// A leaf: up to four triangles in SoA, so that one ray tests all of them at once (and a
+// packet broadcasts one at a time). Unused lanes have prim = -1 and NaN vertices, which
+// the watertight kernel never reports as a hit. prim is the original triangle index (the
+// tie-break key for equal t).
+struct alignas(16) BvhTriBlock {
+  float v0x[4], v0y[4], v0z[4];
+  float v1x[4], v1y[4], v1z[4];
+  float v2x[4], v2y[4], v2z[4];
+  int32_t prim[4];
 };
-static_assert(sizeof(BvhTriangle) == 48);
+static_assert(sizeof(BvhTriBlock) == 160);
 
-// Deepest tree the builder produces; traversal stacks hold this many entries.
+// Deepest binary tree the builder produces; traversal stacks are sized from it (a BVH4
+// level pushes at most 3 entries and spans at least one binary level).
 inline constexpr int kBvhMaxDepth = 96;
+inline constexpr int kBvhStackSize = 3 * kBvhMaxDepth + 4;
 
 }  // namespace zz

@@ -1,6 +1,6 @@
-// Single-ray traversal for incoherent rays: the same tree, the same conservative slab
-// test (one SSE box at a time) and the same watertight kernel as the packets, with the
-// closest child first by the ray's direction sign along the node's split axis.
+// Single-ray traversal for incoherent rays (Embree-style BVH4: Wald, Benthin & Boulos
+// 2008, "Getting Rid of Packets"): one SSE slab test covers a node's four children, one
+// SSE watertight test covers a leaf's four triangles, children are visited nearest first.
 #include <limits>
 
 #include "accel/box_test.h"
@@ -13,81 +13,87 @@ namespace {
 constexpr float kFloatMax = std::numeric_limits<float>::max();
 
 struct SingleSetup {
-  __m128 o;    // origin, lane 3 = 0
-  __m128 rd;   // safe reciprocal direction, lane 3 = 0
+  float4 ox, oy, oz;     // origin, broadcast
+  float4 rdx, rdy, rdz;  // safe reciprocal direction, broadcast
   watertight::RayShear shear;
-  int neg[3];
   float best;
 };
 
-// Slab test of one box: x, y, z in lanes 0..2, lane 3 carries 0 (near) and best (far).
-inline bool box1(const SingleSetup& s, const BvhNode& n, float best, float& tnear) {
-  __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.lo), s.o), s.rd);
-  __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n.hi), s.o), s.rd);
-  __m128 tmin = _mm_blend_ps(_mm_min_ps(t0, t1), _mm_setzero_ps(), 0b1000);
-  __m128 tmax = _mm_blend_ps(_mm_max_ps(t0, t1), _mm_set1_ps(best), 0b1000);
-  tnear = hmax(tmin);
-  return tnear <= hmin(tmax) * kBoxFarScale;
-}
-
 template <bool kAnyHit>
-bool traverse(const std::vector<BvhNode>& nodes, const std::vector<BvhTriangle>& tris,
+bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& blocks,
               SingleSetup& s, Hit* out) {
+  const float4 sx(s.shear.sx), sy(s.shear.sy), sz(s.shear.sz);
   const int kx = s.shear.kx, ky = s.shear.ky, kz = s.shear.kz;
   int32_t best_prim = std::numeric_limits<int32_t>::max();
   float best_u = 0.0f, best_v = 0.0f;
-  alignas(16) float o[4];
-  _mm_store_ps(o, s.o);
 
   struct Entry {
+    uint32_t ref;
     float tnear;
-    uint32_t node;
-  } stack[kBvhMaxDepth + 1];
+  } stack[kBvhStackSize];
   int sp = 0;
-  float tn;
-  uint32_t node = 0;
-  if (!box1(s, nodes[0], s.best, tn)) return false;
+  uint32_t ref = 0;
   while (true) {
-    const BvhNode& n = nodes[node];
-    if (!n.leaf()) {
-      float tl, tr;
-      bool hl = box1(s, nodes[n.first], s.best, tl);
-      bool hr = box1(s, nodes[n.first + 1], s.best, tr);
-      if (hl && hr) {
-        bool right_first = s.neg[n.axis()];
-        stack[sp].node = right_first ? n.first : n.first + 1;
-        stack[sp].tnear = right_first ? tl : tr;
-        ++sp;
-        node = right_first ? n.first + 1 : n.first;
-        continue;
-      }
-      if (hl || hr) {
-        node = hl ? n.first : n.first + 1;
+    if (!(ref & Bvh4Node::kLeafBit)) {
+      const Bvh4Node& n = nodes[ref];
+      // Slab test of the four children at once (conservative: see box_test.h).
+      float4 t0x = (float4::load(n.lo_x) - s.ox) * s.rdx, t1x = (float4::load(n.hi_x) - s.ox) * s.rdx;
+      float4 t0y = (float4::load(n.lo_y) - s.oy) * s.rdy, t1y = (float4::load(n.hi_y) - s.oy) * s.rdy;
+      float4 t0z = (float4::load(n.lo_z) - s.oz) * s.rdz, t1z = (float4::load(n.hi_z) - s.oz) * s.rdz;
+      float4 tnear = max(max(min(t0x, t1x), min(t0y, t1y)), max(min(t0z, t1z), float4(0.0f)));
+      float4 tfar = min(min(max(t0x, t1x), max(t0y, t1y)), min(max(t0z, t1z), float4(s.best)));
+      unsigned hit = unsigned((tnear <= tfar * kBoxFarScale).bits()) & ((1u << n.count) - 1u);
+      if (hit) {
+        int i0 = __builtin_ctz(hit);
+        hit &= hit - 1;
+        if (!hit) {  // the common case: a single child
+          ref = n.child[i0];
+          continue;
+        }
+        alignas(16) float tn[4];
+        tnear.store(tn);
+        // Sort the hit children farthest first; push all but the nearest, visit it next.
+        Entry e[4];
+        int m = 0;
+        e[m++] = Entry{n.child[i0], tn[i0]};
+        for (; hit; hit &= hit - 1) {
+          int i = __builtin_ctz(hit);
+          Entry x{n.child[i], tn[i]};
+          int j = m++;
+          while (j > 0 && e[j - 1].tnear < x.tnear) e[j] = e[j - 1], --j;
+          e[j] = x;
+        }
+        for (int j = 0; j < m - 1; ++j) stack[sp++] = e[j];
+        ref = e[m - 1].ref;
         continue;
       }
     } else {
-      const BvhTriangle* tri = &tris[n.first];
-      const BvhTriangle* end = tri + n.count();
-      for (; tri != end; ++tri) {
-        float a[3], b[3], c[3];
-        for (int k = 0; k < 3; ++k) {
-          a[k] = tri->v0[k] - o[k];
-          b[k] = tri->v1[k] - o[k];
-          c[k] = tri->v2[k] - o[k];
-        }
-        auto h = watertight::intersect<float>(a[kx], a[ky], a[kz], b[kx], b[ky], b[kz], c[kx],
-                                              c[ky], c[kz], s.shear.sx, s.shear.sy, s.shear.sz);
-        if (!h.hit || !(h.t <= s.best)) continue;
+      const BvhTriBlock& b = blocks[ref & ~Bvh4Node::kLeafBit];
+      // One ray against four triangles: per lane the same operations as a packet lane.
+      float4 a[3] = {float4::load(b.v0x) - s.ox, float4::load(b.v0y) - s.oy, float4::load(b.v0z) - s.oz};
+      float4 bb[3] = {float4::load(b.v1x) - s.ox, float4::load(b.v1y) - s.oy, float4::load(b.v1z) - s.oz};
+      float4 c[3] = {float4::load(b.v2x) - s.ox, float4::load(b.v2y) - s.oy, float4::load(b.v2z) - s.oz};
+      auto h = watertight::intersect<float4>(a[kx], a[ky], a[kz], bb[kx], bb[ky], bb[kz], c[kx],
+                                             c[ky], c[kz], sx, sy, sz);
+      unsigned hit = unsigned((h.hit & (h.t <= float4(s.best))).bits());
+      if (hit) {
         if constexpr (kAnyHit) {
           return true;
         } else {
-          // Same tie-break as the packets: equal t goes to the lower original index.
-          if (h.t == s.best && tri->prim > best_prim) continue;
-          s.best = h.t;
-          best_u = h.u, best_v = h.v, best_prim = tri->prim;
+          alignas(16) float t[4], u[4], v[4];
+          h.t.store(t), h.u.store(u), h.v.store(v);
+          for (; hit; hit &= hit - 1) {
+            int i = __builtin_ctz(hit);
+            // Same tie-break as the packets: equal t goes to the lower original index.
+            if (t[i] < s.best || (t[i] == s.best && b.prim[i] < best_prim)) {
+              s.best = t[i];
+              best_u = u[i], best_v = v[i], best_prim = b.prim[i];
+            }
+          }
         }
       }
     }
+    // Pop the next subtree that may still hold a hit before the current tmax.
     while (true) {
       if (sp == 0) {
         if constexpr (!kAnyHit) {
@@ -98,7 +104,7 @@ bool traverse(const std::vector<BvhNode>& nodes, const std::vector<BvhTriangle>&
       }
       --sp;
       if (stack[sp].tnear <= s.best * kBoxFarScale) {
-        node = stack[sp].node;
+        ref = stack[sp].ref;
         break;
       }
     }
@@ -110,9 +116,10 @@ bool setup(const Ray& ray, SingleSetup& s) {
   if (!s.shear.valid || !std::isfinite(ray.origin.x) || !std::isfinite(ray.origin.y) ||
       !std::isfinite(ray.origin.z) || std::isnan(ray.tmax))
     return false;
-  s.o = _mm_setr_ps(ray.origin.x, ray.origin.y, ray.origin.z, 0.0f);
-  s.rd = _mm_setr_ps(safe_rcp(ray.dir.x), safe_rcp(ray.dir.y), safe_rcp(ray.dir.z), 0.0f);
-  for (int k = 0; k < 3; ++k) s.neg[k] = ray.dir[k] < 0.0f;
+  s.ox = float4(ray.origin.x), s.oy = float4(ray.origin.y), s.oz = float4(ray.origin.z);
+  s.rdx = float4(safe_rcp(ray.dir.x)), s.rdy = float4(safe_rcp(ray.dir.y));
+  s.rdz = float4(safe_rcp(ray.dir.z));
+  // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
   s.best = std::min(ray.tmax, kFloatMax);
   return s.best >= 0.0f;
 }

@@ -1,7 +1,7 @@
 // 4-ray packet traversal (Wald, Slusallek, Benthin & Wagner, "Interactive Rendering with
-// Coherent Ray Tracing", 2001): one SSE lane per ray, the packet descends a node when any
-// active lane hits its box. Both children are tested from the parent; the near child is
-// the one on the side the first active ray points to along the node's split axis.
+// Coherent Ray Tracing", 2001) over the 4-wide tree: one SSE lane per ray, the packet
+// enters a child when any active lane hits its box; hit children are visited in order of
+// their nearest entry distance over the packet.
 #include <cstring>
 #include <limits>
 
@@ -23,7 +23,6 @@ struct PacketSetup {
   mask4 kx0, kx1, ky0, ky1, kz0, kz1;
   int kx, ky, kz;        // the shared permutation when `uniform`
   bool uniform;
-  int neg[3];            // direction signs of the first active lane (near/far order)
   mask4 valid;
 };
 
@@ -51,7 +50,6 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
     if (!valid[i]) continue;
     if (first < 0) {
       first = i;
-      for (int a = 0; a < 3; ++a) p.neg[a] = dir[a] < 0.0f;
       p.kx = sh.kx, p.ky = sh.ky, p.kz = sh.kz;
     } else if (sh.kx != p.kx || sh.ky != p.ky || sh.kz != p.kz) {
       p.uniform = false;
@@ -98,12 +96,12 @@ struct Pick<-1> {
   }
 };
 
-// Slab test of one box against the packet: lanes that hit, and their entry distance.
-inline mask4 box4(const PacketSetup& p, const BvhNode& n, float4 best, float4& tnear) {
-  __m128 lo = _mm_load_ps(n.lo), hi = _mm_load_ps(n.hi);
-  float4 t0x = (bcast<0>(lo) - p.ox) * p.rdx, t1x = (bcast<0>(hi) - p.ox) * p.rdx;
-  float4 t0y = (bcast<1>(lo) - p.oy) * p.rdy, t1y = (bcast<1>(hi) - p.oy) * p.rdy;
-  float4 t0z = (bcast<2>(lo) - p.oz) * p.rdz, t1z = (bcast<2>(hi) - p.oz) * p.rdz;
+// Slab test of child i of a 4-wide node against the packet: lanes that hit, and their
+// entry distance.
+inline mask4 box4(const PacketSetup& p, const Bvh4Node& n, int i, float4 best, float4& tnear) {
+  float4 t0x = (float4(n.lo_x[i]) - p.ox) * p.rdx, t1x = (float4(n.hi_x[i]) - p.ox) * p.rdx;
+  float4 t0y = (float4(n.lo_y[i]) - p.oy) * p.rdy, t1y = (float4(n.hi_y[i]) - p.oy) * p.rdy;
+  float4 t0z = (float4(n.lo_z[i]) - p.oz) * p.rdz, t1z = (float4(n.hi_z[i]) - p.oz) * p.rdz;
   tnear = max(max(min(t0x, t1x), min(t0y, t1y)), max(min(t0z, t1z), float4(0.0f)));
   float4 tfar = min(min(max(t0x, t1x), max(t0y, t1y)), min(max(t0z, t1z), best));
   return tnear <= tfar * kBoxFarScale;
@@ -111,80 +109,74 @@ inline mask4 box4(const PacketSetup& p, const BvhNode& n, float4 best, float4& t
 
 struct StackEntry {
   float4 tnear;  // +inf in lanes that missed the box
-  uint32_t node;
+  uint32_t ref;
+  float key;     // nearest entry over the lanes: the visiting order
 };
 
 template <bool kAnyHit, int KX, int KY, int KZ>
-mask4 traverse(const std::vector<BvhNode>& nodes, const std::vector<BvhTriangle>& tris,
+mask4 traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& blocks,
                PacketSetup& p, HitPacket4* out) {
   float4 best_u(0.0f), best_v(0.0f);
   int4 best_prim(std::numeric_limits<int32_t>::max());
   mask4 occluded(false);
   const float4 inf(kInfinity), minus_inf(-kInfinity);
+  using PX = Pick<KX>;
+  using PY = Pick<KY>;
+  using PZ = Pick<KZ>;
 
-  StackEntry stack[kBvhMaxDepth + 1];
+  StackEntry stack[kBvhStackSize];
   int sp = 0;
-  float4 tn;
-  uint32_t node = 0;
-  if (!box4(p, nodes[0], p.best, tn).any()) goto done;
+  uint32_t ref = 0;
   while (true) {
-    {
-      const BvhNode& n = nodes[node];
-      if (!n.leaf()) {
-        float4 tl, tr;
-        mask4 ml = box4(p, nodes[n.first], p.best, tl);
-        mask4 mr = box4(p, nodes[n.first + 1], p.best, tr);
-        int hl = ml.bits(), hr = mr.bits();
-        if (hl && hr) {
-          bool right_first = p.neg[n.axis()];
-          stack[sp].node = right_first ? n.first : n.first + 1;
-          stack[sp].tnear = right_first ? select(ml, tl, inf) : select(mr, tr, inf);
-          ++sp;
-          node = right_first ? n.first + 1 : n.first;
-          continue;
-        }
-        if (hl | hr) {
-          node = hl ? n.first : n.first + 1;
-          continue;
-        }
-      } else {
-        const BvhTriangle* tri = &tris[n.first];
-        const BvhTriangle* end = tri + n.count();
-        for (; tri != end; ++tri) {
-          __m128 r0 = _mm_load_ps(tri->v0), r1 = _mm_load_ps(tri->v1),
-                 r2 = _mm_load_ps(tri->v2);
-          float4 ax = bcast<0>(r0) - p.ox, ay = bcast<1>(r0) - p.oy, az = bcast<2>(r0) - p.oz;
-          float4 bx = bcast<0>(r1) - p.ox, by = bcast<1>(r1) - p.oy, bz = bcast<2>(r1) - p.oz;
-          float4 cx = bcast<0>(r2) - p.ox, cy = bcast<1>(r2) - p.oy, cz = bcast<2>(r2) - p.oz;
-          using PX = Pick<KX>;
-          using PY = Pick<KY>;
-          using PZ = Pick<KZ>;
-          auto h = watertight::intersect<float4>(
-              PX::get(ax, ay, az, p.kx0, p.kx1), PY::get(ax, ay, az, p.ky0, p.ky1),
-              PZ::get(ax, ay, az, p.kz0, p.kz1), PX::get(bx, by, bz, p.kx0, p.kx1),
-              PY::get(bx, by, bz, p.ky0, p.ky1), PZ::get(bx, by, bz, p.kz0, p.kz1),
-              PX::get(cx, cy, cz, p.kx0, p.kx1), PY::get(cx, cy, cz, p.ky0, p.ky1),
-              PZ::get(cx, cy, cz, p.kz0, p.kz1), p.sx, p.sy, p.sz);
-          if constexpr (kAnyHit) {
-            mask4 hit = h.hit & (h.t <= p.best);
-            if (hit.any()) {
-              occluded |= hit;
-              p.best = select(hit, minus_inf, p.best);
-              if (!(p.best > minus_inf).any()) goto done;
-            }
-          } else {
-            int4 prim(tri->prim);
-            // Closest hit; equal t goes to the lower original index, so the result does
-            // not depend on the order in which the packet or a single ray visits leaves.
-            mask4 closer = (h.t < p.best) |
-                           ((h.t == p.best) & mask4(_mm_castsi128_ps(_mm_cmplt_epi32(prim, best_prim))));
-            mask4 hit = h.hit & closer;
-            if (hit.any()) {
-              p.best = select(hit, h.t, p.best);
-              best_u = select(hit, h.u, best_u);
-              best_v = select(hit, h.v, best_v);
-              best_prim = select(hit, prim, best_prim);
-            }
+    if (!(ref & Bvh4Node::kLeafBit)) {
+      const Bvh4Node& n = nodes[ref];
+      StackEntry e[4];
+      int m = 0;
+      for (uint32_t i = 0; i < n.count; ++i) {
+        float4 tn;
+        mask4 hit = box4(p, n, int(i), p.best, tn);
+        if (hit.none()) continue;
+        // Order the children by the nearest entry over the packet, farthest first.
+        StackEntry x{select(hit, tn, inf), n.child[i], hmin(select(hit, tn, inf))};
+        int j = m++;
+        while (j > 0 && e[j - 1].key < x.key) e[j] = e[j - 1], --j;
+        e[j] = x;
+      }
+      if (m > 0) {
+        for (int j = 0; j < m - 1; ++j) stack[sp++] = e[j];
+        ref = e[m - 1].ref;
+        continue;
+      }
+    } else {
+      const BvhTriBlock& b = blocks[ref & ~Bvh4Node::kLeafBit];
+      for (int j = 0; j < 4 && b.prim[j] >= 0; ++j) {
+        float4 ax = float4(b.v0x[j]) - p.ox, ay = float4(b.v0y[j]) - p.oy, az = float4(b.v0z[j]) - p.oz;
+        float4 bx = float4(b.v1x[j]) - p.ox, by = float4(b.v1y[j]) - p.oy, bz = float4(b.v1z[j]) - p.oz;
+        float4 cx = float4(b.v2x[j]) - p.ox, cy = float4(b.v2y[j]) - p.oy, cz = float4(b.v2z[j]) - p.oz;
+        auto h = watertight::intersect<float4>(
+            PX::get(ax, ay, az, p.kx0, p.kx1), PY::get(ax, ay, az, p.ky0, p.ky1),
+            PZ::get(ax, ay, az, p.kz0, p.kz1), PX::get(bx, by, bz, p.kx0, p.kx1),
+            PY::get(bx, by, bz, p.ky0, p.ky1), PZ::get(bx, by, bz, p.kz0, p.kz1),
+            PX::get(cx, cy, cz, p.kx0, p.kx1), PY::get(cx, cy, cz, p.ky0, p.ky1),
+            PZ::get(cx, cy, cz, p.kz0, p.kz1), p.sx, p.sy, p.sz);
+        if constexpr (kAnyHit) {
+          mask4 hit = h.hit & (h.t <= p.best);
+          if (hit.any()) {
+            occluded |= hit;
+            p.best = select(hit, minus_inf, p.best);
+            if (!(p.best > minus_inf).any()) goto done;
+          }
+        } else {
+          int4 prim(b.prim[j]);
+          // Closest hit; equal t goes to the lower original index, so the result does
+          // not depend on the order in which the packet or a single ray visits leaves.
+          mask4 lower(_mm_castsi128_ps(_mm_cmplt_epi32(prim, best_prim)));
+          mask4 hit = h.hit & ((h.t < p.best) | ((h.t == p.best) & lower));
+          if (hit.any()) {
+            p.best = select(hit, h.t, p.best);
+            best_u = select(hit, h.u, best_u);
+            best_v = select(hit, h.v, best_v);
+            best_prim = select(hit, prim, best_prim);
           }
         }
       }
@@ -194,7 +186,7 @@ mask4 traverse(const std::vector<BvhNode>& nodes, const std::vector<BvhTriangle>
       if (sp == 0) goto done;
       --sp;
       if ((stack[sp].tnear <= p.best * kBoxFarScale).any()) {
-        node = stack[sp].node;
+        ref = stack[sp].ref;
         break;
       }
     }
@@ -211,7 +203,7 @@ done:
 }
 
 template <bool kAnyHit>
-mask4 dispatch(const std::vector<BvhNode>& nodes, const std::vector<BvhTriangle>& tris,
+mask4 dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& tris,
                PacketSetup& p, HitPacket4* out) {
   if (!p.uniform) return traverse<kAnyHit, -1, -1, -1>(nodes, tris, p, out);
   // The six axis permutations of Woop's (kx, ky, kz); coherent packets share one.
