@@ -24,7 +24,11 @@ void Buffer::reset() {
   if (!device) return;
   if (buffer) vkDestroyBuffer(device, buffer, nullptr);
   if (memory) vkFreeMemory(device, memory, nullptr);  // also unmaps
-  *this = Buffer();
+  device = VK_NULL_HANDLE;
+  buffer = VK_NULL_HANDLE;
+  memory = VK_NULL_HANDLE;
+  size = 0;
+  mapped = nullptr;
 }
 
 Image& Image::operator=(Image&& other) noexcept {
@@ -46,7 +50,11 @@ void Image::reset() {
   if (view) vkDestroyImageView(device, view, nullptr);
   if (image) vkDestroyImage(device, image, nullptr);
   if (memory) vkFreeMemory(device, memory, nullptr);
-  *this = Image();
+  device = VK_NULL_HANDLE;
+  image = VK_NULL_HANDLE;
+  view = VK_NULL_HANDLE;
+  memory = VK_NULL_HANDLE;
+  width = height = 0;
 }
 
 Buffer create_buffer(VulkanContext& context, VkDeviceSize size, VkBufferUsageFlags usage,

@@ -1,0 +1,548 @@
+#include "gpu/visibility.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "core/error.h"
+#include "gpu/shaders.h"
+
+namespace zz {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
+constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
+
+// 3x3 inverse in double (adjugate / determinant).
+glm::dmat3 inverse3(const glm::dmat3& m) { return glm::inverse(m); }
+
+}  // namespace
+
+// Everything one run() needs besides the tiles' own offsets.
+struct VisibilityPass::Frame {
+  int width = 0, height = 0, s = 4;
+  glm::dmat3 view_from_ray;  // q = t * (dir00 + px du + py dv)  ->  (t px, t py, t)
+  glm::vec3 origin{0.0f};
+  double znear = 1e-6;       // in units of t (the forward component: t = depth)
+  gpu::FlagPush flag{};
+  int words_per_row = 0;
+  std::vector<Tile> tiles;
+  uint32_t image_w = 0, image_h = 0;  // largest tile image, ring included
+};
+
+std::vector<glm::vec4> geometric_normals(const Scene& scene) {
+  size_t n = scene.positions.size() / 3;
+  std::vector<glm::vec4> normals(n, glm::vec4(0.0f));
+  for (size_t t = 0; t < n; ++t) {
+    glm::dvec3 v0(scene.positions[3 * t]), v1(scene.positions[3 * t + 1]), v2(scene.positions[3 * t + 2]);
+    glm::dvec3 c = glm::cross(v1 - v0, v2 - v0);
+    double len = glm::length(c);
+    // Degenerate triangles keep a zero normal: any pair with one flags (cos 0 < limit).
+    if (len > 0.0) normals[t] = glm::vec4(glm::vec3(c / len), 0.0f);
+  }
+  return normals;
+}
+
+gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
+                             const VisibilitySettings& settings) {
+  CameraRays rays(camera, width, height);
+  float s = float(settings.supersample);
+  gpu::FlagPush p{};
+  // Supersample (gx, gy) sits at image point ((gx + 0.5)/S, (gy + 0.5)/S).
+  glm::vec3 du = rays.du / s, dv = rays.dv / s;
+  p.origin = glm::vec4(rays.origin, 0.0f);
+  p.dir00 = glm::vec4(rays.dir00 + 0.5f * du + 0.5f * dv, 0.0f);
+  p.du = glm::vec4(du, 0.0f);
+  p.dv = glm::vec4(dv, 0.0f);
+  p.frame = glm::ivec4(width, height, settings.supersample,
+                       (width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
+  p.limits = glm::vec4(std::cos(double(settings.normal_angle_deg) * M_PI / 180.0), settings.depth_rel,
+                       0.0f, 0.0f);
+  return p;
+}
+
+VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : context_(context) {
+  auto t0 = Clock::now();
+  triangles_ = scene.positions.size() / 3;
+  std::vector<glm::vec4> positions(std::max<size_t>(3 * triangles_, 1), glm::vec4(0.0f));
+  std::vector<glm::vec4> normals = geometric_normals(scene);
+  normals.resize(std::max<size_t>(triangles_, 1), glm::vec4(0.0f));
+  if (triangles_ > 0) bounds_min_ = bounds_max_ = scene.positions[0];
+  for (size_t t = 0; t < triangles_; ++t) {
+    for (int k = 0; k < 3; ++k) {
+      glm::vec3 p = scene.positions[3 * t + k];
+      positions[3 * t + k] = glm::vec4(p, 1.0f);
+      bounds_min_ = glm::min(bounds_min_, p);
+      bounds_max_ = glm::max(bounds_max_, p);
+    }
+  }
+  VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  positions_ = create_buffer(context_, positions.size() * sizeof(glm::vec4),
+                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                             0, local);
+  normals_ = create_buffer(context_, normals.size() * sizeof(glm::vec4),
+                           VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0, local);
+  upload(context_, positions_, positions.data(), positions.size() * sizeof(glm::vec4));
+  upload(context_, normals_, normals.data(), normals.size() * sizeof(glm::vec4));
+  create_pipelines();
+  upload_s_ = seconds_since(t0);
+}
+
+VisibilityPass::~VisibilityPass() {
+  VkDevice d = context_.device();
+  vkDeviceWaitIdle(d);
+  if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
+  if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
+  if (flag_pipeline_) vkDestroyPipeline(d, flag_pipeline_, nullptr);
+  if (flag_layout_) vkDestroyPipelineLayout(d, flag_layout_, nullptr);
+  if (flag_set_layout_) vkDestroyDescriptorSetLayout(d, flag_set_layout_, nullptr);
+  if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
+  if (raster_layout_) vkDestroyPipelineLayout(d, raster_layout_, nullptr);
+}
+
+void VisibilityPass::create_pipelines() {
+  VkDevice d = context_.device();
+  VkShaderModule vert = create_shader_module(d, shader_ids_vert());
+  VkShaderModule frag = create_shader_module(d, shader_ids_frag());
+  VkShaderModule comp = create_shader_module(d, shader_geo_flags_comp());
+  struct Modules {
+    VkDevice d;
+    VkShaderModule m[3];
+    ~Modules() {
+      for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
+    }
+  } modules{d, {vert, frag, comp}};
+
+  // Raster: positions in, triangle id out, reverse-Z depth (GREATER, clear 0).
+  VkPushConstantRange raster_push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::RasterPush)};
+  VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layout.pushConstantRangeCount = 1;
+  layout.pPushConstantRanges = &raster_push;
+  vk_check(vkCreatePipelineLayout(d, &layout, nullptr, &raster_layout_), "vkCreatePipelineLayout");
+
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vert;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = frag;
+  stages[1].pName = "main";
+
+  VkVertexInputBindingDescription binding{0, sizeof(glm::vec4), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attribute{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
+  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertex_input.vertexBindingDescriptionCount = 1;
+  vertex_input.pVertexBindingDescriptions = &binding;
+  vertex_input.vertexAttributeDescriptionCount = 1;
+  vertex_input.pVertexAttributeDescriptions = &attribute;
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_GREATER;
+  VkPipelineColorBlendAttachmentState blend_attachment{};
+  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = 1;
+  blend.pAttachments = &blend_attachment;
+  VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachmentFormats = &kIdFormat;
+  rendering.depthAttachmentFormat = kDepthFormat;
+
+  VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  graphics.pNext = &rendering;
+  graphics.stageCount = 2;
+  graphics.pStages = stages;
+  graphics.pVertexInputState = &vertex_input;
+  graphics.pInputAssemblyState = &assembly;
+  graphics.pViewportState = &viewport;
+  graphics.pRasterizationState = &raster;
+  graphics.pMultisampleState = &multisample;
+  graphics.pDepthStencilState = &depth;
+  graphics.pColorBlendState = &blend;
+  graphics.pDynamicState = &dynamic;
+  graphics.layout = raster_layout_;
+  vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &raster_pipeline_),
+           "vkCreateGraphicsPipelines");
+
+  // Compute: ids (storage image), positions, normals, packed flags.
+  VkDescriptorSetLayoutBinding bindings[4] = {
+      {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+  VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  set_layout.bindingCount = 4;
+  set_layout.pBindings = bindings;
+  vk_check(vkCreateDescriptorSetLayout(d, &set_layout, nullptr, &flag_set_layout_),
+           "vkCreateDescriptorSetLayout");
+  VkPushConstantRange flag_push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::FlagPush)};
+  VkPipelineLayoutCreateInfo flag_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  flag_layout.setLayoutCount = 1;
+  flag_layout.pSetLayouts = &flag_set_layout_;
+  flag_layout.pushConstantRangeCount = 1;
+  flag_layout.pPushConstantRanges = &flag_push;
+  vk_check(vkCreatePipelineLayout(d, &flag_layout, nullptr, &flag_layout_), "vkCreatePipelineLayout");
+  VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  compute.stage.module = comp;
+  compute.stage.pName = "main";
+  compute.layout = flag_layout_;
+  vk_check(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &compute, nullptr, &flag_pipeline_),
+           "vkCreateComputePipelines");
+
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1},
+                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+  VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  pool.maxSets = 1;
+  pool.poolSizeCount = 2;
+  pool.pPoolSizes = sizes;
+  vk_check(vkCreateDescriptorPool(d, &pool, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
+  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+  alloc.descriptorPool = descriptor_pool_;
+  alloc.descriptorSetCount = 1;
+  alloc.pSetLayouts = &flag_set_layout_;
+  vk_check(vkAllocateDescriptorSets(d, &alloc, &flag_set_), "vkAllocateDescriptorSets");
+}
+
+VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int height,
+                                           const VisibilitySettings& settings) const {
+  if (width <= 0 || height <= 0) throw Error("visibility map: empty frame size");
+  if (settings.supersample < 1 || settings.supersample > 16)
+    throw Error("visibility map: supersampling must be 1..16, got " + std::to_string(settings.supersample));
+  Frame f;
+  f.width = width;
+  f.height = height;
+  f.s = settings.supersample;
+  CameraRays rays(camera, width, height);
+  f.origin = rays.origin;
+  // Columns du, dv, dir00: a point q = M (t px, t py, t); its inverse projects exactly
+  // like CameraRays, even for a slightly non-orthonormal camera basis.
+  glm::dmat3 m(glm::dvec3(rays.du), glm::dvec3(rays.dv), glm::dvec3(rays.dir00));
+  f.view_from_ray = inverse3(m);
+  // Reverse-Z with an infinite far plane: depth = znear / t stays a well-scaled float
+  // for any t, so znear may be tiny; 1e-9 of the scene's extent from the camera keeps
+  // geometry at 1e-4 visible in a 1e6-sized scene while depth stays a normal float.
+  double dmax = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    glm::dvec3 corner((c & 1) ? bounds_max_.x : bounds_min_.x, (c & 2) ? bounds_max_.y : bounds_min_.y,
+                      (c & 4) ? bounds_max_.z : bounds_min_.z);
+    dmax = std::max(dmax, glm::length(corner - glm::dvec3(f.origin)));
+  }
+  f.znear = std::max(dmax * 1e-9, 1e-20);
+  f.flag = make_flag_push(camera, width, height, settings);
+  f.words_per_row = f.flag.frame.w;
+
+  // Tiles: full rows when they fit, else bands / columns. Widths are multiples of 4
+  // pixels (one flag word each), the image holds the tile plus a one-sample ring.
+  int max_dim = settings.max_tile_dim > 0 ? settings.max_tile_dim
+                                          : int(context_.properties().limits.maxImageDimension2D);
+  int max_px = (max_dim - 2) / f.s;
+  int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
+  if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
+  int64_t row_samples = int64_t(tile_w) * f.s + 2;
+  int64_t max_rows = settings.max_tile_samples / row_samples;  // image rows incl. ring
+  int tile_h = int(std::min<int64_t>({int64_t(height), int64_t(max_px), (max_rows - 2) / f.s}));
+  if (tile_h < 1) throw Error("visibility map: tile memory budget too small");
+  for (int y = 0; y < height; y += tile_h)
+    for (int x = 0; x < width; x += tile_w)
+      f.tiles.push_back({x, y, std::min(tile_w, width - x), std::min(tile_h, height - y)});
+  f.image_w = uint32_t(tile_w * f.s + 2);
+  f.image_h = uint32_t(tile_h * f.s + 2);
+  return f;
+}
+
+void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
+  if (ids_.image && ids_.width >= width && ids_.height >= height) return;
+  vkDeviceWaitIdle(context_.device());
+  width = std::max(width, ids_.width);
+  height = std::max(height, ids_.height);
+  depth_.reset();
+  ids_.reset();
+  ids_ = create_image_2d(context_, width, height, kIdFormat,
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                             VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                         VK_IMAGE_ASPECT_COLOR_BIT);
+  depth_ = create_image_2d(context_, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                           VK_IMAGE_ASPECT_DEPTH_BIT);
+}
+
+void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Tile& tile) {
+  uint32_t iw = uint32_t(tile.w * f.s + 2), ih = uint32_t(tile.h * f.s + 2);
+  // Previous users of the targets (last tile's compute read, depth test) must finish;
+  // UNDEFINED discards the old contents, which the clear replaces anyway.
+  VkImageMemoryBarrier2 to_attach[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2},
+                                        {VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2}};
+  to_attach[0].srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_2_COPY_BIT;
+  to_attach[0].dstStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  to_attach[0].dstAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  to_attach[0].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  to_attach[0].newLayout = VK_IMAGE_LAYOUT_GENERAL;
+  to_attach[0].srcQueueFamilyIndex = to_attach[0].dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_attach[0].image = ids_.image;
+  to_attach[0].subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  to_attach[1].srcStageMask = VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  to_attach[1].srcAccessMask = VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  to_attach[1].dstStageMask =
+      VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT;
+  to_attach[1].dstAccessMask =
+      VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT;
+  to_attach[1].oldLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+  to_attach[1].newLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  to_attach[1].srcQueueFamilyIndex = to_attach[1].dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  to_attach[1].image = depth_.image;
+  to_attach[1].subresourceRange = {VK_IMAGE_ASPECT_DEPTH_BIT, 0, 1, 0, 1};
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.imageMemoryBarrierCount = 2;
+  dep.pImageMemoryBarriers = to_attach;
+  vkCmdPipelineBarrier2(cmd, &dep);
+
+  VkRenderingAttachmentInfo color{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  color.imageView = ids_.view;
+  color.imageLayout = VK_IMAGE_LAYOUT_GENERAL;
+  color.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  color.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
+  color.clearValue.color.uint32[0] = 0;  // background
+  VkRenderingAttachmentInfo depth{VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO};
+  depth.imageView = depth_.view;
+  depth.imageLayout = VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;
+  depth.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
+  depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
+  depth.clearValue.depthStencil.depth = 0.0f;  // reverse-Z: 0 is infinitely far
+  VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
+  rendering.renderArea = {{0, 0}, {iw, ih}};
+  rendering.layerCount = 1;
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachments = &color;
+  rendering.pDepthAttachment = &depth;
+  vkCmdBeginRendering(cmd, &rendering);
+  if (triangles_ > 0) {
+    // Image sample (u, v) has its centre at frame supersample gx = u + ox, i.e. image
+    // point px = (u + 0.5 + ox)/S. With (a, b, c) = view_from_ray q (c = t):
+    // fb_x = S a/c - ox, ndc_x = 2 fb_x / iw - 1, clip = ndc * c, z = znear (reverse-Z).
+    double ox = double(tile.x) * f.s - 1.0, oy = double(tile.y) * f.s - 1.0;
+    glm::dmat3 r = glm::transpose(f.view_from_ray);  // r[k] = row k of view_from_ray
+    glm::dvec3 row_x = (2.0 * f.s / iw) * r[0] - (2.0 * ox / iw + 1.0) * r[2];
+    glm::dvec3 row_y = (2.0 * f.s / ih) * r[1] - (2.0 * oy / ih + 1.0) * r[2];
+    glm::dvec3 row_w = r[2];
+    gpu::RasterPush push{};
+    for (int k = 0; k < 3; ++k) {  // glm is column-major: m[column][row]
+      push.clip_from_view[k][0] = float(row_x[k]);
+      push.clip_from_view[k][1] = float(row_y[k]);
+      push.clip_from_view[k][2] = 0.0f;
+      push.clip_from_view[k][3] = float(row_w[k]);
+    }
+    push.clip_from_view[3] = glm::vec4(0.0f, 0.0f, float(f.znear), 0.0f);
+    push.origin = glm::vec4(f.origin, 0.0f);
+    VkViewport viewport{0.0f, 0.0f, float(iw), float(ih), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, {iw, ih}};
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, raster_pipeline_);
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+    vkCmdPushConstants(cmd, raster_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);
+    VkDeviceSize offset = 0;
+    vkCmdBindVertexBuffers(cmd, 0, 1, &positions_.buffer, &offset);
+    vkCmdDraw(cmd, uint32_t(3 * triangles_), 1, 0, 0);
+  }
+  vkCmdEndRendering(cmd);
+}
+
+GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const VisibilitySettings& settings,
+                           VisibilityTimings* timings) {
+  auto t0 = Clock::now();
+  Frame f = plan(camera, width, height, settings);
+  ensure_targets(f.image_w, f.image_h);
+  VkDevice d = context_.device();
+
+  VkDeviceSize flag_bytes = VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t);
+  if (flags_.size < flag_bytes) {
+    flags_.reset();
+    flags_ = create_buffer(context_, flag_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  }
+  uint32_t queries = uint32_t(2 * f.tiles.size() + 1);
+  bool timed = context_.timestamps();
+  if (timed && query_capacity_ < queries) {
+    if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
+    queries_ = VK_NULL_HANDLE;
+    VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    info.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    info.queryCount = queries;
+    vk_check(vkCreateQueryPool(d, &info, nullptr, &queries_), "vkCreateQueryPool");
+    query_capacity_ = queries;
+  }
+
+  VkDescriptorImageInfo image_info{VK_NULL_HANDLE, ids_.view, VK_IMAGE_LAYOUT_GENERAL};
+  VkDescriptorBufferInfo buffer_info[3] = {{positions_.buffer, 0, VK_WHOLE_SIZE},
+                                           {normals_.buffer, 0, VK_WHOLE_SIZE},
+                                           {flags_.buffer, 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+  writes[0].dstSet = flag_set_;
+  writes[0].dstBinding = 0;
+  writes[0].descriptorCount = 1;
+  writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  writes[0].pImageInfo = &image_info;
+  writes[1].dstSet = flag_set_;
+  writes[1].dstBinding = 1;
+  writes[1].descriptorCount = 3;
+  writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  writes[1].pBufferInfo = buffer_info;
+  vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
+
+  context_.run_commands([&](VkCommandBuffer cmd) {
+    if (timed) {
+      vkCmdResetQueryPool(cmd, queries_, 0, queries);
+      vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
+    }
+    for (size_t k = 0; k < f.tiles.size(); ++k) {
+      const Tile& tile = f.tiles[k];
+      record_raster(cmd, f, tile);
+      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 1));
+
+      VkMemoryBarrier2 ids_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+      ids_ready.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+      ids_ready.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+      ids_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+      ids_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
+      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      dep.memoryBarrierCount = 1;
+      dep.pMemoryBarriers = &ids_ready;
+      vkCmdPipelineBarrier2(cmd, &dep);
+
+      gpu::FlagPush push = f.flag;
+      push.tile = glm::ivec4(tile.x, tile.y, tile.w, tile.h);
+      uint32_t words = uint32_t((tile.w + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_pipeline_);
+      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_layout_, 0, 1, &flag_set_, 0, nullptr);
+      vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+      vkCmdDispatch(cmd, (words + ZZ_FLAG_GROUP_X - 1) / ZZ_FLAG_GROUP_X,
+                    uint32_t(tile.h + ZZ_FLAG_GROUP_Y - 1) / ZZ_FLAG_GROUP_Y, 1);
+      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 2));
+    }
+    VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    to_host.srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    to_host.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
+    to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+    to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    dep.memoryBarrierCount = 1;
+    dep.pMemoryBarriers = &to_host;
+    vkCmdPipelineBarrier2(cmd, &dep);
+  });
+
+  auto t_read = Clock::now();
+  invalidate(flags_);
+  GeoMap map;
+  map.width = width;
+  map.height = height;
+  map.flags.resize(size_t(width) * height);
+  // Byte k of word w is pixel 4w + k (little-endian), so each row is a plain copy.
+  const auto* bytes = static_cast<const uint8_t*>(flags_.mapped);
+  size_t row_bytes = size_t(f.words_per_row) * sizeof(uint32_t);
+  for (int y = 0; y < height; ++y)
+    std::memcpy(&map.flags[size_t(y) * width], bytes + y * row_bytes, size_t(width));
+
+  if (timings) {
+    *timings = VisibilityTimings{};
+    timings->upload_s = upload_s_;
+    timings->tiles = int(f.tiles.size());
+    if (timed) {
+      std::vector<uint64_t> ts(queries);
+      vk_check(vkGetQueryPoolResults(d, queries_, 0, queries, ts.size() * sizeof(uint64_t), ts.data(),
+                                     sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+               "vkGetQueryPoolResults");
+      double period = context_.properties().limits.timestampPeriod * 1e-9;
+      for (size_t k = 0; k < f.tiles.size(); ++k) {
+        timings->raster_s += double(ts[2 * k + 1] - ts[2 * k]) * period;
+        timings->compute_s += double(ts[2 * k + 2] - ts[2 * k + 1]) * period;
+      }
+    }
+    timings->readback_s = seconds_since(t_read);
+    timings->total_s = seconds_since(t0);
+  }
+  return map;
+}
+
+std::vector<uint32_t> VisibilityPass::render_ids(const Camera& camera, int width, int height,
+                                                 const VisibilitySettings& settings) {
+  Frame f = plan(camera, width, height, settings);
+  ensure_targets(f.image_w, f.image_h);
+  size_t fw = size_t(width) * f.s + 2;
+  std::vector<uint32_t> ids(fw * (size_t(height) * f.s + 2), 0u);
+  VkDeviceSize bytes = VkDeviceSize(f.image_w) * f.image_h * sizeof(uint32_t);
+  if (id_readback_.size < bytes) {
+    id_readback_.reset();
+    id_readback_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                 VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+  }
+  for (const Tile& tile : f.tiles) {
+    // The whole tile image, ring included; neighbouring tiles' rings overlap and agree.
+    uint32_t cw = uint32_t(tile.w * f.s + 2), ch = uint32_t(tile.h * f.s + 2);
+    context_.run_commands([&](VkCommandBuffer cmd) {
+      record_raster(cmd, f, tile);
+      VkImageMemoryBarrier2 ready{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+      ready.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+      ready.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+      ready.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+      ready.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+      ready.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+      ready.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+      ready.srcQueueFamilyIndex = ready.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+      ready.image = ids_.image;
+      ready.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      dep.imageMemoryBarrierCount = 1;
+      dep.pImageMemoryBarriers = &ready;
+      vkCmdPipelineBarrier2(cmd, &dep);
+      VkBufferImageCopy region{};
+      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+      region.imageOffset = {0, 0, 0};
+      region.imageExtent = {cw, ch, 1};
+      vkCmdCopyImageToBuffer(cmd, ids_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, id_readback_.buffer, 1,
+                             &region);
+      VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+      to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+      to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
+      to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
+      to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
+      dep = VkDependencyInfo{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      dep.memoryBarrierCount = 1;
+      dep.pMemoryBarriers = &to_host;
+      vkCmdPipelineBarrier2(cmd, &dep);
+    });
+    invalidate(id_readback_);
+    const auto* src = static_cast<const uint32_t*>(id_readback_.mapped);
+    for (uint32_t v = 0; v < ch; ++v)
+      std::memcpy(&ids[(size_t(tile.y) * f.s + v) * fw + size_t(tile.x) * f.s], src + size_t(v) * cw,
+                  cw * sizeof(uint32_t));
+  }
+  return ids;
+}
+
+}  // namespace zz

@@ -1,0 +1,97 @@
+// The visibility map (ALGORITHM.md §7): the scene rasterised at S x S supersamples per
+// pixel into triangle ids, then a compute shader flags pixels whose samples (plus a
+// one-sample ring) show a geometric discontinuity. One byte per pixel in a GeoMap.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/geo_map.h"
+#include "gpu/device.h"
+#include "gpu/resources.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+#include "shaders/visibility_shared.h"
+
+namespace zz {
+
+struct VisibilitySettings {
+  int supersample = 4;            // S per axis: 4 normal, 6 high quality
+  float normal_angle_deg = 20.0f; // camera-facing geometric normals further apart flag
+  float depth_rel = 0.01f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
+  // Budget for one tile's id + depth images, in supersamples (8 bytes each).
+  int64_t max_tile_samples = int64_t(32) << 20;
+  // Largest tile image side in supersamples, ring included; 0 = maxImageDimension2D.
+  int max_tile_dim = 0;
+};
+
+struct VisibilityTimings {
+  double upload_s = 0;    // one-off scene upload at construction
+  double raster_s = 0;    // GPU time (timestamps) of all tiles' raster passes
+  double compute_s = 0;   // GPU time of all tiles' flag dispatches
+  double readback_s = 0;  // host time to unpack the flags into the GeoMap
+  double total_s = 0;     // host wall time of run()
+  int tiles = 0;
+};
+
+// The compute pass's per-frame constants (tile left zero): the sample rays and the
+// thresholds exactly as the shader sees them. Public so tests can mirror the rule.
+// Unit geometric normals, one per triangle, exactly as uploaded (zero if degenerate).
+std::vector<glm::vec4> geometric_normals(const Scene& scene);
+
+gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
+                             const VisibilitySettings& settings);
+
+class VisibilityPass {
+ public:
+  // Uploads the scene's triangles and their geometric planes once.
+  VisibilityPass(VulkanContext& context, const Scene& scene);
+  ~VisibilityPass();
+  VisibilityPass(const VisibilityPass&) = delete;
+  VisibilityPass& operator=(const VisibilityPass&) = delete;
+
+  GeoMap run(const Camera& camera, int width, int height, const VisibilitySettings& settings = {},
+             VisibilityTimings* timings = nullptr);
+
+  // The raw supersampled id image with its one-sample ring, (width*S + 2) x (height*S + 2)
+  // row-major: entry [(gy + 1) * (width*S + 2) + gx + 1] is the triangle index + 1
+  // (0 = background) seen at image point ((gx + 0.5)/S, (gy + 0.5)/S), gx in [-1, width*S].
+  // Supersample (i, j) of pixel (x, y) is gx = x*S + i, gy = y*S + j. For tests.
+  std::vector<uint32_t> render_ids(const Camera& camera, int width, int height,
+                                   const VisibilitySettings& settings = {});
+
+  double upload_seconds() const { return upload_s_; }
+
+ private:
+  struct Tile {
+    int x, y, w, h;  // pixels
+  };
+  struct Frame;
+  Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
+  void ensure_targets(uint32_t width, uint32_t height);
+  void create_pipelines();
+  void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile);
+
+  VulkanContext& context_;
+  size_t triangles_ = 0;
+  glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};
+  double upload_s_ = 0;
+  Buffer positions_;  // vec4 per vertex: vertex input and compute SSBO
+  Buffer normals_;    // vec4 per triangle: unit geometric normal
+  Buffer flags_;      // packed flag words of the last frame (host-visible)
+  Buffer id_readback_;
+  Image ids_;         // R32_UINT, reused by all tiles
+  Image depth_;       // D32_SFLOAT, reverse-Z
+  VkPipelineLayout raster_layout_ = VK_NULL_HANDLE;
+  VkPipeline raster_pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout flag_set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout flag_layout_ = VK_NULL_HANDLE;
+  VkPipeline flag_pipeline_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+  VkDescriptorSet flag_set_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  uint32_t query_capacity_ = 0;
+};
+
+}  // namespace zz

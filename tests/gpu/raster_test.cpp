@@ -1,0 +1,82 @@
+// The raster pass sees what the ray tracer sees: per supersample, the raster's triangle
+// id equals the first hit of the ray through the same image-plane point.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "gpu/visibility.h"
+#include "gpu_fixture.h"
+#include "test_scenes.h"
+
+namespace zz::test {
+namespace {
+
+using RasterTest = GpuTest;
+
+Scene mixed_scene() {
+  SceneBuilder b;
+  b.sphere({-0.6f, 0.1f, 0.0f}, 0.5f, 48, 24);
+  b.box({0.2f, -0.4f, -0.3f}, {0.8f, 0.3f, 0.3f});
+  b.grid({-2.0f, -0.5f, 2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -4.0f}, 8);  // floor
+  b.tri({-0.2f, 0.6f, -0.8f}, {0.3f, 0.9f, -0.9f}, {0.0f, 0.2f, -1.0f});
+  return b.done();
+}
+
+// Fraction of agreeing samples; every disagreement must sit next to a ray-traced edge.
+void check_agreement(VulkanContext& context, const Scene& scene, const Camera& camera, int w, int h, int s) {
+  VisibilityPass pass(context, scene);
+  VisibilitySettings settings;
+  settings.supersample = s;
+  std::vector<uint32_t> ids = pass.render_ids(camera, w, h, settings);
+  int sw = w * s + 2, sh = h * s + 2;
+  ASSERT_EQ(ids.size(), size_t(sw) * sh);
+  CameraRays rays(camera, w, h);
+  std::vector<uint32_t> traced(ids.size());
+  for (int v = 0; v < sh; ++v)
+    for (int u = 0; u < sw; ++u) {
+      glm::vec3 d = rays.direction((u - 1 + 0.5f) / s, (v - 1 + 0.5f) / s);
+      traced[size_t(v) * sw + u] = first_hit(scene, glm::dvec3(rays.origin), glm::dvec3(d));
+    }
+  size_t mismatches = 0, hits = 0;
+  for (int v = 0; v < sh; ++v)
+    for (int u = 0; u < sw; ++u) {
+      size_t k = size_t(v) * sw + u;
+      hits += traced[k] != 0;
+      if (ids[k] == traced[k]) continue;
+      ++mismatches;
+      bool near_edge = false;
+      for (int dv = -1; dv <= 1; ++dv)
+        for (int du = -1; du <= 1; ++du) {
+          int uu = std::clamp(u + du, 0, sw - 1), vv = std::clamp(v + dv, 0, sh - 1);
+          near_edge |= traced[size_t(vv) * sw + uu] != traced[k];
+        }
+      EXPECT_TRUE(near_edge) << "mismatch away from edges at sample " << u - 1 << "," << v - 1
+                             << ": raster " << ids[k] << " ray " << traced[k];
+    }
+  std::printf("samples %zu, ray hits %zu, raster/ray mismatches %zu\n", ids.size(), hits, mismatches);
+  EXPECT_GT(hits, ids.size() / 4) << "the scene should cover the frame substantially";
+  EXPECT_LE(double(mismatches), 0.001 * double(ids.size())) << mismatches << " of " << ids.size();
+}
+
+TEST_F(RasterTest, IdsMatchPrimaryRaysS4) {
+  Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
+  check_agreement(context(), mixed_scene(), camera, 80, 60, 4);
+}
+
+TEST_F(RasterTest, IdsMatchPrimaryRaysS6OddSize) {
+  Camera camera = Camera::look_at({-1.5f, 0.4f, 2.0f}, {0.1f, 0.0f, -0.2f}, {0, 1, 0}, 0.7f);
+  check_agreement(context(), mixed_scene(), camera, 37, 29, 6);
+}
+
+TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
+  // Camera-relative transforms keep agreement when everything sits at 1e4.
+  SceneBuilder b;
+  glm::vec3 o(1e4f, -2e4f, 1e4f);
+  b.sphere(o, 1.0f, 40, 20);
+  b.box(o + glm::vec3(0.8f, -1.0f, -1.0f), o + glm::vec3(1.6f, 0.5f, 0.0f));
+  Camera camera = Camera::look_at(o + glm::vec3(0.5f, 0.5f, 4.0f), o, {0, 1, 0}, 0.8f);
+  check_agreement(context(), b.done(), camera, 64, 48, 4);
+}
+
+}  // namespace
+}  // namespace zz::test
