@@ -23,6 +23,7 @@ struct PacketSetup {
   mask4 kx0, kx1, ky0, ky1, kz0, kz1;
   int kx, ky, kz;        // the shared permutation when `uniform`
   bool uniform;
+  bool coherent;         // all valid lanes share the direction octant
   mask4 valid;
 };
 
@@ -34,7 +35,9 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
   r.dx.store(d[0]), r.dy.store(d[1]), r.dz.store(d[2]);
   r.tmax.store(tmax);
   int first = -1;
+  int octant = -1;
   p.uniform = true;
+  p.coherent = true;
   bool valid[4];
   int perm[4][3];
   for (int i = 0; i < 4; ++i) {
@@ -48,11 +51,14 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
     // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
     best[i] = valid[i] ? std::min(tmax[i], kFloatMax) : -kInfinity;
     if (!valid[i]) continue;
+    int oct = (dir.x < 0.0f) | (dir.y < 0.0f) << 1 | (dir.z < 0.0f) << 2;
+    if (octant >= 0 && oct != octant) p.coherent = false;
+    octant = oct;
     if (first < 0) {
       first = i;
       p.kx = sh.kx, p.ky = sh.ky, p.kz = sh.kz;
     } else if (sh.kx != p.kx || sh.ky != p.ky || sh.kz != p.kz) {
-      p.uniform = false;
+      p.uniform = false;  // still coherent: the kernel blends the permutation per lane
     }
   }
   if (first < 0) {
@@ -217,6 +223,10 @@ mask4 dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
   }
 }
 
+Ray lane_ray(const RayPacket4& r, int i) {
+  return Ray{{r.ox[i], r.oy[i], r.oz[i]}, {r.dx[i], r.dy[i], r.dz[i]}, r.tmax[i]};
+}
+
 }  // namespace
 
 void Bvh::intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) const {
@@ -226,14 +236,31 @@ void Bvh::intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) con
   if (nodes_.empty() || active.none()) return;
   PacketSetup p = setup(rays, active);
   if (p.valid.none()) return;
-  dispatch<false>(nodes_, triangles_, p, &hits);
+  if (p.coherent) {
+    dispatch<false>(nodes_, triangles_, p, &hits);
+    return;
+  }
+  // Lanes pointing into different octants share few nodes: trace them one by one (the
+  // results are the same bit for bit, only faster).
+  alignas(16) float t[4] = {kInfinity, kInfinity, kInfinity, kInfinity}, u[4] = {}, v[4] = {};
+  alignas(16) int32_t prim[4] = {-1, -1, -1, -1};
+  for (int i = 0; i < 4; ++i) {
+    if (!p.valid[i]) continue;
+    Hit h = intersect1(lane_ray(rays, i));
+    t[i] = h.t, u[i] = h.u, v[i] = h.v, prim[i] = h.prim;
+  }
+  hits.t = float4::load(t), hits.u = float4::load(u), hits.v = float4::load(v);
+  hits.prim = _mm_load_si128(reinterpret_cast<const __m128i*>(prim));
 }
 
 mask4 Bvh::occluded4(const RayPacket4& rays, mask4 active) const {
   if (nodes_.empty() || active.none()) return mask4(false);
   PacketSetup p = setup(rays, active);
   if (p.valid.none()) return mask4(false);
-  return dispatch<true>(nodes_, triangles_, p, nullptr);
+  if (p.coherent) return dispatch<true>(nodes_, triangles_, p, nullptr);
+  bool b[4] = {};
+  for (int i = 0; i < 4; ++i) b[i] = p.valid[i] && occluded1(lane_ray(rays, i));
+  return mask4(b[0], b[1], b[2], b[3]);
 }
 
 }  // namespace zz

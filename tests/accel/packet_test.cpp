@@ -90,6 +90,25 @@ TEST_F(PacketTest, IncoherentPacketsMatchSingleRays) {
   EXPECT_GT(hits, 3000);
 }
 
+TEST_F(PacketTest, MixedDominantAxesInOneOctant) {
+  // Same octant (the packet kernel runs), but Woop's kz differs between lanes: the
+  // per-lane permutation blends must give the single-ray answers.
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<float> u(0.5f, 1.0f);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    glm::vec3 o = -1.3f * glm::vec3(u(rng), u(rng), u(rng));
+    Ray r[4];
+    for (int k = 0; k < 4; ++k) {
+      glm::vec3 d(u(rng), u(rng), u(rng));
+      d[k % 3] *= 2.0f;  // lane k's dominant axis
+      r[k] = Ray{o, d};
+    }
+    hits += check_packet(bvh_, r, mask4(true));
+  }
+  EXPECT_GT(hits, 2000);
+}
+
 TEST_F(PacketTest, ActiveMaskAndBadLanes) {
   std::mt19937 rng(6);
   float nan = std::nanf("");
