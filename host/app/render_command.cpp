@@ -18,6 +18,7 @@
 #include "accel/bvh.h"
 #include "app/commands.h"
 #include "core/error.h"
+#include "render/aov.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
@@ -32,13 +33,18 @@ struct RenderOptions {
   std::string stats;
   std::string camera = "0";
   int width = 0, height = 0;
-  std::string aa = "none";
+  std::string aa = "adaptive";
+  float eps = 0.1f;
+  std::string tables = "paper";
+  std::string geo_policy = "paper";
+  std::string filter = "box";
+  std::vector<std::pair<std::string, std::string>> aovs;
   int spp = 25;
   std::string pattern = "stratified";
   int threads = 0;
   std::string assets;
   float exposure = 0.0f;  // 0 = the scene's
-  int max_depth = 0;      // 0 = the scene's
+  int max_depth = -1;     // -1 = the scene's
   bool quiet = false;
 };
 
@@ -64,7 +70,13 @@ RenderSettings make_settings(const RenderOptions& o, const Scene& scene) {
                 " is out of range (1..16384 per side)");
   s.threads = o.threads;
   s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
-  if (o.aa == "none") {
+  if (o.aa == "adaptive") {
+    s.aa = AaMode::Adaptive;
+    s.adaptive.eps = o.eps;
+    s.adaptive.tables = &parse_table_set(o.tables);
+    s.adaptive.geo_policy = parse_geo_policy(o.geo_policy);
+    s.adaptive.filter = parse_filter(o.filter);
+  } else if (o.aa == "none") {
     s.aa = AaMode::None;
   } else if (o.aa == "uniform") {
     s.aa = AaMode::Uniform;
@@ -111,7 +123,7 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
   load.quiet = o.quiet;
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
-  if (o.max_depth > 0) scene.max_depth = o.max_depth;
+  if (o.max_depth >= 0) scene.max_depth = o.max_depth;
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
 
@@ -159,6 +171,8 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
     const double write_s = seconds_since(t);
     const double pixels = double(settings.width) * settings.height;
     const double rays_per_pixel = double(stats.rays.primary) / pixels;
+    for (const auto& [name, file] : o.aovs)
+      write_aov(name, expand_pattern(file, scene_name, camera_name), film, GeoMap{});
 
     nlohmann::json j;
     j["scene"] = scene_name;
@@ -171,6 +185,21 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
     if (o.aa == "uniform") {
       j["spp"] = o.spp;
       j["pattern"] = o.pattern;
+    }
+    if (o.aa == "adaptive") {
+      const AaStats& a = stats.aa;
+      j["adaptive"] = {{"eps", o.eps},
+                       {"tables", o.tables},
+                       {"geo_policy", o.geo_policy},
+                       {"filter", o.filter},
+                       {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
+                       {"level2_fraction", a.level2_fraction()},
+                       {"level3_fraction", a.level3_fraction()},
+                       {"vertical_fraction", a.per_pixel(a.vertical_pixels)},
+                       {"zones_traced", a.zones_traced},
+                       {"zones_interpolated", a.zones_interpolated},
+                       {"margin_rays", a.margin_rays},
+                       {"geo_fraction", a.per_pixel(a.geo_pixels)}};
     }
     j["triangles"] = scene.triangle_count();
     j["dropped_degenerate_triangles"] = scene.dropped_degenerate;
@@ -224,14 +253,20 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--camera", o->camera, "Camera index, or 'all'");
   cmd->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--aa", o->aa, "Antialiasing: none | uniform")->check(CLI::IsMember({"none", "uniform"}));
+  cmd->add_option("--aa", o->aa, "Antialiasing: adaptive | none | uniform")
+      ->check(CLI::IsMember({"adaptive", "none", "uniform"}));
+  cmd->add_option("--eps", o->eps, "Adaptive: colour threshold on display values [0,1]")->check(CLI::Range(0.0f, 1.0f));
+  cmd->add_option("--tables", o->tables, "Adaptive: zone table set (paper, tuned, all)");
+  cmd->add_option("--geo-policy", o->geo_policy, "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
+  cmd->add_option("--filter", o->filter, "Adaptive: reconstruction filter box | mitchell");
+  cmd->add_option("--aov", o->aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
   cmd->add_option("--spp", o->spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
   cmd->add_option("--pattern", o->pattern, "Uniform pattern: grid | stratified | lattice")
       ->check(CLI::IsMember({"grid", "stratified", "lattice"}));
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::PositiveNumber);
-  cmd->add_option("--max-depth", o->max_depth, "Trace depth (default: the scene's)")->check(CLI::Range(1, 64));
+  cmd->add_option("--max-depth", o->max_depth, "Reflection/refraction bounces (default: the scene's)")->check(CLI::Range(0, 64));
   cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o, &exit_code] {
     int failed = 0;

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <vector>
 
+#include "aa/adaptive_sampler.h"
+#include "core/error.h"
 #include "render/scene_source.h"
 
 namespace zz {
@@ -17,6 +19,7 @@ namespace {
 struct TileResult {
   RayCounters rays;
   uint64_t samples = 0;
+  AaStats aa;
   bool done = false;
 };
 
@@ -24,8 +27,10 @@ struct TileResult {
 
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
-  (void)geo;
   const auto start = std::chrono::steady_clock::now();
+  if (!geo.empty() && (geo.width != settings.width || geo.height != settings.height))
+    throw Error("visibility map is " + std::to_string(geo.width) + "x" + std::to_string(geo.height) +
+                " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
   if (film.width != settings.width || film.height != settings.height) film = Film(settings.width, settings.height);
   const CameraRays rays(camera, settings.width, settings.height);
   std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
@@ -37,14 +42,23 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
   tbb::enumerable_thread_specific<std::vector<glm::vec3>> scratch([&] { return std::vector<glm::vec3>(scratch_size); });
   UniformSettings uniform = settings.uniform;
   if (settings.aa == AaMode::None) uniform = {UniformPattern::Center, 1};
+  AdaptiveSettings adaptive = settings.adaptive;
+  adaptive.tonemap = settings.tonemap;  // colours are compared as they will be displayed
 
   auto render_tile = [&](size_t index) {
     if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
     const TileTarget target = film.target(tiles[index]);
     SceneSource source(shader, rays);
-    UniformStats uniform_stats;
-    render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats);
-    results[index] = {source.counters, uniform_stats.samples, true};
+    TileResult& result = results[index];
+    if (settings.aa == AaMode::Adaptive) {
+      render_tile_adaptive(source, target, geo, adaptive, result.aa);
+    } else {
+      UniformStats uniform_stats;
+      render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats);
+      result.samples = uniform_stats.samples;
+    }
+    result.rays = source.counters;
+    result.done = true;
     if (callbacks.tile_done) callbacks.tile_done(tiles[index]);
   };
 
@@ -60,6 +74,7 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
   for (const TileResult& r : results) {
     stats.rays += r.rays;
     stats.samples += r.samples;
+    stats.aa.merge(r.aa);
     if (!r.done) stats.cancelled = true;
   }
   stats.tiles = int(tiles.size());

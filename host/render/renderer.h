@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <functional>
 
+#include "aa/aa_stats.h"
+#include "aa/adaptive_settings.h"
 #include "aa/uniform.h"
 #include "core/geo_map.h"
 #include "core/tonemap.h"
@@ -16,13 +18,14 @@
 
 namespace zz {
 
-enum class AaMode { None, Uniform };
+enum class AaMode { None, Uniform, Adaptive };
 
 struct RenderSettings {
   int width = 512;
   int height = 512;
-  AaMode aa = AaMode::None;
+  AaMode aa = AaMode::Adaptive;
   UniformSettings uniform;
+  AdaptiveSettings adaptive;  // its tonemap is set from `tonemap` by render_frame
   ToneMap tonemap;
   int threads = 0;  // 0 = all cores
   int tile_size = kTileSize;
@@ -31,7 +34,8 @@ struct RenderSettings {
 
 struct RenderStats {
   RayCounters rays;
-  uint64_t samples = 0;  // image-plane points evaluated
+  uint64_t samples = 0;  // image-plane points evaluated (uniform modes)
+  AaStats aa;            // adaptive mode: rays by level, level fractions, zones
   double render_seconds = 0.0;
   int tiles = 0;
   bool cancelled = false;

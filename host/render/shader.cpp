@@ -205,7 +205,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
 
   // Mirror reflection and refraction, each as one secondary packet.
   if constexpr ((kEffects & (kReflection | kRefraction)) != 0) {
-    if (depth + 1 < scene_.max_depth) {
+    if (depth < scene_.max_depth) {  // depth = bounces taken so far
       PacketBuilder reflected, refracted;
       glm::vec3 reflect_weight[4], refract_weight[4];
       bool do_reflect[4] = {false, false, false, false}, do_refract[4] = {false, false, false, false};

@@ -45,6 +45,7 @@ TEST(Renderer, OneRayPerPixelCountsExactly) {
   RenderSettings s;
   s.width = 70;
   s.height = 33;
+  s.aa = AaMode::None;
   RenderStats stats;
   render(box_scene(), s, &stats);
   // 70*33 = 2310 points, streamed 4 at a time over 2 tiles (64 + 6 columns): each tile
@@ -111,6 +112,7 @@ TEST(Renderer, CancelStopsPromptly) {
   RenderSettings s;
   s.width = 256;
   s.height = 256;
+  s.aa = AaMode::None;
   const Scene scene = box_scene();
   const Bvh bvh = Bvh::build(scene.positions);
   const Shader shader(scene, bvh);

@@ -96,11 +96,11 @@ TEST(Shader, MirrorReflectsTheBackgroundAtF0) {
   EXPECT_EQ(counters.refraction, 0u);
 }
 
-TEST(Shader, TraceDepthOneSpawnsNoSecondaryRays) {
+TEST(Shader, TraceDepthZeroSpawnsNoSecondaryRays) {
   Scene s = test::lit_floor(0.5f, 100.0f, 3.0f);
   s.materials[0].metallic = 1.0f;
   s.materials[0].roughness = 0.0f;
-  s.max_depth = 1;
+  s.max_depth = 0;
   s.finalize_materials();
   RayCounters counters;
   centre_radiance(s, &counters);
@@ -113,7 +113,7 @@ TEST(Shader, GlassOfIorOneVanishes) {
   Scene with_glass = plain;
   with_glass.materials.push_back(test::glass_material(1.0f));
   test::add_box(with_glass, {-1, -1, 0.5f}, {1, 1, 1.5f}, 1);
-  with_glass.max_depth = 4;
+  with_glass.max_depth = 2;  // in through the top, out through the bottom, then the floor
   with_glass.finalize_materials();
   plain.finalize_materials();
   // Shadow rays see the box as an occluder (hard shadows), so light from the side of the

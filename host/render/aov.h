@@ -1,0 +1,34 @@
+// Arbitrary output variables as viewable 8-bit images:
+//   rays    rays traced per pixel, 1..25 on a perceptual ramp, with a legend band below
+//           the image (25 swatches, a tick every 5 rays)
+//   levels  AA level reached: 1 grey; 2 blue (horizontal) / cyan (vertical);
+//           3 red (horizontal) / yellow (vertical)
+//   geo     the visibility map: white = geometric discontinuity
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/geo_map.h"
+#include "render/film.h"
+
+namespace zz {
+
+struct Rgb8Image {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;
+};
+
+Rgb8Image rays_heatmap(const Film& film);
+Rgb8Image level_map(const Film& film);
+Rgb8Image geo_image(const GeoMap& geo);
+
+// Colour of n rays on the heatmap ramp (n clamped to 1..25).
+void ray_count_colour(int n, uint8_t rgb[3]);
+
+// name: rays | levels | geo. Throws zz::Error for an unknown name or a missing geo map.
+void write_aov(const std::string& name, const std::filesystem::path& path, const Film& film, const GeoMap& geo);
+
+}  // namespace zz
