@@ -173,7 +173,9 @@ AnalyticRun adaptive_run(const char* method, const AnalyticImage& image, const G
 
 AnalyticReport run_analytic(const AnalyticOptions& o) {
   const AnalyticImage image = make_analytic_image(o.image, o.size);
-  const std::vector<glm::vec3> reference = exact_reference(image, o.reference_ss, o.threads);
+  const std::vector<glm::vec3> computed =
+      o.reference ? std::vector<glm::vec3>{} : exact_reference(image, o.reference_ss, o.threads);
+  const std::vector<glm::vec3>& reference = o.reference ? *o.reference : computed;
   const GeoMap geo = o.geo_ss > 0 ? analytic_geo_map(image, o.geo_ss) : GeoMap{};
   AnalyticReport report;
   report.runs.push_back(adaptive_run("adaptive", image, geo, o.settings, o, reference, report.adaptive));

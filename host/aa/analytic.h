@@ -84,6 +84,7 @@ struct AnalyticOptions {
   int threads = 0;
   int tile_size = kTileSize;
   int reference_ss = 32;
+  const std::vector<glm::vec3>* reference = nullptr;  // reuse a precomputed exact reference
 };
 
 struct AnalyticReport {

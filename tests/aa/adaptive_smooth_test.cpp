@@ -1,0 +1,71 @@
+// Smooth images cost exactly the corner rays; unrefined pixels are the corner mean.
+#include <gtest/gtest.h>
+
+#include "aa/analytic.h"
+#include "test_sources.h"
+
+namespace zz {
+namespace {
+
+uint64_t corner_rays(int w, int h, int tile) {
+  uint64_t n = 0;
+  for (const TileRect& t : make_tiles(w, h, tile)) n += uint64_t(t.width() + 1) * (t.height() + 1);
+  return n;
+}
+
+float corner_mean_scalar(float tl, float tr, float bl, float br) { return (((tl + tr) + bl) + br) * 0.25f; }
+
+TEST(AdaptiveSmooth, ConstantAndGradientCostOnlyCorners) {
+  const AnalyticImage gradient = make_analytic_image("gradient", 100);
+  for (Filter f : {Filter::Box, Filter::Mitchell}) {
+    AdaptiveSettings s;
+    s.filter = f;
+    for (int which = 0; which < 2; ++which) {
+      AaStats st;
+      const FrameBuffers fb = which == 0 ? test::render(test::ConstantSource{}, 100, 100, s, 64, 1, {}, &st)
+                                         : test::render(AnalyticSource{&gradient}, 100, 100, s, 64, 1, {}, &st);
+      SCOPED_TRACE(which == 0 ? "constant" : "gradient");
+      for (size_t i = 0; i < fb.rays.size(); ++i) {
+        ASSERT_EQ(fb.rays[i], 1);
+        ASSERT_EQ(fb.level[i], 1);
+      }
+      EXPECT_EQ(st.rays[1], 0u);
+      EXPECT_EQ(st.rays[2], 0u);
+      EXPECT_EQ(st.level2_pixels, 0u);
+      EXPECT_EQ(st.pixels, 100u * 100u);
+      // Mitchell traces the 2-pixel margin of every tile too (counted honestly).
+      const uint64_t own = corner_rays(100, 100, 64);
+      if (f == Filter::Box) {
+        EXPECT_EQ(st.rays[0], own);
+        EXPECT_EQ(st.margin_rays, 0u);
+      } else {
+        EXPECT_GT(st.rays[0], own);
+        EXPECT_EQ(st.margin_rays, st.rays[0] - own);
+      }
+    }
+  }
+}
+
+TEST(AdaptiveSmooth, UnrefinedPixelsAreExactlyTheCornerMean) {
+  const AnalyticImage star = make_analytic_image("star", 64);
+  const AnalyticImage zp = make_analytic_image("zoneplate", 64);
+  for (const AnalyticImage* img : {&star, &zp}) {
+    AdaptiveSettings s;
+    const FrameBuffers fb = test::render(AnalyticSource{img}, 64, 64, s, 16);
+    int unrefined = 0;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) {
+        const size_t i = size_t(y) * 64 + x;
+        if (fb.level[i] != 1) continue;
+        ++unrefined;
+        const glm::vec3 tl = img->eval(float(x), float(y)), tr = img->eval(float(x + 1), float(y));
+        const glm::vec3 bl = img->eval(float(x), float(y + 1)), br = img->eval(float(x + 1), float(y + 1));
+        for (int c = 0; c < 3; ++c)
+          ASSERT_EQ(fb.radiance[i][c], corner_mean_scalar(tl[c], tr[c], bl[c], br[c])) << x << "," << y;
+      }
+    EXPECT_GT(unrefined, 200);
+  }
+}
+
+}  // namespace
+}  // namespace zz

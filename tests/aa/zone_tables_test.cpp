@@ -1,0 +1,90 @@
+// The paper's zone tables (ALGORITHM.md §5) and the table-set registry.
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+
+#include "aa/adaptive_pixel.h"
+#include "aa/table_set.h"
+
+namespace zz {
+namespace {
+
+// "z1 z2" -> bit set; "–" -> 0; "all" -> 31.
+uint8_t parse_zones(const std::string& text) {
+  if (text == "all") return kAllZones;
+  uint8_t bits = 0;
+  std::istringstream in(text);
+  std::string z;
+  while (in >> z)
+    if (z.size() == 2 && z[0] == 'z') bits |= uint8_t(1u << (z[1] - '0'));
+  return bits;
+}
+
+TEST(ZoneTables, PaperTablesVerbatim) {
+  // Rows copied from ALGORITHM.md §5 (mask written bit3 bit2 bit1 bit0): b | c0 | c1.
+  const char* rows[16][3] = {
+      {"–", "–", "–"},
+      {"z1 z2", "z0", "z1 z2"},
+      {"z3", "z3", "z4"},
+      {"z2 z3", "z0 z3", "z1 z2 z4"},
+      {"z1", "z1", "z0"},
+      {"z1", "z0", "z0"},
+      {"z1 z2 z3", "z1 z3", "z0 z4"},
+      {"z1 z2 z3", "z0 z3", "z0 z4"},
+      {"z2 z3", "z4", "z2 z3"},
+      {"z2", "z0 z4", "z2"},
+      {"z3", "z4", "z4"},
+      {"z1 z2 z3", "z0 z4", "z2 z4"},
+      {"z1 z2", "z1 z4", "z0 z2 z3"},
+      {"z1 z2", "z0 z4", "z0 z2"},
+      {"z1 z2 z3", "z1 z4", "z0 z4"},
+      {"all", "all", "all"},
+  };
+  const TableSet* paper = find_table_set("paper");
+  ASSERT_NE(paper, nullptr);
+  for (int m = 0; m < 16; ++m) {
+    EXPECT_EQ(paper->b[m], parse_zones(rows[m][0])) << "b row " << m;
+    EXPECT_EQ(paper->c0[m], parse_zones(rows[m][1])) << "c0 row " << m;
+    EXPECT_EQ(paper->c1[m], parse_zones(rows[m][2])) << "c1 row " << m;
+  }
+}
+
+TEST(ZoneTables, WorkedExampleOfTheSpec) {
+  // d(E,F), d(E,G), !d(G,H), !d(F,H): b = 0101 -> z1; d(A,F) with !d(C,E): c1 = 0001 -> z1 z2.
+  const TableSet& paper = *find_table_set("paper");
+  EXPECT_EQ(paper.b[0b0101], 0b00010);
+  EXPECT_EQ(paper.c1[0b0001], 0b00110);
+  EXPECT_EQ(paper.zones(0b0101, 0, 0b0001), 0b00110);
+}
+
+TEST(ZoneTables, WorkedExampleThroughTheMaskCode) {
+  // The same example as colours: E, G on one side of an edge with F, H, A, C, B, D on the
+  // other except as required. Level 2 masks come from the same SSE code the sampler runs.
+  // E=1, F=0, G=0, H=0 gives d(E,F), d(E,G), !d(F,H), !d(G,H) -> b = 0101.
+  struct Src {
+    Rgb4 sample4(float4, float4) { return {float4(1, 0, 0, 0), float4(1, 0, 0, 0), float4(1, 0, 0, 0)}; }
+  } src;
+  // Corners: A = 1 so d(A,F) and !d(A,E); C = 1 so !d(C,E); B = 0 (!d(B,H)); D = 0.
+  const Rgb4 corners{float4(1, 0, 1, 0), float4(1, 0, 1, 0), float4(1, 0, 1, 0)};
+  ToneMap tm;
+  const Level2 l2 = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Horizontal, corners,
+                                 tm.apply4(corners), tm, float4(0.1f));
+  EXPECT_EQ(l2.b, 0b0101);
+  EXPECT_EQ(l2.c1, 0b0001);  // d(A,F), !d(B,H), !d(C,E), !d(D,G)
+}
+
+TEST(ZoneTables, RegistryAndAllSet) {
+  EXPECT_EQ(find_table_set("nope"), nullptr);
+  const auto names = table_set_names();
+  ASSERT_EQ(names.size(), 3u);
+  EXPECT_EQ(names[0], "paper");
+  EXPECT_EQ(names[1], "tuned");
+  EXPECT_EQ(names[2], "all");
+  const TableSet& all = *find_table_set("all");
+  for (int m = 0; m < 16; ++m) EXPECT_EQ(all.zones(m, 0, 0), kAllZones);
+  EXPECT_EQ(all.zones(0, 0, 0), kAllZones);  // every zone of every level-2 pixel
+}
+
+}  // namespace
+}  // namespace zz
