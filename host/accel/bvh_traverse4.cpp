@@ -23,7 +23,6 @@ struct PacketSetup {
   mask4 kx0, kx1, ky0, ky1, kz0, kz1;
   int kx, ky, kz;        // the shared permutation when `uniform`
   bool uniform;
-  bool coherent;         // all valid lanes share the direction octant
   mask4 valid;
 };
 
@@ -35,9 +34,7 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
   r.dx.store(d[0]), r.dy.store(d[1]), r.dz.store(d[2]);
   r.tmax.store(tmax);
   int first = -1;
-  int octant = -1;
   p.uniform = true;
-  p.coherent = true;
   bool valid[4];
   int perm[4][3];
   for (int i = 0; i < 4; ++i) {
@@ -51,9 +48,6 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
     // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
     best[i] = valid[i] ? std::min(tmax[i], kFloatMax) : -kInfinity;
     if (!valid[i]) continue;
-    int oct = (dir.x < 0.0f) | (dir.y < 0.0f) << 1 | (dir.z < 0.0f) << 2;
-    if (octant >= 0 && oct != octant) p.coherent = false;
-    octant = oct;
     if (first < 0) {
       first = i;
       p.kx = sh.kx, p.ky = sh.ky, p.kz = sh.kz;
@@ -223,6 +217,22 @@ mask4 dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
   }
 }
 
+// Whether the active lanes travel together: one direction octant and directions within
+// about 37 degrees of each other (cos > 0.8; measured on tools/bench_traversal's
+// secondary rays, wider packets are faster traced as single rays). NaN lanes count as
+// divergent, so the single-ray path rejects them.
+bool coherent(const RayPacket4& r, mask4 active) {
+  float4 len = sqrt(r.dx * r.dx + r.dy * r.dy + r.dz * r.dz);
+  float4 nx = r.dx / len, ny = r.dy / len, nz = r.dz / len;
+  int bits = active.bits();
+  int first = __builtin_ctz(unsigned(bits));
+  float4 fx(nx[first]), fy(ny[first]), fz(nz[first]);
+  mask4 close = (nx * fx + ny * fy + nz * fz) > float4(0.8f);
+  int sx = _mm_movemask_ps(r.dx), sy = _mm_movemask_ps(r.dy), sz = _mm_movemask_ps(r.dz);
+  auto uniform = [&](int m) { return (m & bits) == 0 || (m & bits) == bits; };
+  return (close.bits() & bits) == bits && uniform(sx) && uniform(sy) && uniform(sz);
+}
+
 Ray lane_ray(const RayPacket4& r, int i) {
   return Ray{{r.ox[i], r.oy[i], r.oz[i]}, {r.dx[i], r.dy[i], r.dz[i]}, r.tmax[i]};
 }
@@ -234,18 +244,17 @@ void Bvh::intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) con
   hits.u = hits.v = float4(0.0f);
   hits.prim = int4(-1);
   if (nodes_.empty() || active.none()) return;
-  PacketSetup p = setup(rays, active);
-  if (p.valid.none()) return;
-  if (p.coherent) {
-    dispatch<false>(nodes_, triangles_, p, &hits);
+  if (coherent(rays, active)) {
+    PacketSetup p = setup(rays, active);
+    if (p.valid.any()) dispatch<false>(nodes_, triangles_, p, &hits);
     return;
   }
-  // Lanes pointing into different octants share few nodes: trace them one by one (the
-  // results are the same bit for bit, only faster).
+  // Divergent lanes share few nodes: trace them one by one (the results are the same bit
+  // for bit, only faster).
   alignas(16) float t[4] = {kInfinity, kInfinity, kInfinity, kInfinity}, u[4] = {}, v[4] = {};
   alignas(16) int32_t prim[4] = {-1, -1, -1, -1};
   for (int i = 0; i < 4; ++i) {
-    if (!p.valid[i]) continue;
+    if (!active[i]) continue;
     Hit h = intersect1(lane_ray(rays, i));
     t[i] = h.t, u[i] = h.u, v[i] = h.v, prim[i] = h.prim;
   }
@@ -255,11 +264,12 @@ void Bvh::intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) con
 
 mask4 Bvh::occluded4(const RayPacket4& rays, mask4 active) const {
   if (nodes_.empty() || active.none()) return mask4(false);
-  PacketSetup p = setup(rays, active);
-  if (p.valid.none()) return mask4(false);
-  if (p.coherent) return dispatch<true>(nodes_, triangles_, p, nullptr);
+  if (coherent(rays, active)) {
+    PacketSetup p = setup(rays, active);
+    return p.valid.any() ? dispatch<true>(nodes_, triangles_, p, nullptr) : mask4(false);
+  }
   bool b[4] = {};
-  for (int i = 0; i < 4; ++i) b[i] = p.valid[i] && occluded1(lane_ray(rays, i));
+  for (int i = 0; i < 4; ++i) b[i] = active[i] && occluded1(lane_ray(rays, i));
   return mask4(b[0], b[1], b[2], b[3]);
 }
 
