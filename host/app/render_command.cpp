@@ -18,6 +18,8 @@
 #include "accel/bvh.h"
 #include "app/commands.h"
 #include "core/error.h"
+#include "gpu/device.h"
+#include "gpu/visibility.h"
 #include "render/aov.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
@@ -39,6 +41,12 @@ struct RenderOptions {
   std::string geo_policy = "paper";
   std::string filter = "box";
   std::vector<std::pair<std::string, std::string>> aovs;
+  std::string edges = "vulkan";
+  int edge_ss = 4;
+  float edge_angle = VisibilitySettings{}.normal_angle_deg;
+  float edge_depth = VisibilitySettings{}.depth_rel;
+  int vk_device = -1;
+  bool vk_validate = false;
   int spp = 25;
   std::string pattern = "stratified";
   int threads = 0;
@@ -92,6 +100,14 @@ RenderSettings make_settings(const RenderOptions& o, const Scene& scene) {
   return s;
 }
 
+bool wants_geo_map(const RenderOptions& o) {
+  if (o.edges != "vulkan") return false;
+  if (o.aa == "adaptive") return true;
+  for (const auto& aov : o.aovs)
+    if (aov.first == "geo") return true;
+  return false;
+}
+
 // Progress on stderr: a live bar on a terminal, nothing per tile otherwise.
 class Progress {
  public:
@@ -116,7 +132,7 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
 };
 
-void render_job(const RenderOptions& o, const std::filesystem::path& scene_path) {
+void render_job(const RenderOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
   const auto t_total = std::chrono::steady_clock::now();
   LoadOptions load;
   load.assets_dir = o.assets;
@@ -150,6 +166,8 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
   const Bvh bvh = Bvh::build(scene.positions, &bvh_stats);
   const double bvh_s = seconds_since(t);
   const Shader shader(scene, bvh);
+  std::unique_ptr<VisibilityPass> visibility;
+  if (vulkan) visibility = std::make_unique<VisibilityPass>(*vulkan, scene);
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
@@ -158,13 +176,23 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
     const std::string default_output = o.camera == "all" ? "{scene}_{camera}.png" : "{scene}.png";
     const std::filesystem::path output = expand_pattern(o.output.empty() ? default_output : o.output, scene_name, camera_name);
 
+    GeoMap geo;
+    VisibilityTimings edge_times;
+    if (visibility) {
+      VisibilitySettings vs;
+      vs.supersample = o.edge_ss;
+      vs.normal_angle_deg = o.edge_angle;
+      vs.depth_rel = o.edge_depth;
+      geo = visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height, vs, &edge_times);
+    }
+
     Film film;
     RenderStats stats;
     Progress progress(int(make_tiles(settings.width, settings.height, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
     callbacks.tile_done = [&](const TileRect&) { progress.tile_done(); };
-    render_frame(shader, scene.cameras[size_t(camera_index)], GeoMap{}, settings, film, stats, callbacks);
+    render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
 
     t = std::chrono::steady_clock::now();
     write_film(output, film, settings.tonemap);
@@ -172,7 +200,7 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
     const double pixels = double(settings.width) * settings.height;
     const double rays_per_pixel = double(stats.rays.primary) / pixels;
     for (const auto& [name, file] : o.aovs)
-      write_aov(name, expand_pattern(file, scene_name, camera_name), film, GeoMap{});
+      write_aov(name, expand_pattern(file, scene_name, camera_name), film, geo);
 
     nlohmann::json j;
     j["scene"] = scene_name;
@@ -218,7 +246,21 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
                 {"sah_cost", bvh_stats.sah_cost},
                 {"build_s", bvh_stats.build_seconds}};
     const double job_s = seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0);
+    const double edges_s = visibility ? edge_times.total_s : 0.0;
     j["time_s"] = {{"load", load_s}, {"bvh", bvh_s}, {"render", stats.render_seconds}, {"write", write_s}, {"total", job_s}};
+    j["edges"] = o.edges;
+    if (visibility) {
+      size_t flagged = 0;
+      for (uint8_t f : geo.flags) flagged += f != 0;
+      j["time_s"]["edges"] = {{"upload", visibility->upload_seconds()},
+                              {"raster", edge_times.raster_s},
+                              {"compute", edge_times.compute_s},
+                              {"readback", edge_times.readback_s},
+                              {"total", edge_times.total_s}};
+      j["geo_fraction"] = double(flagged) / pixels;
+      j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}};
+      j["vulkan_device"] = vulkan->device_name();
+    }
     j["mrays_per_s"] = stats.render_seconds > 0 ? double(stats.rays.total()) / stats.render_seconds * 1e-6 : 0.0;
     if (!o.stats.empty()) {
       const std::filesystem::path stats_path = expand_pattern(o.stats, scene_name, camera_name);
@@ -232,10 +274,10 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path)
       for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
       std::fprintf(stderr,
                    "%s cam %d: %dx%d aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
-                   "load %.2fs bvh %.2fs -> %s\n",
+                   "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
                    scene_name.c_str(), camera_index, settings.width, settings.height, o.aa.c_str(), rays_per_pixel,
                    double(stats.rays.total()) / pixels, effects.c_str(), stats.render_seconds,
-                   j["mrays_per_s"].get<double>(), load_s, bvh_s, output.string().c_str());
+                   j["mrays_per_s"].get<double>(), edges_s, load_s, bvh_s, output.string().c_str());
     }
   }
   (void)t_total;
@@ -267,12 +309,29 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::PositiveNumber);
   cmd->add_option("--max-depth", o->max_depth, "Reflection/refraction bounces (default: the scene's)")->check(CLI::Range(0, 64));
+  cmd->add_option("--edges", o->edges, "Visibility map of geometric edges: vulkan | off")
+      ->check(CLI::IsMember({"vulkan", "off"}));
+  cmd->add_option("--edge-ss", o->edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
+      ->check(CLI::Range(1, 16));
+  cmd->add_option("--edge-angle", o->edge_angle, "Visibility map: normal angle threshold, degrees")
+      ->check(CLI::Range(0.0f, 180.0f));
+  cmd->add_option("--edge-depth", o->edge_depth, "Visibility map: relative distance threshold")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--vk-device", o->vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
+  cmd->add_flag("--vk-validate", o->vk_validate, "Enable the Vulkan validation layers");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o, &exit_code] {
+    std::unique_ptr<VulkanContext> vulkan;
+    if (wants_geo_map(*o)) {
+      VulkanOptions vo;
+      vo.device_index = o->vk_device;
+      vo.validate = o->vk_validate;
+      vulkan = VulkanContext::create(vo);  // throws with an install hint when there is no device
+    }
     int failed = 0;
     for (const std::string& scene : o->scenes) {
       try {
-        render_job(*o, scene);
+        render_job(*o, scene, vulkan.get());
       } catch (const std::exception& e) {
         std::fprintf(stderr, "zigzag: error: %s\n", e.what());
         ++failed;
@@ -281,6 +340,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     if (failed > 0 && o->scenes.size() > 1)
       std::fprintf(stderr, "zigzag: %d of %zu jobs failed\n", failed, o->scenes.size());
     exit_code = failed > 0 ? 1 : 0;
+    if (vulkan && vulkan->validation_enabled() && vulkan->validation_message_count() > 0) {
+      std::fprintf(stderr, "zigzag: %d Vulkan validation message(s)\n", vulkan->validation_message_count());
+      exit_code = 1;
+    }
   });
 }
 
