@@ -18,8 +18,8 @@ namespace zz {
 
 struct VisibilitySettings {
   int supersample = 4;            // S per axis: 4 normal, 6 high quality
-  float normal_angle_deg = 20.0f; // camera-facing geometric normals further apart flag
-  float depth_rel = 0.01f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
+  float normal_angle_deg = 25.0f; // camera-facing geometric normals further apart flag
+  float depth_rel = 0.02f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
   // Budget for one tile's id + depth images, in supersamples (8 bytes each).
   int64_t max_tile_samples = int64_t(32) << 20;
   // Largest tile image side in supersamples, ring included; 0 = maxImageDimension2D.
