@@ -10,6 +10,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   int exit_code = 0;
   zz::add_render_command(app, exit_code);
+  zz::add_view_command(app, exit_code);
+  zz::add_analytic_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
