@@ -26,59 +26,56 @@ struct PacketSetup {
   mask4 valid;
 };
 
+// Woop's per-ray constants for four lanes at once: the same comparisons and divisions
+// as watertight::make_shear, lane by lane (so Sx, Sy, Sz match the single-ray path bit
+// for bit), with the axis permutation kept as blend masks.
 PacketSetup setup(const RayPacket4& r, mask4 active) {
   PacketSetup p;
-  alignas(16) float o[3][4], d[3][4], tmax[4], rd[3][4], s[3][4], best[4];
-  alignas(16) int32_t k[3][4][2];
-  r.ox.store(o[0]), r.oy.store(o[1]), r.oz.store(o[2]);
-  r.dx.store(d[0]), r.dy.store(d[1]), r.dz.store(d[2]);
-  r.tmax.store(tmax);
-  int first = -1;
+  float4 ax = abs(r.dx), ay = abs(r.dy), az = abs(r.dz);
+  // kz = argmax |d| with make_shear's tie-breaks (NaN ends at kz = 2).
+  mask4 x_gt_y = ax > ay;
+  mask4 kz0 = x_gt_y & (ax > az);
+  mask4 kz1 = andnot(x_gt_y, ay > az);
+  mask4 kz2 = !(kz0 | kz1);
+  // kx follows kz cyclically, ky follows kx: (kz, kx, ky) = (0,1,2), (1,2,0), (2,0,1).
+  float4 dkz = select(kz0, r.dx, select(kz1, r.dy, r.dz));
+  mask4 flip = dkz < float4(0.0f);  // swap kx, ky to keep the winding
+  mask4 kx0 = kz2, kx1 = kz0, ky0 = kz1, ky1 = kz2;
+  auto pick = [](mask4 m, mask4 a, mask4 b) { return mask4(_mm_blendv_ps(b, a, m)); };
+  mask4 sx0 = pick(flip, ky0, kx0), sx1 = pick(flip, ky1, kx1);
+  mask4 sy0 = pick(flip, kx0, ky0), sy1 = pick(flip, kx1, ky1);
+  p.kx0 = sx0, p.kx1 = sx1, p.ky0 = sy0, p.ky1 = sy1, p.kz0 = kz0, p.kz1 = kz1;
+  float4 dkx = select(sx0, r.dx, select(sx1, r.dy, r.dz));
+  float4 dky = select(sy0, r.dx, select(sy1, r.dy, r.dz));
+  p.sx = dkx / dkz;
+  p.sy = dky / dkz;
+  p.sz = float4(1.0f) / dkz;
+  mask4 valid = active & isfinite(p.sx) & isfinite(p.sy) & isfinite(p.sz) & isfinite(r.dx) &
+                isfinite(r.dy) & isfinite(r.dz) & isfinite(r.ox) & isfinite(r.oy) &
+                isfinite(r.oz) & !isnan(r.tmax);
+  p.valid = valid;
+  int bits = valid.bits();
+  if (!bits) return p;
+  // Permutation code per lane: 0..5; uniform when all valid lanes agree.
+  int code[4];
+  int m0 = kz0.bits(), m1 = kz1.bits(), mf = flip.bits();
+  for (int i = 0; i < 4; ++i) code[i] = ((m0 >> i & 1) ? 0 : (m1 >> i & 1) ? 2 : 4) + (mf >> i & 1);
+  int first = __builtin_ctz(unsigned(bits));
   p.uniform = true;
-  bool valid[4];
-  int perm[4][3];
-  for (int i = 0; i < 4; ++i) {
-    glm::vec3 dir(d[0][i], d[1][i], d[2][i]);
-    watertight::RayShear sh = watertight::make_shear(dir);
-    valid[i] = active[i] && sh.valid && std::isfinite(o[0][i]) && std::isfinite(o[1][i]) &&
-               std::isfinite(o[2][i]) && !std::isnan(tmax[i]);
-    perm[i][0] = sh.kx, perm[i][1] = sh.ky, perm[i][2] = sh.kz;
-    s[0][i] = sh.sx, s[1][i] = sh.sy, s[2][i] = sh.sz;
-    for (int a = 0; a < 3; ++a) rd[a][i] = safe_rcp(dir[a]);
-    // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
-    best[i] = valid[i] ? std::min(tmax[i], kFloatMax) : -kInfinity;
-    if (!valid[i]) continue;
-    if (first < 0) {
-      first = i;
-      p.kx = sh.kx, p.ky = sh.ky, p.kz = sh.kz;
-    } else if (sh.kx != p.kx || sh.ky != p.ky || sh.kz != p.kz) {
-      p.uniform = false;  // still coherent: the kernel blends the permutation per lane
-    }
-  }
-  if (first < 0) {
-    p.valid = mask4(false);
-    return p;
-  }
-  for (int i = 0; i < 4; ++i) {
-    if (!valid[i])  // inactive lanes follow the first lane: keeps `uniform` meaningful
-      for (int a = 0; a < 3; ++a) perm[i][a] = perm[first][a];
-    for (int a = 0; a < 3; ++a) {
-      k[a][i][0] = perm[i][a] == 0 ? -1 : 0;
-      k[a][i][1] = perm[i][a] == 1 ? -1 : 0;
-    }
-  }
-  auto mask_of = [&](int a, int which) {
-    return mask4(k[a][0][which] != 0, k[a][1][which] != 0, k[a][2][which] != 0,
-                 k[a][3][which] != 0);
+  for (int i = first + 1; i < 4; ++i)
+    if ((bits >> i & 1) && code[i] != code[first]) p.uniform = false;
+  static constexpr int kPerm[6][3] = {{1, 2, 0}, {2, 1, 0}, {2, 0, 1}, {0, 2, 1}, {0, 1, 2}, {1, 0, 2}};
+  p.kx = kPerm[code[first]][0], p.ky = kPerm[code[first]][1], p.kz = kPerm[code[first]][2];
+  (void)kz2;
+  // Safe reciprocals for the slab test (box_test.h): tiny components become +-1e-30.
+  auto safe = [](float4 d) {
+    float4 tiny = _mm_or_ps(signmask(d), _mm_set1_ps(1e-30f));
+    return float4(1.0f) / select(abs(d) < float4(1e-30f), tiny, d);
   };
-  p.kx0 = mask_of(0, 0), p.kx1 = mask_of(0, 1);
-  p.ky0 = mask_of(1, 0), p.ky1 = mask_of(1, 1);
-  p.kz0 = mask_of(2, 0), p.kz1 = mask_of(2, 1);
+  p.rdx = safe(r.dx), p.rdy = safe(r.dy), p.rdz = safe(r.dz);
   p.ox = r.ox, p.oy = r.oy, p.oz = r.oz;
-  p.rdx = float4::load(rd[0]), p.rdy = float4::load(rd[1]), p.rdz = float4::load(rd[2]);
-  p.sx = float4::load(s[0]), p.sy = float4::load(s[1]), p.sz = float4::load(s[2]);
-  p.best = float4::load(best);
-  p.valid = mask4(valid[0], valid[1], valid[2], valid[3]);
+  // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
+  p.best = select(valid, min(r.tmax, float4(kFloatMax)), float4(-kInfinity));
   return p;
 }
 
@@ -222,15 +219,17 @@ mask4 dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
 // secondary rays, wider packets are faster traced as single rays). NaN lanes count as
 // divergent, so the single-ray path rejects them.
 bool coherent(const RayPacket4& r, mask4 active) {
-  float4 len = sqrt(r.dx * r.dx + r.dy * r.dy + r.dz * r.dz);
-  float4 nx = r.dx / len, ny = r.dy / len, nz = r.dz / len;
   int bits = active.bits();
-  int first = __builtin_ctz(unsigned(bits));
-  float4 fx(nx[first]), fy(ny[first]), fz(nz[first]);
-  mask4 close = (nx * fx + ny * fy + nz * fz) > float4(0.8f);
   int sx = _mm_movemask_ps(r.dx), sy = _mm_movemask_ps(r.dy), sz = _mm_movemask_ps(r.dz);
   auto uniform = [&](int m) { return (m & bits) == 0 || (m & bits) == bits; };
-  return (close.bits() & bits) == bits && uniform(sx) && uniform(sy) && uniform(sz);
+  if (!uniform(sx) || !uniform(sy) || !uniform(sz)) return false;
+  // cos > 0.8 without square roots: dot > 0 and dot^2 > 0.64 |a|^2 |b|^2.
+  int first = __builtin_ctz(unsigned(bits));
+  float4 fx(r.dx[first]), fy(r.dy[first]), fz(r.dz[first]);
+  float4 dot = r.dx * fx + r.dy * fy + r.dz * fz;
+  float4 la = r.dx * r.dx + r.dy * r.dy + r.dz * r.dz, lb = fx * fx + fy * fy + fz * fz;
+  mask4 close = (dot > float4(0.0f)) & (dot * dot > float4(0.64f) * la * lb);
+  return (close.bits() & bits) == bits;
 }
 
 Ray lane_ray(const RayPacket4& r, int i) {

@@ -101,16 +101,22 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   auto negative = (u < zero) | (v < zero) | (w < zero);
   auto positive = (u > zero) | (v > zero) | (w > zero);
   F det = u + v + w;
+  // Outside when the signs are mixed; det == 0 means a degenerate projection.
+  auto mixed = negative & positive;
+  Result<F> r;
+  r.hit = (!mixed) & (det != zero);
+  // Most tests end here (the ray misses the triangle): skip the division.
+  if (!any(r.hit)) {
+    r.t = r.u = r.v = zero;
+    return r;
+  }
   // Hit z of ray space, scaled by det (the paper's T; two-sided, no culling).
   F t_scaled = u * (sz * akz) + v * (sz * bkz) + w * (sz * ckz);
   F rcp = F(1.0f) / det;
-  Result<F> r;
   r.t = t_scaled * rcp;
   r.u = v * rcp;
   r.v = w * rcp;
-  // Outside when the signs are mixed; det == 0 means a degenerate projection.
-  auto mixed = negative & positive;
-  r.hit = (!mixed) & (det != zero) & (r.t >= zero);
+  r.hit = r.hit & (r.t >= zero);
   return r;
 }
 
