@@ -245,16 +245,17 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   // like CameraRays, even for a slightly non-orthonormal camera basis.
   glm::dmat3 m(glm::dvec3(rays.du), glm::dvec3(rays.dv), glm::dvec3(rays.dir00));
   f.view_from_ray = inverse3(m);
-  // Reverse-Z with an infinite far plane: depth = znear / t stays a well-scaled float
-  // for any t, so znear may be tiny; 1e-9 of the scene's extent from the camera keeps
-  // geometry at 1e-4 visible in a 1e6-sized scene while depth stays a normal float.
+  // Reverse-Z with an infinite far plane: depth = znear / t has float's relative
+  // precision at every t, so znear only decides what is clipped. 1e-15 of the farthest
+  // scene point keeps geometry at 1e-4 visible in a 1e7-sized scene, and znear / t stays
+  // far above the denormal range.
   double dmax = 0.0;
   for (int c = 0; c < 8; ++c) {
     glm::dvec3 corner((c & 1) ? bounds_max_.x : bounds_min_.x, (c & 2) ? bounds_max_.y : bounds_min_.y,
                       (c & 4) ? bounds_max_.z : bounds_min_.z);
     dmax = std::max(dmax, glm::length(corner - glm::dvec3(f.origin)));
   }
-  f.znear = std::max(dmax * 1e-9, 1e-20);
+  f.znear = std::max(dmax * 1e-15, 1e-30);
   f.flag = make_flag_push(camera, width, height, settings);
   f.words_per_row = f.flag.frame.w;
 

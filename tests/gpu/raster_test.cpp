@@ -78,5 +78,14 @@ TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
   check_agreement(context(), b.done(), camera, 64, 48, 4);
 }
 
+TEST_F(RasterTest, IdsMatchAtExtremeDistances) {
+  // Reverse-Z with a tiny near plane: a 1e-4 triangle at 1e-4 and a wall at 1e6.
+  SceneBuilder b;
+  b.tri({-0.5e-4f, -0.5e-4f, -1e-4f}, {0.5e-4f, -0.5e-4f, -1e-4f}, {0.0f, 0.5e-4f, -1.2e-4f});
+  b.quad({-1e7f, -1e7f, -1e6f}, {1e7f, -1e7f, -1.1e6f}, {1e7f, 1e7f, -1e6f}, {-1e7f, 1e7f, -0.9e6f});
+  Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+  check_agreement(context(), b.done(), camera, 48, 40, 4);
+}
+
 }  // namespace
 }  // namespace zz::test

@@ -1,1 +1,111 @@
+// Bad inputs: no crash, no error, sensible flags.
 #include <gtest/gtest.h>
+
+#include "core/error.h"
+#include "gpu/visibility.h"
+#include "gpu_fixture.h"
+#include "test_scenes.h"
+
+namespace zz::test {
+namespace {
+
+using RobustnessTest = GpuTest;
+
+size_t count(const GeoMap& m) {
+  size_t n = 0;
+  for (uint8_t f : m.flags) n += f != 0;
+  return n;
+}
+
+TEST_F(RobustnessTest, EmptySceneFlagsNothing) {
+  Scene scene = SceneBuilder().done();
+  VisibilityPass pass(context(), scene);
+  GeoMap map = pass.run(scene.cameras[0], 33, 17);
+  EXPECT_EQ(map.width, 33);
+  EXPECT_EQ(map.height, 17);
+  EXPECT_EQ(count(map), 0u);
+  for (uint32_t id : pass.render_ids(scene.cameras[0], 33, 17)) ASSERT_EQ(id, 0u);
+}
+
+TEST_F(RobustnessTest, CameraInsideABoxSeesOnlyItsCreases) {
+  SceneBuilder b;
+  b.box({-1.0f, -1.0f, -1.0f}, {1.0f, 1.0f, 1.0f});
+  Scene scene = b.done();
+  Camera camera = Camera::look_at({0.1f, 0.05f, 0.0f}, {0.1f, 0.05f, -1.0f}, {0, 1, 0}, 2.0f);
+  const int w = 64, h = 64;
+  VisibilityPass pass(context(), scene);
+  for (uint32_t id : pass.render_ids(camera, w, h)) ASSERT_NE(id, 0u) << "a closed box has no background";
+  GeoMap map = pass.run(camera, w, h);
+  size_t n = count(map);
+  EXPECT_GT(n, size_t(2 * w)) << "the four creases around the back face";
+  EXPECT_LT(n, size_t(w * h / 8));
+  // The back face's centre region and the side walls' middles are smooth.
+  for (int y = 26; y < 38; ++y)
+    for (int x = 26; x < 38; ++x) EXPECT_FALSE(map.at(x, y)) << x << "," << y;
+}
+
+TEST_F(RobustnessTest, TrianglesBehindOrThroughTheCamera) {
+  SceneBuilder b;
+  b.tri({-1.0f, -1.0f, 1.0f}, {1.0f, -1.0f, 1.0f}, {0.0f, 1.0f, 1.0f});  // behind (camera looks -z)
+  Scene behind = b.done();
+  Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+  {
+    VisibilityPass pass(context(), behind);
+    EXPECT_EQ(count(pass.run(camera, 40, 30)), 0u);
+    for (uint32_t id : pass.render_ids(camera, 40, 30)) ASSERT_EQ(id, 0u);
+  }
+  // A triangle crossing the camera plane: its visible part spans the frame's lower half.
+  b.tri({-5.0f, -0.5f, 5.0f}, {5.0f, -0.5f, 5.0f}, {0.0f, -0.5f, -5.0f});
+  Scene through = b.done();
+  VisibilityPass pass(context(), through);
+  std::vector<uint32_t> ids = pass.render_ids(camera, 40, 30);
+  size_t seen = 0;
+  for (uint32_t id : ids) seen += id == 2;
+  EXPECT_GT(seen, ids.size() / 4);
+  GeoMap map = pass.run(camera, 40, 30);
+  EXPECT_GT(count(map), 0u);
+  for (int x = 0; x < 40; ++x) EXPECT_FALSE(map.at(x, 29)) << "inside the floor triangle, x=" << x;
+}
+
+TEST_F(RobustnessTest, ExtremeDistancesFrom1em4To1e6) {
+  SceneBuilder b;
+  // A 1e-4-sized triangle 1e-4 in front of the camera, and a wall 1e6 away, 1e7 wide.
+  b.tri({-0.5e-4f, -0.5e-4f, -1e-4f}, {0.5e-4f, -0.5e-4f, -1e-4f}, {0.0f, 0.5e-4f, -1e-4f});
+  b.quad({-1e7f, -1e7f, -1e6f}, {1e7f, -1e7f, -1e6f}, {1e7f, 1e7f, -1e6f}, {-1e7f, 1e7f, -1e6f});
+  Scene scene = b.done();
+  Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+  const int w = 64, h = 48;
+  VisibilityPass pass(context(), scene);
+  std::vector<uint32_t> ids = pass.render_ids(camera, w, h);
+  int sw = w * 4 + 2;
+  EXPECT_EQ(ids[size_t(h * 2 + 1) * sw + w * 2 + 1], 1u) << "the near triangle covers the centre";
+  uint32_t corner = ids[size_t(5) * sw + 5];
+  EXPECT_TRUE(corner == 2u || corner == 3u) << "the far wall covers the corner";
+  GeoMap map = pass.run(camera, w, h);
+  size_t n = count(map);
+  EXPECT_GT(n, 20u) << "the near triangle's outline";
+  EXPECT_LT(n, size_t(w * h / 4));
+  EXPECT_FALSE(map.at(2, 2));
+  EXPECT_FALSE(map.at(w - 3, h - 3));
+}
+
+TEST_F(RobustnessTest, DegenerateTrianglesAndTinyFrames) {
+  SceneBuilder b;
+  b.tri({0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, -1.0f});  // a point
+  b.tri({-1.0f, 0.0f, -2.0f}, {0.0f, 0.0f, -2.0f}, {1.0f, 0.0f, -2.0f});  // a line
+  b.tri({-1.0f, -1.0f, -3.0f}, {1.0f, -1.0f, -3.0f}, {0.0f, 1.0f, -3.0f});
+  Scene scene = b.done();
+  Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  for (int size : {1, 2, 3, 5}) {
+    GeoMap map = pass.run(camera, size, size);
+    EXPECT_EQ(map.flags.size(), size_t(size * size));
+  }
+  VisibilitySettings bad;
+  bad.supersample = 0;
+  EXPECT_THROW(pass.run(camera, 8, 8, bad), Error);
+  EXPECT_THROW(pass.run(camera, 0, 8), Error);
+}
+
+}  // namespace
+}  // namespace zz::test
