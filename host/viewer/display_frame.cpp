@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/simd.h"
+#include "render/aov.h"
 
 namespace zz {
 
@@ -15,30 +16,22 @@ void display_pixel(const ToneMap& tonemap, const glm::vec3& c, uint8_t out[3]) {
   for (int k = 0; k < 3; ++k) out[k] = uint8_t(std::clamp(t[k], 0.0f, 255.0f));
 }
 
-uint8_t lerp8(uint8_t a, uint8_t b, float t) { return uint8_t(float(a) + (float(b) - float(a)) * t + 0.5f); }
-
 }  // namespace
 
 void heat_color(int rays, uint8_t rgb[3]) {
-  // Piecewise-linear ramp black -> blue -> red -> yellow -> white over 0..25 rays: the
-  // 1-ray pixels stay dark and the 25-ray (full lattice) pixels stand out white.
-  static const uint8_t stops[5][3] = {{0, 0, 0}, {30, 60, 220}, {220, 40, 40}, {250, 220, 40}, {255, 255, 255}};
-  const float x = std::clamp(float(rays) / 25.0f, 0.0f, 1.0f) * 4.0f;
-  const int i = std::min(int(x), 3);
-  const float t = x - float(i);
-  for (int k = 0; k < 3; ++k) rgb[k] = lerp8(stops[i][k], stops[i + 1][k], t);
+  if (rays <= 0) {  // not rendered yet
+    rgb[0] = rgb[1] = rgb[2] = 0;
+    return;
+  }
+  ray_count_colour(rays, rgb);  // the ramp of `zigzag render --aov rays`
 }
 
 void level_color(int level, uint8_t rgb[3]) {
-  // Levels 1..3 in grey/green/red; the vertical orientation (+4) shifts them to blue hues.
-  static const uint8_t horizontal[4][3] = {{0, 0, 0}, {70, 70, 70}, {40, 200, 60}, {230, 50, 40}};
-  static const uint8_t vertical[4][3] = {{0, 0, 0}, {70, 70, 110}, {40, 180, 220}, {170, 60, 230}};
-  const bool v = level >= 4;
-  const int l = std::clamp(level & 3, 0, 3);
-  const uint8_t* c = v ? vertical[l] : horizontal[l];
-  rgb[0] = c[0];
-  rgb[1] = c[1];
-  rgb[2] = c[2];
+  // The colours of `zigzag render --aov levels` (render/aov.cpp level_map): 1 grey,
+  // 2 blue / cyan (vertical), 3 red / yellow (vertical).
+  static const uint8_t colours[8][3] = {{0, 0, 0}, {70, 70, 70}, {40, 90, 230},  {230, 50, 40},
+                                        {0, 0, 0}, {70, 70, 70}, {40, 210, 230}, {240, 220, 40}};
+  std::copy_n(colours[level & 7], 3, rgb);
 }
 
 int DisplayFrame::width() const {
@@ -128,16 +121,14 @@ void DisplayFrame::compose_locked(ViewMode mode, bool bgra, int channels, uint8_
   const bool geo_ok = !geo_.empty() && geo_.width == width_ && geo_.height == height_;
   const int r = bgra ? 2 : 0, b = bgra ? 0 : 2;
   for (size_t i = 0; i < n; ++i) {
-    uint8_t c[3];
+    uint8_t c[3] = {0, 0, 0};
     switch (mode) {
       case ViewMode::Image: std::copy(&rgb_[i * 3], &rgb_[i * 3] + 3, c); break;
       case ViewMode::Rays: heat_color(rays_[i], c); break;
       case ViewMode::Level: level_color(level_[i], c); break;
       case ViewMode::Geo:
         if (geo_ok) {
-          // Flagged pixels white over a dimmed image, so the edges can be located.
-          const uint8_t v = geo_.flags[i] ? 255 : uint8_t(rgb_[i * 3 + 1] / 4);
-          c[0] = c[1] = c[2] = v;
+          c[0] = c[1] = c[2] = geo_.flags[i] ? 255 : 0;  // as `zigzag render --aov geo`
         } else {
           // Not available: a dark checkerboard (the title says why).
           const size_t x = i % size_t(width_), y = i / size_t(width_);

@@ -51,8 +51,9 @@ class DisplayFrame {
   uint64_t version_ = 0;
 };
 
-// False-colour ramps for the AOV views (exposed for tests).
-void heat_color(int rays, uint8_t rgb[3]);   // 0 rays black .. 25+ white through blue/red/yellow
-void level_color(int level, uint8_t rgb[3]); // 0 black, levels 1..3 distinct, vertical variants tinted
+// Per-pixel colours of the AOV views, the same as `zigzag render --aov rays|levels`
+// (pixels not rendered yet are black).
+void heat_color(int rays, uint8_t rgb[3]);
+void level_color(int level, uint8_t rgb[3]);
 
 }  // namespace zz

@@ -80,9 +80,6 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
 
   RenderCallbacks callbacks;
   callbacks.cancel = &cancel_;
-  const GeoMap geo = geo_ ? geo_(request.camera, full.width, full.height) : GeoMap{};
-  if (cancel_) return;
-  display_.set_geo(geo);
 
   if (request.preview_scale > 1) {
     // 1 ray/px at reduced size: cheap enough to follow the mouse, then refined below.
@@ -99,6 +96,10 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
     if (cancel_) return;
   }
 
+  // The visibility map after the preview, so the first coarse picture is not delayed.
+  const GeoMap geo = geo_ && request.edges ? geo_(request.camera, full.width, full.height) : GeoMap{};
+  if (cancel_) return;
+  display_.set_geo(geo);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     status_.preview = false;

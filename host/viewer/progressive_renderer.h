@@ -24,6 +24,7 @@ struct FrameRequest {
   Camera camera;
   RenderSettings settings;  // width/height = the display size
   int preview_scale = 4;    // 0 or 1: no preview pass
+  bool edges = true;        // build the visibility map (when a GeoSource exists)
 };
 
 struct ProgressStatus {

@@ -3,11 +3,10 @@
 namespace zz {
 
 void apply_tweaks(const ViewTweaks& tweaks, RenderSettings& settings) {
-  // RenderSettings has no adaptive-sampler fields yet (only none/uniform AA); once it
-  // carries AdaptiveSettings, eps and filter are copied into it here. `edges` is honoured
-  // by the viewer itself: it decides whether a visibility map is built for the frame.
-  (void)tweaks;
-  (void)settings;
+  settings.adaptive.eps = tweaks.eps;
+  settings.adaptive.filter = tweaks.mitchell ? Filter::Mitchell : Filter::Box;
+  // `edges` is honoured by the viewer itself: it decides whether a visibility map is
+  // built for the frame (no map = the sampler sees no geo flags).
 }
 
 }  // namespace zz

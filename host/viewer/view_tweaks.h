@@ -12,9 +12,9 @@ struct ViewTweaks {
   bool mitchell = false;  // F: Mitchell-Netravali filter instead of box
   bool edges = true;      // E: use the visibility (geo) map
 
-  static constexpr float kEpsStep = 1.25f;  // one `[`/`]` press
-  void eps_down() { eps = eps / kEpsStep; }
-  void eps_up() { eps = eps * kEpsStep; }
+  static constexpr float kEpsStep = 1.25f;  // one `[`/`]` press; eps stays in (0, 1]
+  void eps_down() { eps = eps / kEpsStep > 1e-4f ? eps / kEpsStep : 1e-4f; }
+  void eps_up() { eps = eps * kEpsStep < 1.0f ? eps * kEpsStep : 1.0f; }
 };
 
 void apply_tweaks(const ViewTweaks& tweaks, RenderSettings& settings);

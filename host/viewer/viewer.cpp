@@ -107,6 +107,7 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
 
   VulkanOptions vk;
   vk.validate = options.validate;
+  vk.device_index = options.vk_device;
   uint32_t count = 0;
   const char** extensions = glfwGetRequiredInstanceExtensions(&count);
   if (!extensions) throw Error("GLFW found no Vulkan surface extensions for this display; use `zigzag render`");
@@ -161,6 +162,7 @@ void Viewer::restart() {
   r.settings.height = render_height_;
   apply_tweaks(tweaks_, r.settings);
   r.preview_scale = options_.preview_scale;
+  r.edges = tweaks_.edges;
   request_ = renderer_->request(r);
   update_title(true);
 }

@@ -30,6 +30,7 @@ struct ViewerOptions {
   int preview_scale = 4;    // coarse pass at 1/preview_scale size; 1 = none
 
   bool validate = false;  // Vulkan validation layers; any message makes run() return non-zero
+  int vk_device = -1;     // VulkanOptions::device_index
   std::filesystem::path screenshot_dir = ".";
   bool exit_after_frame = false;       // quit after the first full frame (after the script)
   std::filesystem::path screenshot;    // saved before quitting with exit_after_frame
