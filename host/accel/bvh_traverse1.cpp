@@ -1,6 +1,7 @@
 // Single-ray traversal for incoherent rays (Embree-style BVH4: Wald, Benthin & Boulos
 // 2008, "Getting Rid of Packets"): one SSE slab test covers a node's four children, one
 // SSE watertight test covers a leaf's four triangles, children are visited nearest first.
+#include <cstddef>
 #include <limits>
 
 #include "accel/box_test.h"
@@ -17,13 +18,21 @@ struct SingleSetup {
   float4 rdx, rdy, rdz;  // safe reciprocal direction, broadcast
   watertight::RayShear shear;
   float best;
+  // Byte offsets of the near and far planes per axis inside Bvh4Node (lo_* or hi_*, by
+  // the direction's sign): the slab test then needs no min/max per plane pair.
+  int near_x, near_y, near_z, far_x, far_y, far_z;
 };
 
-template <bool kAnyHit>
+inline float4 plane(const Bvh4Node& n, int offset) {
+  return float4::load(reinterpret_cast<const float*>(reinterpret_cast<const char*>(&n) + offset));
+}
+
+// KX, KY, KZ: Woop's axis permutation as template arguments, so the leaf test picks
+// registers instead of indexing memory.
+template <bool kAnyHit, int kx, int ky, int kz>
 bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& blocks,
               SingleSetup& s, Hit* out) {
   const float4 sx(s.shear.sx), sy(s.shear.sy), sz(s.shear.sz);
-  const int kx = s.shear.kx, ky = s.shear.ky, kz = s.shear.kz;
   int32_t best_prim = std::numeric_limits<int32_t>::max();
   float best_u = 0.0f, best_v = 0.0f;
 
@@ -37,11 +46,11 @@ bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>
     if (!(ref & Bvh4Node::kLeafBit)) {
       const Bvh4Node& n = nodes[ref];
       // Slab test of the four children at once (conservative: see box_test.h).
-      float4 t0x = (float4::load(n.lo_x) - s.ox) * s.rdx, t1x = (float4::load(n.hi_x) - s.ox) * s.rdx;
-      float4 t0y = (float4::load(n.lo_y) - s.oy) * s.rdy, t1y = (float4::load(n.hi_y) - s.oy) * s.rdy;
-      float4 t0z = (float4::load(n.lo_z) - s.oz) * s.rdz, t1z = (float4::load(n.hi_z) - s.oz) * s.rdz;
-      float4 tnear = max(max(min(t0x, t1x), min(t0y, t1y)), max(min(t0z, t1z), float4(0.0f)));
-      float4 tfar = min(min(max(t0x, t1x), max(t0y, t1y)), min(max(t0z, t1z), float4(s.best)));
+      float4 t0x = (plane(n, s.near_x) - s.ox) * s.rdx, t1x = (plane(n, s.far_x) - s.ox) * s.rdx;
+      float4 t0y = (plane(n, s.near_y) - s.oy) * s.rdy, t1y = (plane(n, s.far_y) - s.oy) * s.rdy;
+      float4 t0z = (plane(n, s.near_z) - s.oz) * s.rdz, t1z = (plane(n, s.far_z) - s.oz) * s.rdz;
+      float4 tnear = max(max(t0x, t0y), max(t0z, float4(0.0f)));
+      float4 tfar = min(min(t1x, t1y), min(t1z, float4(s.best)));
       unsigned hit = unsigned((tnear <= tfar * kBoxFarScale).bits()) & ((1u << n.count) - 1u);
       if (hit) {
         int i0 = __builtin_ctz(hit);
@@ -121,7 +130,31 @@ bool setup(const Ray& ray, SingleSetup& s) {
   s.rdz = float4(safe_rcp(ray.dir.z));
   // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
   s.best = std::min(ray.tmax, kFloatMax);
+  constexpr int kLo = int(offsetof(Bvh4Node, lo_x)), kHi = int(offsetof(Bvh4Node, hi_x));
+  constexpr int kRow = 4 * int(sizeof(float));
+  int near[3], far[3];
+  for (int k = 0; k < 3; ++k) {
+    bool neg = !(ray.dir[k] >= 0.0f) || std::signbit(ray.dir[k]);  // -0 behaves like < 0
+    near[k] = (neg ? kHi : kLo) + k * kRow;
+    far[k] = (neg ? kLo : kHi) + k * kRow;
+  }
+  s.near_x = near[0], s.near_y = near[1], s.near_z = near[2];
+  s.far_x = far[0], s.far_y = far[1], s.far_z = far[2];
   return s.best >= 0.0f;
+}
+
+template <bool kAnyHit>
+bool dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& blocks,
+              SingleSetup& s, Hit* out) {
+  const watertight::RayShear& w = s.shear;
+  switch (w.kz * 2 + (w.kx == (w.kz + 1) % 3 ? 0 : 1)) {
+    case 0: return traverse<kAnyHit, 1, 2, 0>(nodes, blocks, s, out);
+    case 1: return traverse<kAnyHit, 2, 1, 0>(nodes, blocks, s, out);
+    case 2: return traverse<kAnyHit, 2, 0, 1>(nodes, blocks, s, out);
+    case 3: return traverse<kAnyHit, 0, 2, 1>(nodes, blocks, s, out);
+    case 4: return traverse<kAnyHit, 0, 1, 2>(nodes, blocks, s, out);
+    default: return traverse<kAnyHit, 1, 0, 2>(nodes, blocks, s, out);
+  }
 }
 
 }  // namespace
@@ -130,14 +163,14 @@ Hit Bvh::intersect1(const Ray& ray) const {
   Hit hit;
   SingleSetup s;
   if (nodes_.empty() || !setup(ray, s)) return hit;
-  traverse<false>(nodes_, triangles_, s, &hit);
+  dispatch<false>(nodes_, triangles_, s, &hit);
   return hit;
 }
 
 bool Bvh::occluded1(const Ray& ray) const {
   SingleSetup s;
   if (nodes_.empty() || !setup(ray, s)) return false;
-  return traverse<true>(nodes_, triangles_, s, nullptr);
+  return dispatch<true>(nodes_, triangles_, s, nullptr);
 }
 
 }  // namespace zz
