@@ -1,0 +1,157 @@
+// End-to-end: the project's scenes through `zigzag render` (glTF loading, BVH, the
+// Vulkan visibility map on lavapipe with validation on, adaptive AA, PNG output),
+// compared with stored reference images. ZZ_UPDATE_REFERENCES=1 rewrites them.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "cli.h"
+#include "render/image_io.h"
+
+namespace zz {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temp_dir() {
+  fs::path d = fs::temp_directory_path() / ("zigzag_app_test_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream f(p);
+  return nlohmann::json::parse(f);
+}
+
+struct ImageDiff {
+  double mean_abs = 0.0;  // in 8-bit display levels
+  double p999 = 0.0;      // 99.9th percentile of per-channel differences
+};
+
+ImageDiff compare_png(const fs::path& a, const fs::path& b) {
+  int wa, ha, wb, hb;
+  const std::vector<float> x = read_rgb_float(a, wa, ha), y = read_rgb_float(b, wb, hb);
+  EXPECT_EQ(wa, wb);
+  EXPECT_EQ(ha, hb);
+  if (x.size() != y.size()) return {1e9, 1e9};
+  std::vector<double> d(x.size());
+  double sum = 0.0;
+  for (size_t i = 0; i < x.size(); ++i) sum += d[i] = std::abs(double(x[i]) - double(y[i])) * 255.0;
+  std::sort(d.begin(), d.end());
+  return {sum / double(d.size()), d[size_t(double(d.size() - 1) * 0.999)]};
+}
+
+class SceneReference : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SceneReference, MatchesStoredImage) {
+  const std::string scene = GetParam();
+  const fs::path dir = temp_dir();
+  const fs::path out = dir / (scene + ".png"), stats = dir / (scene + ".json");
+  const fs::path reference = test::source_path("tests/data/reference/" + scene + "_128.png");
+  const fs::path reference_stats = test::source_path("tests/data/reference/" + scene + "_128.json");
+  const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/" + scene + ".json") +
+                                   " --width 128 --height 128 --vk-validate -q -o " + out.string() + " --stats " +
+                                   stats.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  if (std::getenv("ZZ_UPDATE_REFERENCES")) {
+    fs::copy_file(out, reference, fs::copy_options::overwrite_existing);
+    fs::copy_file(stats, reference_stats, fs::copy_options::overwrite_existing);
+    GTEST_SKIP() << "reference rewritten: " << reference;
+  }
+  ASSERT_TRUE(fs::exists(reference)) << "no reference; run with ZZ_UPDATE_REFERENCES=1";
+  const ImageDiff diff = compare_png(out, reference);
+  // Same code, same inputs: identical here. The slack absorbs a different lavapipe
+  // build flagging a few more or fewer edge pixels, never a shading change.
+  EXPECT_LT(diff.mean_abs, 0.5) << scene;
+  EXPECT_LT(diff.p999, 24.0) << scene;
+
+  const nlohmann::json got = read_json(stats), want = read_json(reference_stats);
+  EXPECT_NEAR(got["rays_per_pixel"].get<double>(), want["rays_per_pixel"].get<double>(),
+              0.03 * want["rays_per_pixel"].get<double>());
+  EXPECT_EQ(got["effects"], want["effects"]);
+  EXPECT_EQ(got["triangles"], want["triangles"]);
+  EXPECT_EQ(got["rays"]["shadow"].get<uint64_t>() > 0, got["lights"].get<int>() > 0);
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(ProjectScenes, SceneReference, ::testing::Values("default", "room", "glass"));
+
+TEST(RenderCommand, BitIdenticalForAnyThreadCount) {
+  const fs::path dir = temp_dir();
+  std::vector<float> first;
+  for (int threads : {1, 2, 3}) {
+    const fs::path out = dir / ("t" + std::to_string(threads) + ".exr");
+    const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                                     " --width 150 --height 70 --filter mitchell -q --threads " +
+                                     std::to_string(threads) + " -o " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    int w, h;  // the EXR header may differ (metadata); the pixels may not
+    const std::vector<float> pixels = read_rgb_float(out, w, h);
+    ASSERT_EQ(pixels.size(), size_t(150 * 70 * 3));
+    if (first.empty())
+      first = pixels;
+    else
+      EXPECT_EQ(std::memcmp(pixels.data(), first.data(), pixels.size() * sizeof(float)), 0) << "threads " << threads;
+  }
+  fs::remove_all(dir);
+}
+
+TEST(RenderCommand, StatsHaveTheDocumentedFields) {
+  const fs::path dir = temp_dir();
+  const fs::path stats = dir / "s.json";
+  const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/glass.json") +
+                                   " --width 64 --height 48 -q -o " + (dir / "g.png").string() + " --stats " +
+                                   stats.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_json(stats);
+  for (const char* key : {"width", "height", "threads", "aa", "rays_per_pixel", "rays", "time_s", "effects",
+                          "adaptive", "geo_fraction"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  for (const char* key : {"primary", "shadow", "reflection", "refraction"}) EXPECT_TRUE(j["rays"].contains(key)) << key;
+  for (const char* key : {"load", "bvh", "render", "write", "total", "edges"}) EXPECT_TRUE(j["time_s"].contains(key)) << key;
+  EXPECT_EQ(j["width"], 64);
+  EXPECT_EQ(j["height"], 48);
+  EXPECT_EQ(j["aa"], "adaptive");
+  EXPECT_GE(j["rays_per_pixel"].get<double>(), 1.0);
+  fs::remove_all(dir);
+}
+
+TEST(RenderCommand, BatchWithCameraPatternWritesOneImagePerJob) {
+  const fs::path dir = temp_dir();
+  const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") + " " +
+                                   test::source_path("scenes/glass.json") + " --camera all --aa none -q --width 32 " +
+                                   "--height 32 -o " + (dir / "{scene}_{camera}.png").string() + " --stats " +
+                                   (dir / "{scene}_{camera}.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "default_0.png"));
+  EXPECT_TRUE(fs::exists(dir / "glass_0.png"));
+  EXPECT_TRUE(fs::exists(dir / "glass_0.json"));
+  fs::remove_all(dir);
+}
+
+TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
+  const fs::path dir = temp_dir();
+  // An ICD list that names no driver: Vulkan is unavailable, --edges off still renders.
+  const std::string no_vulkan = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json ";
+  auto r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                             " --width 32 --height 32 -q --edges off -o " + (dir / "a.png").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                        " --width 32 --height 32 -q -o " + (dir / "b.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--edges off"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "b.png"));
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace zz
