@@ -12,6 +12,9 @@ namespace {
 
 // Far above any real asset; keeps every size product below 2^64.
 constexpr uint64_t kMaxElements = uint64_t(1) << 31;
+// Accessors without a bufferView are all zeros (plus sparse values) and cost no file
+// bytes, so their size is capped separately.
+constexpr uint64_t kMaxZeroElements = uint64_t(1) << 24;
 
 size_t component_size(int type) {
   switch (type) {
@@ -124,9 +127,13 @@ std::vector<float> read_floats(const tinygltf::Model& model, int index, int comp
   if (uint64_t(acc.count) > kMaxElements)
     throw Error(where + ": accessor " + std::to_string(index) + " count too large");
   const uint64_t elem = uint64_t(n) * csize;
+  // Validate the byte range before allocating: a hostile count must not cost memory.
+  Range r;
+  if (acc.bufferView >= 0) r = view_range(model, acc.bufferView, acc.byteOffset, acc.count, elem, false, where);
+  else if (acc.count > kMaxZeroElements)
+    throw Error(where + ": accessor " + std::to_string(index) + " without bufferView is too large");
   std::vector<float> out(acc.count * size_t(n), 0.0f);
   if (acc.bufferView >= 0) {
-    Range r = view_range(model, acc.bufferView, acc.byteOffset, acc.count, elem, false, where);
     for (size_t i = 0; i < acc.count; ++i)
       for (int c = 0; c < n; ++c)
         out[i * n + c] = fetch(r.base + i * r.stride + c * csize, acc.componentType, acc.normalized);
@@ -176,9 +183,12 @@ std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index, cons
   }
   if (uint64_t(acc.count) > kMaxElements)
     throw Error(where + ": index accessor " + std::to_string(index) + " count too large");
-  std::vector<uint32_t> out(acc.count, 0);
-  if (acc.bufferView < 0) return out;
+  if (acc.bufferView < 0) {
+    if (acc.count > kMaxZeroElements) throw Error(where + ": index accessor without bufferView is too large");
+    return std::vector<uint32_t>(acc.count, 0);
+  }
   Range r = view_range(model, acc.bufferView, acc.byteOffset, acc.count, component_size(t), false, where);
+  std::vector<uint32_t> out(acc.count, 0);
   for (size_t i = 0; i < acc.count; ++i) out[i] = fetch_index(r.base + i * r.stride, t);
   return out;
 }

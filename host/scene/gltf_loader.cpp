@@ -129,7 +129,9 @@ struct Loader {
     }
     const int w = img.width, h = img.height, comp = img.component;
     const int bytes = img.bits == 16 ? 2 : img.bits == 8 ? 1 : 0;
+    // At most 2^25 texels (512 MiB as float RGBA): bigger is a hostile header, not a texture.
     if (w <= 0 || h <= 0 || comp < 1 || comp > 4 || bytes == 0 || w > 65536 || h > 65536 ||
+        uint64_t(w) * uint64_t(h) > (uint64_t(1) << 25) ||
         img.image.size() < size_t(w) * size_t(h) * size_t(comp) * size_t(bytes)) {
       warn(label + " is missing or has an unsupported layout, ignored");
       return std::nullopt;
@@ -483,8 +485,13 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   std::string err, warning;
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  bool ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model, &err, &warning, file)
-                          : gltf.LoadASCIIFromFile(&model, &err, &warning, file);
+  bool ok = false;
+  try {
+    ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model, &err, &warning, file)
+                       : gltf.LoadASCIIFromFile(&model, &err, &warning, file);
+  } catch (const std::exception& e) {  // tinygltf's JSON parser or an allocation
+    throw Error(file + ": cannot parse glTF (" + e.what() + ")");
+  }
   if (!ok) {
     std::string msg = err.empty() ? "cannot parse glTF" : err;
     std::replace(msg.begin(), msg.end(), '\n', ' ');

@@ -224,6 +224,41 @@ TEST(GltfLoader, TruncationsNeverCrash) {
   EXPECT_EQ(load_scene(dir / "full.glb", kQuiet).triangle_count(), 1u);
 }
 
+// Deterministic mutation fuzzing of the JSON: digits replaced (indices, counts, offsets,
+// strides go out of range) and bytes overwritten. Each variant loads or throws zz::Error.
+TEST(GltfLoader, MutatedFilesNeverCrash) {
+  auto dir = test::temp_dir("mutate");
+  GltfBuilder b;
+  b.doc["materials"] = {{{"name", "m"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}}}}};
+  b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+  int child = b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm, {0, 1, 2}, 4, 0, {0, 0, 1, 0, 0, 1})}}, false);
+  b.node({{"children", {child}}, {"camera", 0}, {"scale", {1, 2, 3}}});
+  b.node({{"mesh", b.mesh("strip", kTriPos, {}, {}, 5)}});
+  const std::string text = test::read_text(b.write(dir, "base"));
+  std::filesystem::copy_file(dir / "base.bin", dir / "mut.bin");
+  uint32_t state = 12345u;
+  auto next = [&] { state = state * 1664525u + 1013904223u; return state >> 8; };
+  int loaded = 0, errors = 0;
+  for (int iter = 0; iter < 300; ++iter) {
+    std::string m = text;
+    for (int k = 0; k < 1 + int(next() % 3); ++k) {
+      size_t at = next() % m.size();
+      if (iter % 3 == 0) m[at] = char(next() & 0xFF);
+      else if (m[at] >= '0' && m[at] <= '9') m[at] = char('0' + next() % 10);
+      else if (iter % 3 == 1) m.insert(at, std::to_string(next() % 100000));
+    }
+    test::write_text(dir / "mut.gltf", m);
+    try {
+      load_scene(dir / "mut.gltf", kQuiet);
+      ++loaded;
+    } catch (const Error&) {
+      ++errors;
+    }
+  }
+  EXPECT_GT(loaded, 0);
+  EXPECT_GT(errors, 0);
+}
+
 TEST(GltfLoader, GlbMatchesGltf) {
   auto dir = test::temp_dir("glb");
   GltfBuilder b;
