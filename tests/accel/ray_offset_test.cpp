@@ -47,9 +47,10 @@ TEST(RayOffset, SpawnedRaysNeverHitTheirOwnTriangle) {
   int trials = 0, self_hits = 0;
   for (int i = 0; i < 20000; ++i) {
     float scale = std::pow(10.0f, ex(rng));
-    // The triangle sits away from the coordinate planes relative to its size, the
-    // setting where a hit point's rounding error is a few ULPs of |p| (see ray.h).
-    glm::vec3 centre = scale * (2.0f + 3.0f * glm::vec3(u(rng), u(rng), u(rng)));
+    // Even trials: the triangle sits away from the coordinate planes relative to its
+    // size; odd trials: it straddles them (hit points much closer to 0 than the vertices).
+    glm::vec3 r3(u(rng), u(rng), u(rng));
+    glm::vec3 centre = scale * (i % 2 ? 2.0f * r3 - 1.0f : 2.0f + 3.0f * r3);
     if (rng() % 2) centre.x = -centre.x;
     if (rng() % 2) centre.z = -centre.z;
     std::vector<glm::vec3> tri;
