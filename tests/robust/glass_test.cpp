@@ -1,0 +1,146 @@
+// Glass: total internal reflection, the critical angle, nested and touching glass, IOR 1
+// (must vanish) and trace depth exhausted inside glass. With no lights, no diffuse and a
+// white background, Whitted glass only redistributes the background: the Fresnel weights
+// F and 1 - F sum to 1, so every pixel lies in [0, 1] (0 where a path ran out of depth),
+// and adding bounces can only add light.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "render/scene_source.h"
+#include "robust_scenes.h"
+
+namespace zz {
+namespace {
+
+Scene glass_box_scene(float ior, int max_depth) {
+  Scene s;
+  s.materials.push_back(test::glass_material(ior));
+  test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 0);
+  s.background = glm::vec3(1.0f);
+  s.cameras.push_back(Camera::look_at({2.5f, -3.0f, 2.0f}, {0, 0, 0}, {0, 0, 1}, 0.9f));
+  s.max_depth = max_depth;
+  s.finalize_materials();
+  return s;
+}
+
+struct Range {
+  float lo = 1e30f, hi = -1e30f;
+  double mean = 0.0;
+};
+
+Range range_of(const Film& f) {
+  Range r;
+  for (const glm::vec3& c : f.radiance)
+    for (int i = 0; i < 3; ++i) {
+      r.lo = std::min(r.lo, c[i]);
+      r.hi = std::max(r.hi, c[i]);
+      r.mean += c[i];
+    }
+  r.mean /= 3.0 * double(f.radiance.size());
+  return r;
+}
+
+constexpr float kEnergyTolerance = 1e-5f;  // float rounding of F + (1 - F)
+
+TEST(Glass, EnergyBoundedAndMonotoneInDepthUpToExhaustion) {
+  double previous = -1.0;
+  for (int depth : {0, 1, 2, 3, 4, 6, 8, 12, 16}) {
+    const Film f = robust::render(glass_box_scene(1.5f, depth), robust::settings(48, 48, AaMode::None));
+    ASSERT_EQ(robust::bad_values(f), 0u);
+    const Range r = range_of(f);
+    std::printf("[ glass ] depth %2d: radiance in [%g, %g], mean %.6f\n", depth, r.lo, r.hi, r.mean);
+    EXPECT_GE(r.lo, 0.0f);
+    EXPECT_LE(r.hi, 1.0f + kEnergyTolerance);
+    EXPECT_GE(r.mean, previous - 1e-6) << "more bounces removed light";
+    previous = r.mean;
+  }
+}
+
+TEST(Glass, TotalInternalReflectionAndTheCriticalAngle) {
+  // Inside a glass slab (n = 1.5), rays hit the top face at angles around the critical
+  // angle asin(1/1.5) = 41.81 deg: beyond it all light is reflected (F = 1), just before
+  // it the transmitted ray leaves tangentially. Radiance stays in [0, 1].
+  Scene s;
+  s.materials.push_back(test::glass_material(1.5f));
+  test::add_box(s, {-50, -50, -1}, {50, 50, 1}, 0);
+  s.background = glm::vec3(1.0f);
+  s.cameras.push_back(Camera::look_at({0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0.5f));  // inside the slab
+  s.max_depth = 8;
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const double critical = std::asin(1.0 / 1.5);
+  for (double delta : {-1e-2, -1e-4, -1e-6, 0.0, 1e-6, 1e-4, 1e-2}) {
+    const double incidence = critical + delta;  // angle to the top face's normal (+z)
+    RayPacket4 rays;
+    const float dx = float(std::sin(incidence)), dz = float(std::cos(incidence));
+    rays.ox = rays.oy = rays.oz = float4(0.0f);
+    rays.dx = float4(dx), rays.dy = float4(0.0f), rays.dz = float4(dz);
+    rays.tmax = float4(kInfinity);
+    RayCounters counters;
+    const Rgb4 c = shader.trace4(rays, mask4(true), 0, counters);
+    for (int i = 0; i < 4; ++i) {
+      ASSERT_TRUE(std::isfinite(c.r[i])) << delta;
+      EXPECT_GE(c.r[i], 0.0f) << delta;
+      EXPECT_LE(c.r[i], 1.0f + kEnergyTolerance) << delta;
+    }
+    // Fresnel itself: exactly 1 past the critical angle, continuous up to it.
+    const float f = fresnel_dielectric(float(std::cos(incidence)), 1.5f);
+    if (delta >= 1e-4) EXPECT_EQ(f, 1.0f) << delta;
+    if (delta <= -1e-4) EXPECT_LT(f, 1.0f) << delta;
+    EXPECT_GE(f, 0.0f);
+    EXPECT_LE(f, 1.0f);
+    std::printf("[ glass ] critical%+g rad: F = %.6f, L = %.6f\n", delta, f, c.r[0]);
+  }
+}
+
+TEST(Glass, NestedAndTouchingGlassStaysInRange) {
+  for (int variant = 0; variant < 3; ++variant) {
+    Scene s;
+    s.materials.push_back(test::glass_material(1.5f));
+    s.materials.push_back(test::glass_material(1.33f));
+    s.materials.push_back(test::glass_material(2.4f));
+    test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 0);
+    if (variant == 0) test::add_box(s, {-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f}, 1);  // nested
+    if (variant == 1) test::add_box(s, {1, -1, -1}, {3, 1, 1}, 2);                     // touching face
+    if (variant == 2) test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 1);                    // coincident
+    s.background = glm::vec3(1.0f);
+    s.cameras.push_back(Camera::look_at({3.0f, -4.0f, 2.5f}, {0.5f, 0, 0}, {0, 0, 1}, 0.9f));
+    s.max_depth = 12;
+    s.finalize_materials();
+    for (AaMode aa : {AaMode::None, AaMode::Adaptive}) {
+      const Film f = robust::render(s, robust::settings(48, 40, aa));
+      ASSERT_EQ(robust::bad_values(f), 0u) << variant;
+      const Range r = range_of(f);
+      std::printf("[ glass ] variant %d aa %d: [%g, %g]\n", variant, int(aa), r.lo, r.hi);
+      EXPECT_LE(r.hi, 1.0f + kEnergyTolerance) << variant;
+    }
+  }
+}
+
+TEST(Glass, IorOneVanishesFromTheWholeImage) {
+  // An emissive floor seen through an IOR-1 glass box: no refraction, no Fresnel, the
+  // image equals the floor alone (lights off: shadow rays treat glass as opaque).
+  Scene plain = robust::emissive_wall({0.25f, 0.5f, 0.75f});
+  plain.background = glm::vec3(0.1f);
+  plain.cameras[0] = Camera::look_at({0.5f, -3.0f, 4.0f}, {0, 0, 0}, {0, 0, 1}, 0.8f);
+  Scene glass = plain;
+  glass.materials.push_back(test::glass_material(1.0f));
+  test::add_box(glass, {-1, -1, 0.5f}, {1, 1, 1.5f}, 1);
+  glass.max_depth = 4;
+  glass.finalize_materials();
+  for (AaMode aa : {AaMode::None, AaMode::Adaptive}) {
+    const Film a = robust::render(plain, robust::settings(64, 48, aa));
+    const Film b = robust::render(glass, robust::settings(64, 48, aa));
+    float worst = 0.0f;
+    for (size_t i = 0; i < a.radiance.size(); ++i)
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(a.radiance[i][k] - b.radiance[i][k]));
+    std::printf("[ glass ] IOR 1.0 box, aa %d: max |difference| %g\n", int(aa), worst);
+    EXPECT_LE(worst, 1e-6f);
+  }
+}
+
+}  // namespace
+}  // namespace zz
