@@ -22,6 +22,7 @@
 #include "gpu/visibility.h"
 #include "render/aov.h"
 #include "render/image_io.h"
+#include "render/memory_budget.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
 
@@ -77,6 +78,9 @@ RenderSettings make_settings(const RenderOptions& o, const Scene& scene) {
     throw Error("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                 " is out of range (1..16384 per side)");
   s.threads = o.threads;
+  const std::string frame = "a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame";
+  check_memory(frame_bytes(s.width, s.height, s.threads > 0 ? s.threads : int(std::thread::hardware_concurrency())),
+               frame.c_str());
   s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
   if (o.aa == "adaptive") {
     s.aa = AaMode::Adaptive;
