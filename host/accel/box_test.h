@@ -20,10 +20,4 @@ inline float safe_rcp(float d) {
   return 1.0f / a;
 }
 
-// Lane-broadcast of component k of a 16-byte row.
-template <int K>
-inline float4 bcast(__m128 row) {
-  return _mm_shuffle_ps(row, row, _MM_SHUFFLE(K, K, K, K));
-}
-
 }  // namespace zz

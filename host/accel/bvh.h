@@ -33,11 +33,20 @@ class Bvh {
   // can never be hit. The BVH keeps its own copy of the triangle data.
   static Bvh build(std::span<const glm::vec3> positions, BvhBuildStats* stats = nullptr);
 
-  // Closest hit along each active lane's ray in [0, tmax]; misses give prim = -1.
+  // All queries: hits with 0 <= t <= tmax (t = 0 counts; spawn secondary rays from
+  // offset_ray_origin). Equal t goes to the lower triangle index, so a packet lane and
+  // the same ray through intersect1 give bit-identical t, u, v, prim. Rays with a NaN or
+  // infinite origin/direction, a zero direction, or a NaN tmax never hit. Thread-safe
+  // (const, no allocation).
+
+  // Closest hit along each active lane's ray; misses (and inactive lanes) give
+  // prim = -1, t = inf, u = v = 0. Packets whose lanes diverge (different direction
+  // octants or > ~37 degrees apart) are traced lane by lane internally.
   void intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) const;
-  // Any hit in [0, tmax]: the lanes whose rays are blocked (early exit per lane).
+  // Any hit: the active lanes whose rays are blocked (each lane stops at its first hit).
   mask4 occluded4(const RayPacket4& rays, mask4 active) const;
 
+  // Single rays (incoherent secondary rays): the same answers as a packet lane.
   Hit intersect1(const Ray& ray) const;
   bool occluded1(const Ray& ray) const;
 
