@@ -12,7 +12,8 @@
 layout(local_size_x = ZZ_FLAG_GROUP_X, local_size_y = ZZ_FLAG_GROUP_Y) in;
 
 layout(push_constant) uniform Push { FlagPush p; };
-layout(binding = 0, r32ui) uniform readonly uimage2D ids;
+// The tile's id image (ring included, rows of tile.z*S + 2 ids), copied into a buffer.
+layout(std430, binding = 0) readonly buffer Ids { uint ids[]; };
 layout(std430, binding = 1) readonly buffer Positions { vec4 positions[]; };
 layout(std430, binding = 2) readonly buffer Normals { vec4 normals[]; };
 layout(std430, binding = 3) writeonly buffer Flags { uint words[]; };
@@ -60,33 +61,40 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
   return far_apart(taa, tba) || far_apart(tbb, tab);
 }
 
-uint id_at(ivec2 uv) { return imageLoad(ids, uv).x; }
+uint id_at(ivec2 uv) { return ids[uv.y * (p.tile.z * p.frame.z + 2) + uv.x]; }
 
-// Pixel (x, y) of the tile covers image samples [x*S + 1, x*S + S] per axis.
-bool pixel_flag(ivec2 pix) {
+// Flag of the pixel whose block (S x S core plus ring) has its corner at image sample
+// `base`. lavapipe runs 8 invocations in SIMD and executes both sides of every branch
+// under a mask, so the costly plane tests must not sit in a fixed loop over all pairs:
+// each row first collects the differing pairs into bit masks with cheap compares, and
+// only the set bits are visited (a loop ends once no lane has bits left).
+bool pixel_flag(ivec2 base) {
   int s = p.frame.z;
-  ivec2 base = pix * s;                                  // ring corner, image coords
-  ivec2 to_global = p.tile.xy * s - ivec2(1);            // image -> frame supersample
-  for (int j = 1; j <= s; ++j) {                         // horizontal pairs
-    ivec2 a = base + ivec2(0, j);
-    uint ia = id_at(a);
-    for (int i = 0; i <= s; ++i) {
-      ivec2 b = a + ivec2(1, 0);
-      uint ib = id_at(b);
-      if (differs(ia, a + to_global, ib, b + to_global)) return true;
-      a = b;
-      ia = ib;
+  ivec2 to_global = p.tile.xy * s - ivec2(1);  // image -> frame supersample
+  for (int j = 0; j <= s + 1; ++j) {
+    uint h = 0u;  // bit i: horizontal pair (i, i+1) differs in id
+    uint v = 0u;  // bit i: vertical pair (i, j-1)-(i, j) differs in id
+    uint left = id_at(base + ivec2(0, j));
+    for (int i = 1; i <= s + 1; ++i) {
+      uint id = id_at(base + ivec2(i, j));
+      uint above = id_at(base + ivec2(i, max(j - 1, 0)));
+      h |= id != left ? 1u << uint(i - 1) : 0u;
+      v |= id != above ? 1u << uint(i) : 0u;
+      left = id;
     }
-  }
-  for (int i = 1; i <= s; ++i) {                         // vertical pairs
-    ivec2 a = base + ivec2(i, 0);
-    uint ia = id_at(a);
-    for (int j = 0; j <= s; ++j) {
-      ivec2 b = a + ivec2(0, 1);
-      uint ib = id_at(b);
-      if (differs(ia, a + to_global, ib, b + to_global)) return true;
-      a = b;
-      ia = ib;
+    if (j < 1 || j > s) h = 0u;  // horizontal pairs only in core rows
+    v &= ((1u << uint(s + 1)) - 1u) & ~1u;  // vertical pairs only in core columns 1..S
+    while (h != 0u) {
+      int i = findLSB(h);
+      h &= h - 1u;
+      ivec2 a = base + ivec2(i, j), b = a + ivec2(1, 0);
+      if (differs(id_at(a), a + to_global, id_at(b), b + to_global)) return true;
+    }
+    while (v != 0u) {
+      int i = findLSB(v);
+      v &= v - 1u;
+      ivec2 b = base + ivec2(i, j), a = b - ivec2(0, 1);
+      if (differs(id_at(a), a + to_global, id_at(b), b + to_global)) return true;
     }
   }
   return false;
@@ -94,13 +102,13 @@ bool pixel_flag(ivec2 pix) {
 
 void main() {
   ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
-  int words_per_row = (p.tile.z + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD;
-  if (cell.x >= words_per_row || cell.y >= p.tile.w) return;
+  int s = p.frame.z;
+  int npix = min(ZZ_PIXELS_PER_WORD, p.tile.z - cell.x * ZZ_PIXELS_PER_WORD);
+  if (npix <= 0 || cell.y >= p.tile.w) return;
   uint word = 0u;
-  for (int k = 0; k < ZZ_PIXELS_PER_WORD; ++k) {
-    ivec2 pix = ivec2(cell.x * ZZ_PIXELS_PER_WORD + k, cell.y);
-    if (pix.x >= p.tile.z) break;
-    if (pixel_flag(pix)) word |= 1u << (8 * k);
+  for (int k = 0; k < npix; ++k) {
+    ivec2 base = ivec2((cell.x * ZZ_PIXELS_PER_WORD + k) * s, cell.y * s);
+    if (pixel_flag(base)) word |= 1u << uint(8 * k);
   }
   int row = p.tile.y + cell.y;
   int col = p.tile.x / ZZ_PIXELS_PER_WORD + cell.x;

@@ -18,6 +18,7 @@ using mat4 = glm::mat4;
 #define ZZ_FLAG_GROUP_X 8
 #define ZZ_FLAG_GROUP_Y 8
 #define ZZ_PIXELS_PER_WORD 4
+#define ZZ_MAX_SUPERSAMPLE 16
 
 // Vertex stage: clip = clip_from_view * (position - origin, 1). Camera-relative
 // positions keep float precision when the scene sits far from the world origin.

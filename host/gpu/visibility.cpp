@@ -191,7 +191,7 @@ void VisibilityPass::create_pipelines() {
 
   // Compute: ids (storage image), positions, normals, packed flags.
   VkDescriptorSetLayoutBinding bindings[4] = {
-      {0, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
@@ -216,11 +216,10 @@ void VisibilityPass::create_pipelines() {
   vk_check(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &compute, nullptr, &flag_pipeline_),
            "vkCreateComputePipelines");
 
-  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1},
-                                   {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 3}};
+  VkDescriptorPoolSize sizes[1] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
   VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool.maxSets = 1;
-  pool.poolSizeCount = 2;
+  pool.poolSizeCount = 1;
   pool.pPoolSizes = sizes;
   vk_check(vkCreateDescriptorPool(d, &pool, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -233,7 +232,7 @@ void VisibilityPass::create_pipelines() {
 VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int height,
                                            const VisibilitySettings& settings) const {
   if (width <= 0 || height <= 0) throw Error("visibility map: empty frame size");
-  if (settings.supersample < 1 || settings.supersample > 16)
+  if (settings.supersample < 1 || settings.supersample > ZZ_MAX_SUPERSAMPLE)
     throw Error("visibility map: supersampling must be 1..16, got " + std::to_string(settings.supersample));
   Frame f;
   f.width = width;
@@ -286,11 +285,15 @@ void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
   depth_.reset();
   ids_.reset();
   ids_ = create_image_2d(context_, width, height, kIdFormat,
-                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);
   depth_ = create_image_2d(context_, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                            VK_IMAGE_ASPECT_DEPTH_BIT);
+  id_buffer_.reset();
+  id_buffer_ = create_buffer(context_, VkDeviceSize(width) * height * sizeof(uint32_t),
+                             VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
+                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
 }
 
 void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Tile& tile) {
@@ -373,11 +376,40 @@ void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Ti
   vkCmdEndRendering(cmd);
 }
 
+void VisibilityPass::record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuffer dst) {
+  uint32_t iw = uint32_t(tile.w * frame_s_ + 2), ih = uint32_t(tile.h * frame_s_ + 2);
+  VkImageMemoryBarrier2 ready{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+  ready.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
+  ready.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+  ready.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  ready.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
+  ready.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
+  ready.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
+  ready.srcQueueFamilyIndex = ready.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+  ready.image = ids_.image;
+  ready.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+  // The previous tile's compute pass must be done reading `dst` (write-after-read).
+  VkMemoryBarrier2 reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+  reuse.srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+  reuse.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+  VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+  dep.memoryBarrierCount = 1;
+  dep.pMemoryBarriers = &reuse;
+  dep.imageMemoryBarrierCount = 1;
+  dep.pImageMemoryBarriers = &ready;
+  vkCmdPipelineBarrier2(cmd, &dep);
+  VkBufferImageCopy region{};  // tightly packed rows of iw ids
+  region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
+  region.imageExtent = {iw, ih, 1};
+  vkCmdCopyImageToBuffer(cmd, ids_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1, &region);
+}
+
 GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const VisibilitySettings& settings,
                            VisibilityTimings* timings) {
   auto t0 = Clock::now();
   Frame f = plan(camera, width, height, settings);
   ensure_targets(f.image_w, f.image_h);
+  frame_s_ = f.s;
   VkDevice d = context_.device();
 
   VkDeviceSize flag_bytes = VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t);
@@ -398,23 +430,17 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
     query_capacity_ = queries;
   }
 
-  VkDescriptorImageInfo image_info{VK_NULL_HANDLE, ids_.view, VK_IMAGE_LAYOUT_GENERAL};
-  VkDescriptorBufferInfo buffer_info[3] = {{positions_.buffer, 0, VK_WHOLE_SIZE},
+  VkDescriptorBufferInfo buffer_info[4] = {{id_buffer_.buffer, 0, VK_WHOLE_SIZE},
+                                           {positions_.buffer, 0, VK_WHOLE_SIZE},
                                            {normals_.buffer, 0, VK_WHOLE_SIZE},
                                            {flags_.buffer, 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
-                                    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+  VkWriteDescriptorSet writes[1] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
   writes[0].dstSet = flag_set_;
   writes[0].dstBinding = 0;
-  writes[0].descriptorCount = 1;
-  writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
-  writes[0].pImageInfo = &image_info;
-  writes[1].dstSet = flag_set_;
-  writes[1].dstBinding = 1;
-  writes[1].descriptorCount = 3;
-  writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  writes[1].pBufferInfo = buffer_info;
-  vkUpdateDescriptorSets(d, 2, writes, 0, nullptr);
+  writes[0].descriptorCount = 4;
+  writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  writes[0].pBufferInfo = buffer_info;
+  vkUpdateDescriptorSets(d, 1, writes, 0, nullptr);
 
   context_.run_commands([&](VkCommandBuffer cmd) {
     if (timed) {
@@ -426,9 +452,10 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
       record_raster(cmd, f, tile);
       if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 1));
 
+      record_id_copy(cmd, tile, id_buffer_.buffer);
       VkMemoryBarrier2 ids_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-      ids_ready.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-      ids_ready.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
+      ids_ready.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
+      ids_ready.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
       ids_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
       ids_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
       VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
@@ -494,6 +521,7 @@ std::vector<uint32_t> VisibilityPass::render_ids(const Camera& camera, int width
                                                  const VisibilitySettings& settings) {
   Frame f = plan(camera, width, height, settings);
   ensure_targets(f.image_w, f.image_h);
+  frame_s_ = f.s;
   size_t fw = size_t(width) * f.s + 2;
   std::vector<uint32_t> ids(fw * (size_t(height) * f.s + 2), 0u);
   VkDeviceSize bytes = VkDeviceSize(f.image_w) * f.image_h * sizeof(uint32_t);
@@ -507,32 +535,13 @@ std::vector<uint32_t> VisibilityPass::render_ids(const Camera& camera, int width
     uint32_t cw = uint32_t(tile.w * f.s + 2), ch = uint32_t(tile.h * f.s + 2);
     context_.run_commands([&](VkCommandBuffer cmd) {
       record_raster(cmd, f, tile);
-      VkImageMemoryBarrier2 ready{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-      ready.srcStageMask = VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT;
-      ready.srcAccessMask = VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT;
-      ready.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-      ready.dstAccessMask = VK_ACCESS_2_TRANSFER_READ_BIT;
-      ready.oldLayout = VK_IMAGE_LAYOUT_GENERAL;
-      ready.newLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-      ready.srcQueueFamilyIndex = ready.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-      ready.image = ids_.image;
-      ready.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.imageMemoryBarrierCount = 1;
-      dep.pImageMemoryBarriers = &ready;
-      vkCmdPipelineBarrier2(cmd, &dep);
-      VkBufferImageCopy region{};
-      region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-      region.imageOffset = {0, 0, 0};
-      region.imageExtent = {cw, ch, 1};
-      vkCmdCopyImageToBuffer(cmd, ids_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, id_readback_.buffer, 1,
-                             &region);
+      record_id_copy(cmd, tile, id_readback_.buffer);
       VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
       to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
       to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
       to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
       to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-      dep = VkDependencyInfo{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
       dep.memoryBarrierCount = 1;
       dep.pMemoryBarriers = &to_host;
       vkCmdPipelineBarrier2(cmd, &dep);

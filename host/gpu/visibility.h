@@ -72,6 +72,8 @@ class VisibilityPass {
   void ensure_targets(uint32_t width, uint32_t height);
   void create_pipelines();
   void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile);
+  // Copies the tile's id image (ring included, rows tightly packed) into `dst`.
+  void record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuffer dst);
 
   VulkanContext& context_;
   size_t triangles_ = 0;
@@ -80,8 +82,10 @@ class VisibilityPass {
   Buffer positions_;  // vec4 per vertex: vertex input and compute SSBO
   Buffer normals_;    // vec4 per triangle: unit geometric normal
   Buffer flags_;      // packed flag words of the last frame (host-visible)
-  Buffer id_readback_;
-  Image ids_;         // R32_UINT, reused by all tiles
+  Buffer id_buffer_;    // the tile's ids as the compute pass reads them
+  Buffer id_readback_;  // render_ids' host copy
+  int frame_s_ = 4;
+  Image ids_;         // R32_UINT colour target, reused by all tiles
   Image depth_;       // D32_SFLOAT, reverse-Z
   VkPipelineLayout raster_layout_ = VK_NULL_HANDLE;
   VkPipeline raster_pipeline_ = VK_NULL_HANDLE;

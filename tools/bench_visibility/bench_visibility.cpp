@@ -1,1 +1,91 @@
-int main() { return 0; }
+// Visibility map cost: raster + compute + readback at S = 4 and 6 for 512^2, 1024^2 and
+// 2048^2 frames on the room, glass and car scenes (generated stand-ins when a scene does
+// not load). Manual time = host wall time of VisibilityPass::run; the counters split it
+// into GPU raster / compute (timestamps) and host readback. Compare LP_NUM_THREADS=1/2.
+// Usage: bench_visibility [benchmark flags] [scene.json ...]
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bench_scenes.h"
+#include "gpu/device.h"
+#include "gpu/visibility.h"
+
+using namespace zz;
+
+namespace {
+
+std::unique_ptr<VulkanContext> g_context;
+std::vector<std::unique_ptr<Scene>> g_scenes;
+std::vector<std::unique_ptr<VisibilityPass>> g_passes;
+
+void run(benchmark::State& state, VisibilityPass* pass, const Scene* scene, int size, int ss) {
+  VisibilitySettings settings;
+  settings.supersample = ss;
+  const Camera& camera = scene->cameras.front();
+  double raster = 0, compute = 0, readback = 0, geo = 0;
+  int tiles = 0;
+  for (auto _ : state) {
+    VisibilityTimings t;
+    GeoMap map = pass->run(camera, size, size, settings, &t);
+    state.SetIterationTime(t.total_s);
+    raster += t.raster_s;
+    compute += t.compute_s;
+    readback += t.readback_s;
+    tiles = t.tiles;
+    size_t n = 0;
+    for (uint8_t f : map.flags) n += f != 0;
+    geo = double(n) / double(map.flags.size());
+  }
+  double it = double(state.iterations());
+  state.counters["raster_ms"] = 1e3 * raster / it;
+  state.counters["compute_ms"] = 1e3 * compute / it;
+  state.counters["readback_ms"] = 1e3 * readback / it;
+  state.counters["tiles"] = tiles;
+  state.counters["geo_fraction"] = geo;
+  state.counters["triangles"] = double(scene->triangle_count());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  std::vector<std::string> files;
+  for (int i = 1; i < argc; ++i) files.push_back(argv[i]);
+  if (files.empty())
+    for (const char* name : {"room", "glass", "car"}) files.push_back(std::string(ZZ_SOURCE_DIR) + "/scenes/" + name + ".json");
+  try {
+    g_context = VulkanContext::create({});
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_visibility: %s\n", e.what());
+    return 1;
+  }
+  const char* threads = std::getenv("LP_NUM_THREADS");
+  std::printf("device: %s, LP_NUM_THREADS=%s\n", g_context->device_name().c_str(), threads ? threads : "(unset)");
+  for (const auto& file : files) {
+    size_t slash = file.find_last_of('/'), dot = file.find_last_of('.');
+    std::string name = file.substr(slash + 1, dot == std::string::npos ? std::string::npos : dot - slash - 1);
+    g_scenes.push_back(std::make_unique<Scene>(bench::scene_or_fallback(file, name)));
+    g_passes.push_back(std::make_unique<VisibilityPass>(*g_context, *g_scenes.back()));
+    VisibilityTimings warm;  // the first run pays the shader JIT
+    g_passes.back()->run(g_scenes.back()->cameras.front(), 64, 64, {}, &warm);
+    std::printf("%s: %zu triangles, upload %.1f ms, first (JIT) run %.1f ms\n", name.c_str(),
+                g_scenes.back()->triangle_count(), 1e3 * warm.upload_s, 1e3 * warm.total_s);
+    for (int ss : {4, 6})
+      for (int size : {512, 1024, 2048})
+        benchmark::RegisterBenchmark(
+            (name + "/S" + std::to_string(ss) + "/" + std::to_string(size)).c_str(), run, g_passes.back().get(),
+            g_scenes.back().get(), size, ss)
+            ->UseManualTime()
+            ->Unit(benchmark::kMillisecond)
+            ->Iterations(size >= 2048 ? 2 : 4);
+  }
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  g_passes.clear();
+  g_context.reset();
+}
