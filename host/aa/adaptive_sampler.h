@@ -10,8 +10,8 @@
 // buffer, then filters its own pixels from that buffer. A pixel's lattice is a pure
 // function of its position (corners are lane-independent samples at fixed points; the
 // rest follows from them), so the image is bit-identical for any tile size, thread
-// count or order. Memory is one region buffer per thread ((64+4)² pixels x 24 points x
-// 16 B = 1.8 MB), independent of the frame size. Cost: margin pixels are traced twice;
+// count or order. Memory is one region buffer per thread ((64+4)² pixels x 25 points x
+// 16 B = 1.9 MB), independent of the frame size. Cost: margin pixels are traced twice;
 // for 64² tiles that is (68² - 64²)/64² = 12.9 % more level-1 rays and as much again of
 // the refinement rays near tile borders, all counted in AaStats::rays and reported in
 // AaStats::margin_rays.
@@ -34,7 +34,7 @@ namespace zz {
 struct AdaptiveScratch {
   std::vector<float4> corner_linear;   // (rw+1)*(rh+1) AoS (r, g, b, 0)
   std::vector<float4> corner_display;  // tone-mapped
-  std::vector<float4> inner;           // Mitchell: 24 per region pixel, physical k = 1..24
+  std::vector<float4> lattice;         // Mitchell: 25 per region pixel, by physical k
   std::vector<uint8_t> refined;        // Mitchell: per region pixel
 
   static AdaptiveScratch& local() {
@@ -63,7 +63,7 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
     scratch.corner_display.resize(size_t(cw) * ch);
   }
   if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
-    scratch.inner.resize(size_t(rw) * rh * (kLatticePoints - 1));
+    scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
     scratch.refined.resize(size_t(rw) * rh);
   }
   float4* corner_lin = scratch.corner_linear.data();
@@ -142,8 +142,9 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
         const size_t pi = size_t(ry) * rw + rx;
         scratch.refined[pi] = refine;
         if (refine) {
-          float4* inner = &scratch.inner[pi * (kLatticePoints - 1)];
-          for (int p = 1; p < kLatticePoints; ++p) inner[p - 1] = lattice[canonical_k(o, p)];
+          float4* lat = &scratch.lattice[pi * kLatticePoints];
+          lat[0] = tl;  // physical k = 0 is the pixel's own top-left corner
+          for (int p = 1; p < kLatticePoints; ++p) lat[p] = lattice[canonical_k(o, p)];
         }
       }
       if (!own) continue;
@@ -162,10 +163,13 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
   if (!mitchell) return;
 
   // ---- Mitchell: filter own pixels over the region's lattice (§8) ----
+  // Fixed summation order per output pixel (neighbours row by row, points in k order,
+  // four interleaved accumulators to shorten the add chain), so the result depends only
+  // on the pixel, never on the tiling.
   const MitchellLatticeWeights& mw = mitchell_lattice_weights();
   for (int y = tile.y0; y < tile.y1; ++y)
     for (int x = tile.x0; x < tile.x1; ++x) {
-      float4 acc(0.0f);
+      float4 acc0(0.0f), acc1(0.0f), acc2(0.0f), acc3(0.0f);
       float wsum = 0.0f;
       for (int dy = -2; dy <= 2; ++dy) {
         const int qy = y + dy;
@@ -176,28 +180,36 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
           const int ci = (qy - region.y0) * cw + (qx - region.x0);
           const float* w = mw.point[dy + 2][dx + 2];
           if (qx == W || qy == H) {  // the frame's corner ring: only point k = 0 exists
-            acc += corner_lin[ci] * float4(w[0]);
+            acc0 += corner_lin[ci] * float4(w[0]);
             wsum += w[0];
             continue;
           }
           const size_t pi = size_t(qy - region.y0) * rw + (qx - region.x0);
           if (scratch.refined[pi]) {
-            acc += corner_lin[ci] * float4(w[0]);
-            const float4* inner = &scratch.inner[pi * (kLatticePoints - 1)];
-            for (int p = 1; p < kLatticePoints; ++p) acc += inner[p - 1] * float4(w[p]);
+            const float4* lat = &scratch.lattice[pi * kLatticePoints];
+            const uint8_t* nk = mw.nonzero_k[dy + 2][dx + 2];
+            const int n = mw.nonzero_count[dy + 2][dx + 2];
+            int j = 0;
+            for (; j + 3 < n; j += 4) {
+              acc0 += lat[nk[j]] * float4(w[nk[j]]);
+              acc1 += lat[nk[j + 1]] * float4(w[nk[j + 1]]);
+              acc2 += lat[nk[j + 2]] * float4(w[nk[j + 2]]);
+              acc3 += lat[nk[j + 3]] * float4(w[nk[j + 3]]);
+            }
+            for (; j < n; ++j) acc0 += lat[nk[j]] * float4(w[nk[j]]);
           } else {
             const float* c = mw.corner[dy + 2][dx + 2];
-            acc += corner_lin[ci] * float4(c[0]);
-            acc += corner_lin[ci + 1] * float4(c[1]);
-            acc += corner_lin[ci + cw] * float4(c[2]);
-            acc += corner_lin[ci + cw + 1] * float4(c[3]);
+            acc0 += corner_lin[ci] * float4(c[0]);
+            acc1 += corner_lin[ci + 1] * float4(c[1]);
+            acc2 += corner_lin[ci + cw] * float4(c[2]);
+            acc3 += corner_lin[ci + cw + 1] * float4(c[3]);
           }
           wsum += mw.sum[dy + 2][dx + 2];
         }
       }
       // Negative lobes: clamp the output, never the weights (§8).
       alignas(16) float v[4];
-      max(acc / float4(wsum), float4(0.0f)).store(v);
+      max(((acc0 + acc1) + (acc2 + acc3)) / float4(wsum), float4(0.0f)).store(v);
       target.radiance[size_t(y) * W + x] = glm::vec3(v[0], v[1], v[2]);
     }
 }

@@ -29,6 +29,7 @@ MitchellLatticeWeights make_weights() {
         const double u = k / 25.0, v = ((7 * k) % 25) / 25.0;
         const double wk = mitchell1d(dx + u - 0.5) * mitchell1d(dy + v - 0.5);
         w.point[dy + 2][dx + 2][k] = float(wk);
+        if (float(wk) != 0.0f) w.nonzero_k[dy + 2][dx + 2][w.nonzero_count[dy + 2][dx + 2]++] = uint8_t(k);
         sum += wk;
         corner[0] += wk * (1 - u) * (1 - v);
         corner[1] += wk * u * (1 - v);

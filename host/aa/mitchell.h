@@ -3,6 +3,8 @@
 // lattice of a pixel and its 5x5 neighbours.
 #pragma once
 
+#include <cstdint>
+
 namespace zz {
 
 inline constexpr int kMitchellRadius = 2;
@@ -18,6 +20,9 @@ struct MitchellLatticeWeights {
   // weights fold into 4 corner weights (TL, TR, BL, BR).
   float corner[5][5][4];
   float sum[5][5];         // sum of point[..][..][k] over all 25 k
+  // Sparse form for the filter loop: the points with a nonzero weight, in k order.
+  int nonzero_count[5][5];
+  uint8_t nonzero_k[5][5][25];
 };
 
 const MitchellLatticeWeights& mitchell_lattice_weights();
