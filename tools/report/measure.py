@@ -1,0 +1,142 @@
+"""Measuring one point (scene x setting): N timed renders, stats, error against the reference."""
+from __future__ import annotations
+
+import json
+import statistics
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+import metrics
+import zzrun
+from settings import Setting
+
+
+@dataclass
+class Context:
+    zigzag: Path
+    assets: Path
+    size: int
+    threads: int
+    runs: int
+    work: Path          # scratch: EXRs, stats, display PNGs of every point
+    cache: Path         # references, kept across report runs
+    ref_spp: int
+
+
+@dataclass
+class Reference:
+    linear: np.ndarray
+    display: np.ndarray
+    stats: dict
+
+
+def exposure_of(scene: Path) -> float:
+    return float(json.loads(scene.read_text()).get("exposure", 1.0))
+
+
+def load_reference(ctx: Context, scene: Path) -> Reference:
+    exr, stats = zzrun.cached_reference(ctx.zigzag, scene, ctx.assets, ctx.size, ctx.ref_spp,
+                                        ctx.threads, ctx.cache)
+    linear = metrics.read_exr(exr)
+    disp = metrics.display(linear, exposure_of(scene))
+    save_png(disp, ctx.work / scene.stem / "reference.png")
+    return Reference(linear, disp, stats)
+
+
+def save_png(display01: np.ndarray, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    Image.fromarray(np.round(display01 * 255).astype(np.uint8)).save(path)
+
+
+def stage_times(stats: dict) -> dict:
+    """Per-stage wall seconds from --stats; `image_s` = visibility map + render (what AA costs)."""
+    t = stats.get("time_s", {})
+    edges = t.get("edges", {}).get("total", 0.0) if isinstance(t.get("edges"), dict) else 0.0
+    out = {"load_s": t.get("load", 0.0), "bvh_s": t.get("bvh", 0.0), "edges_s": edges,
+           "render_s": t.get("render", 0.0), "write_s": t.get("write", 0.0),
+           "total_s": t.get("total", 0.0)}
+    out["image_s"] = out["edges_s"] + out["render_s"]
+    return out
+
+
+def median_of(dicts: list[dict], key: str) -> float:
+    return float(statistics.median(d[key] for d in dicts))
+
+
+def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference) -> dict:
+    """Renders one point ctx.runs times; returns its CSV row."""
+    folder = ctx.work / scene.stem
+    folder.mkdir(parents=True, exist_ok=True)
+    exr = folder / f"{setting.label}.exr"
+    aov = folder / f"{setting.label}_rays.png" if setting.mode == "adaptive" else None
+    args = [*setting.render_args(), "--assets", str(ctx.assets)]
+    timings = []
+    for i in range(ctx.runs):
+        res = zzrun.render(ctx.zigzag, scene, ctx.size, ctx.threads, args, exr,
+                           folder / f"{setting.label}.json", aov if i == 0 else None)
+        timings.append({**stage_times(res.stats), "wall_s": res.wall_s, "cpu_s": res.cpu_s,
+                        "maxrss_mb": res.maxrss_mb})
+        stats = res.stats
+    linear = metrics.read_exr(exr)
+    disp = metrics.display(linear, exposure_of(scene))
+    save_png(disp, folder / f"{setting.label}.png")
+    exr.unlink()  # display PNG kept for crops; EXRs are large
+    err = metrics.rmse(linear, ref.linear)
+    row = base_row(scene.stem, setting, stats)
+    row.update({k: median_of(timings, k) for k in timings[0]})
+    row["maxrss_mb"] = max(t["maxrss_mb"] for t in timings)
+    row.update({"rmse": err, "psnr": metrics.psnr(err),
+                "flip": metrics.mean_flip(disp, ref.display)})
+    return row
+
+
+def base_row(scene: str, s: Setting, stats: dict) -> dict:
+    ad = stats.get("adaptive", {})
+    levels = ad.get("by_level", [np.nan] * 3)
+    rays = stats.get("rays", {})
+    px = stats.get("width", 1) * stats.get("height", 1)
+    return {
+        "scene": scene, "mode": s.mode, "setting": s.label, "family": s.family,
+        "pattern": s.pattern, "spp": s.spp if s.mode != "adaptive" else "",
+        "eps": s.eps if s.eps is not None else "",
+        "edges": s.edges if s.mode == "adaptive" else "", "filter": s.filter if s.mode == "adaptive" else "",
+        "tables": s.tables if s.mode == "adaptive" else "", "geo_policy": s.geo if s.mode == "adaptive" else "",
+        "width": stats.get("width"), "height": stats.get("height"),
+        "threads": stats.get("threads"), "triangles": stats.get("triangles"),
+        "lights": stats.get("lights"), "max_depth": stats.get("max_depth"),
+        "rays_per_px": stats.get("rays_per_pixel"),
+        "all_rays_per_px": rays.get("total", np.nan) / px,
+        "shadow_rays_per_px": rays.get("shadow", np.nan) / px,
+        "rays_l1": levels[0], "rays_l2": levels[1], "rays_l3": levels[2],
+        "level2_fraction": ad.get("level2_fraction", ""), "level3_fraction": ad.get("level3_fraction", ""),
+        "geo_fraction": stats.get("geo_fraction", ""),
+    }
+
+
+def measure_star(ctx: Context, setting: Setting, geo_ss: int) -> list[dict]:
+    """The analytic star: adaptive vs exact coverage, plus the harness's own baselines."""
+    folder = ctx.work / "star"
+    folder.mkdir(parents=True, exist_ok=True)
+    res = zzrun.analytic(ctx.zigzag, "star", ctx.size, ctx.threads,
+                         setting.analytic_args(geo_ss), folder / f"{setting.label}.json")
+    rows = []
+    for run in res.stats["runs"]:
+        method = run["method"]
+        if method == "adaptive":
+            s = setting
+        else:
+            s = {"1spp": Setting("none"), "lattice25": Setting("uniform", 25, "lattice"),
+                 "grid5x5": Setting("uniform", 25, "grid")}[method]
+        levels = run.get("rays_by_level", [np.nan] * 3)
+        row = base_row("star", s, {"width": ctx.size, "height": ctx.size, "threads": ctx.threads,
+                                   "rays_per_pixel": run["rays_per_pixel"]})
+        row.update({"rays_l1": levels[0], "rays_l2": levels[1], "rays_l3": levels[2],
+                    "level2_fraction": run["level2_fraction"], "level3_fraction": run["level3_fraction"],
+                    "geo_fraction": run.get("geo_pixels", 0) / ctx.size ** 2 if method == "adaptive" else "",
+                    "rmse": run["rmse"], "psnr": metrics.psnr(run["rmse"]), "flip": np.nan,
+                    "pixels_off": run.get("pixels_off")})
+        rows.append(row)
+    return rows

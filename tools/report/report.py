@@ -1,0 +1,188 @@
+#!/usr/bin/env python3
+"""The accuracy/time report: renders every benchmark scene with the real `zigzag` command in
+uniform and adaptive modes, measures time, rays and error against a reference, and writes
+reports/accuracy_vs_time.csv, plots, crops and REPORT.md.
+
+    ./zz report            # 1024^2, full (pruned) grid, 3 timed runs per point
+    ./zz report --quick    # 256^2, a few points, 1 run: the smoke test in ./zz test
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+
+import crops  # noqa: E402
+import markdown  # noqa: E402
+import measure  # noqa: E402
+import plots  # noqa: E402
+import settings  # noqa: E402
+import zzrun  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+SCENES = ["room", "glass", "car", "lamp", "vase"]
+TARGET_SCENES = ["room", "car", "glass"]
+QUICK_SCENES = ["room", "glass"]
+
+
+def parse_args(argv: list[str]) -> argparse.Namespace:
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--build", type=Path, default=ROOT / "build", help="build dir holding zigzag")
+    p.add_argument("--quick", action="store_true", help="256^2, few points, 1 run (smoke test)")
+    p.add_argument("--size", type=int, help="frame size N (N x N); default 1024, quick 256")
+    p.add_argument("--runs", type=int, help="timed runs per point (median); default 3, quick 1")
+    p.add_argument("--threads", type=int, default=2, help="renderer threads (fixed for all points)")
+    p.add_argument("--ref-spp", type=int, help="reference stratified rays/px; default 256, quick 64")
+    p.add_argument("--scenes", nargs="*", help=f"subset of {SCENES + ['star']}")
+    p.add_argument("--assets", type=Path, default=Path(os.environ.get("ZIGZAG_ASSETS", ROOT.parent / "shared" / "scenes")))
+    p.add_argument("--out", type=Path, help="output folder; default reports/ (quick: BUILD/report-quick)")
+    p.add_argument("--resume", action="store_true", help="keep points already measured in the work folder")
+    p.add_argument("--no-star", action="store_true", help="skip the analytic Siemens star")
+    a = p.parse_args(argv)
+    a.size = a.size or (256 if a.quick else 1024)
+    a.runs = a.runs or (1 if a.quick else 3)
+    a.ref_spp = a.ref_spp or (64 if a.quick else 256)
+    a.out = a.out or (a.build / "report-quick" if a.quick else ROOT / "reports")
+    return a
+
+
+def log(msg: str) -> None:
+    print(f"[{datetime.datetime.now():%H:%M:%S}] {msg}", flush=True)
+
+
+def available_scenes(args) -> tuple[list[Path], list[str]]:
+    default = QUICK_SCENES if args.quick else SCENES
+    names = [s for s in (args.scenes or default) if s != "star"]
+    scenes, skipped = [], []
+    for name in names:
+        path = ROOT / "scenes" / f"{name}.json"
+        why = zzrun.missing_assets(path, args.assets)
+        if why:
+            log(f"SKIP {why} (put the Khronos models there or pass --assets)")
+            skipped.append(why)
+        else:
+            scenes.append(path)
+    return scenes, skipped
+
+
+class RowStore:
+    """Rows appended to a JSONL file as they are measured, so a long run can --resume."""
+
+    def __init__(self, path: Path, resume: bool):
+        self.path = path
+        self.rows = []
+        if resume and path.exists():
+            self.rows = [json.loads(line) for line in path.read_text().splitlines() if line]
+        elif path.exists():
+            path.unlink()
+
+    def has(self, scene: str, setting: str) -> bool:
+        return any(r["scene"] == scene and r["setting"] == setting for r in self.rows)
+
+    def add(self, rows: list[dict]) -> None:
+        with open(self.path, "a") as f:
+            for r in rows:
+                f.write(json.dumps(r, default=float) + "\n")
+        self.rows += rows
+
+
+def measure_scenes(ctx, scenes, points, store: RowStore) -> dict:
+    refs_stats = {}
+    for scene in scenes:
+        t0 = time.time()
+        log(f"{scene.stem}: reference {ctx.ref_spp} rays/px stratified at {ctx.size}^2 (cached)")
+        ref = measure.load_reference(ctx, scene)
+        refs_stats[scene.stem] = ref.stats
+        for s in points:
+            if store.has(scene.stem, s.label):
+                continue
+            row = measure.measure_render(ctx, scene, s, ref)
+            store.add([row])
+            log(f"{scene.stem}: {s.label:55s} {row['rays_per_px']:6.2f} rays/px "
+                f"{row['image_s']:7.3f} s  rmse {row['rmse']:.5f}  flip {row['flip']:.4f}")
+        log(f"{scene.stem}: done in {time.time() - t0:.0f} s")
+    return refs_stats
+
+
+def measure_star(ctx, points, store: RowStore, geo_ss: int = 4) -> None:
+    baselines_done = store.has("star", "none")
+    for s in points:
+        if store.has("star", s.label):
+            continue
+        rows = measure.measure_star(ctx, s, geo_ss)
+        keep = [r for r in rows if r["mode"] == "adaptive" or not baselines_done]
+        baselines_done = True
+        store.add(keep)
+        a = rows[0]
+        log(f"star: {s.label:55s} {a['rays_per_px']:6.2f} rays/px  rmse {a['rmse']:.5f}")
+
+
+def write_csv(rows: list[dict], path: Path) -> None:
+    keys = list(dict.fromkeys(k for r in rows for k in r))
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=keys)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: _fmt(r.get(k, "")) for k in keys})
+
+
+def _fmt(v):
+    return f"{v:.6g}" if isinstance(v, float) else v
+
+
+def environment(args, zigzag: Path) -> dict:
+    def git(*cmd):
+        try:
+            return subprocess.run(["git", "-C", str(ROOT), *cmd], capture_output=True, text=True).stdout.strip()
+        except OSError:
+            return "?"
+    return {"date": f"{datetime.datetime.now():%Y-%m-%d %H:%M}", "commit": git("rev-parse", "--short", "HEAD"),
+            "dirty": bool(git("status", "--porcelain", "--", "host", "shaders")),
+            "size": args.size, "runs": args.runs, "threads": args.threads, "ref_spp": args.ref_spp,
+            "cores": os.cpu_count(), "loadavg": os.getloadavg(), "binary_digest": zzrun.file_digest([zigzag])[:12],
+            "quick": args.quick}
+
+
+def main(argv: list[str]) -> int:
+    args = parse_args(argv)
+    zigzag = args.build / "zigzag"
+    if not zigzag.exists():
+        sys.exit(f"report: {zigzag} not found (build first: ./zz build)")
+    args.out.mkdir(parents=True, exist_ok=True)
+    work = args.build / ("report-work-quick" if args.quick else f"report-work-{args.size}")
+    work.mkdir(parents=True, exist_ok=True)
+    ctx = measure.Context(zigzag, args.assets, args.size, args.threads, args.runs, work,
+                          args.build / "report-cache", args.ref_spp)
+    env = environment(args, zigzag)
+    log(f"zigzag {zigzag} ({env['binary_digest']}), {args.size}^2, {args.runs} run(s), "
+        f"{args.threads} threads, load {env['loadavg'][0]:.1f}")
+    points = settings.uniform_settings(args.quick) + settings.adaptive_settings(args.quick)
+    scenes, skipped = available_scenes(args)
+    store = RowStore(work / "rows.jsonl", args.resume)
+    refs = measure_scenes(ctx, scenes, points, store)
+    if not args.no_star and (not args.scenes or "star" in args.scenes):
+        measure_star(ctx, settings.star_settings(args.quick), store)
+    env["loadavg_end"] = os.getloadavg()
+    rows = store.rows
+    write_csv(rows, args.out / "accuracy_vs_time.csv")
+    figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv")
+    choice = markdown.choose_defaults(rows, TARGET_SCENES)
+    figures += crops.all_crops(rows, work, args.out, choice)
+    markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped, choice, figures,
+                          settings.__doc__)
+    log(f"wrote {args.out / 'REPORT.md'} and {len(figures)} figures")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

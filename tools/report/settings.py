@@ -1,0 +1,108 @@
+"""The measured points: which modes and adaptive settings the report renders.
+
+The full cross product eps x edges x filter x tables x geo-policy (7 x 2 x 2 x 3 x 2 = 168
+adaptive points per scene) is too slow for a 2-core machine, so the grid is pruned:
+  * an eps sweep for the `paper` and the `tuned` table sets (edges vulkan, box, geo paper);
+  * around two eps values, one factor changed at a time: --edges off, --filter mitchell,
+    --tables all, --geo-policy all, and tuned + geo all.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+
+@dataclasses.dataclass(frozen=True)
+class Setting:
+    mode: str                  # none | uniform | adaptive
+    spp: int = 1
+    pattern: str = ""
+    eps: float | None = None
+    edges: str = "vulkan"
+    filter: str = "box"
+    tables: str = "paper"
+    geo: str = "paper"
+
+    @property
+    def label(self) -> str:
+        if self.mode == "none":
+            return "none"
+        if self.mode == "uniform":
+            return f"uniform-{self.pattern}-{self.spp}"
+        return (f"adaptive-eps{self.eps:g}-{self.edges}-{self.filter}"
+                f"-{self.tables}-geo{self.geo}")
+
+    @property
+    def family(self) -> str:
+        """The curve a point belongs to in the plots."""
+        if self.mode == "uniform":
+            return f"uniform {self.pattern}"
+        if self.mode == "none":
+            return "none"
+        return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}"
+
+    def render_args(self) -> list[str]:
+        if self.mode == "none":
+            return ["--aa", "none"]
+        if self.mode == "uniform":
+            return ["--aa", "uniform", "--spp", str(self.spp), "--pattern", self.pattern]
+        return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
+                "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo]
+
+    def analytic_args(self, geo_ss: int) -> list[str]:
+        """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
+        ss = geo_ss if self.edges == "vulkan" else 0
+        return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
+                "--geo-ss", str(ss), "--filter", self.filter]
+
+
+# The renderer's current defaults (zigzag render --help / stats): the baseline of the variations.
+CLI_DEFAULT = Setting("adaptive", eps=0.1, edges="vulkan", filter="box", tables="paper",
+                      geo="paper")
+
+LATTICE25 = Setting("uniform", spp=25, pattern="lattice")
+
+
+def uniform_settings(quick: bool) -> list[Setting]:
+    spps = [4] if quick else [4, 9, 16, 25]
+    patterns = ["grid"] if quick else ["grid", "stratified"]
+    points = [Setting("none")]
+    points += [Setting("uniform", spp=n, pattern=p) for p in patterns for n in spps]
+    points.append(LATTICE25)
+    return points
+
+
+def variations(base: Setting) -> list[Setting]:
+    """One factor at a time around base."""
+    r = dataclasses.replace
+    return [r(base, edges="off"), r(base, filter="mitchell"), r(base, tables="all"),
+            r(base, geo="all"), r(base, tables="tuned", geo="all")]
+
+
+def adaptive_settings(quick: bool) -> list[Setting]:
+    if quick:
+        sweep = [0.05, 0.1, 0.2]
+        points = [dataclasses.replace(CLI_DEFAULT, eps=e) for e in sweep]
+        return points + [dataclasses.replace(CLI_DEFAULT, edges="off")]
+    sweep = [0.02, 0.04, 0.06, 0.08, 0.1, 0.15, 0.2]
+    points = [dataclasses.replace(CLI_DEFAULT, eps=e, tables=t)
+              for t in ("paper", "tuned") for e in sweep]
+    for eps in (0.04, 0.1):
+        points += variations(dataclasses.replace(CLI_DEFAULT, eps=eps))
+    return _unique(points)
+
+
+def star_settings(quick: bool) -> list[Setting]:
+    """The star is two-tone: every eps below 1 flags the same pixels, so no eps sweep there.
+    Mitchell is left out: the exact-coverage reference is a box integral."""
+    if quick:
+        return [CLI_DEFAULT]
+    return [CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
+
+
+def _unique(points: list[Setting]) -> list[Setting]:
+    seen, out = set(), []
+    for p in points:
+        if p not in seen:
+            seen.add(p)
+            out.append(p)
+    return out
