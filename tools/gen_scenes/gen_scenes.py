@@ -390,12 +390,13 @@ def room(out):
         for k, z in enumerate((-1.8, 0.0, 1.8)):
             warm = (1.0, 0.92, 0.8) if (i + k) % 2 == 0 else (0.9, 0.95, 1.0)
             lights.append({"type": "point", "name": "ceiling_%d%d" % (i, k),
-                           "position": [x, 3.6, z], "color": list(warm), "intensity": 1.6})
+                           "position": [x, 3.4, z], "color": list(warm), "intensity": 1.6})
     write_rig(out, "room", {
         "name": "room",
         "description": "Cornell-style room with furniture, a mirror and 9 point lights",
         "model": "room.gltf",
-        "camera": {"name": "front", "eye": [0.0, 2.0, 8.6], "target": [0.0, 1.9, 0.0], "up": [0, 1, 0],
+        # The open front (z = 3) exactly fills the 40 degree view from z = 8.4: no outside.
+        "camera": {"name": "front", "eye": [0.0, 2.0, 8.4], "target": [0.0, 2.0, 0.0], "up": [0, 1, 0],
                    "yfov_deg": 40.0},
         "lights": lights,
         "background": [0.0, 0.0, 0.0],
@@ -453,7 +454,7 @@ def glass(out):
         "name": "glass",
         "description": "solid, hollow and tinted glass over a checker floor, 3 point lights",
         "model": "glass.gltf",
-        "camera": {"name": "front", "eye": [0.0, 2.2, 5.4], "target": [0.0, 0.5, 0.0], "yfov_deg": 40.0},
+        "camera": {"name": "front", "eye": [0.0, 2.2, 6.3], "target": [0.0, 0.7, 0.0], "yfov_deg": 40.0},
         "lights": [
             {"type": "point", "name": "key", "position": [3.0, 4.0, 3.0], "color": [1.0, 0.95, 0.9], "intensity": 12.0},
             {"type": "point", "name": "fill", "position": [-3.5, 3.0, 2.0], "color": [0.85, 0.9, 1.0], "intensity": 6.0},
@@ -500,15 +501,16 @@ def default(out):
 
 
 def third_party(out):
-    # ToyCar is 7 cm long; its own cameras frame it. Camera002 is the README's view.
+    # ToyCar is 7 cm long; its own cameras frame it. Camera002 (the README view) shows
+    # the whole car in a square frame.
     write_rig(out, "car", {
         "name": "car",
         "description": "Khronos ToyCar (CC0): transmission glass, textures; model cameras",
         "model": "assets:toycar/glTF/ToyCar.gltf",
         "use_model_cameras": True, "default_camera": "Camera002",
         "lights": [
-            {"type": "point", "name": "key", "position": [-0.08, 0.12, 0.12], "color": [1.0, 0.96, 0.9], "intensity": 0.12},
-            {"type": "point", "name": "rim", "position": [0.1, 0.08, -0.1], "color": [0.8, 0.9, 1.0], "intensity": 0.06}],
+            {"type": "point", "name": "key", "position": [-0.08, 0.12, 0.12], "color": [1.0, 0.96, 0.9], "intensity": 0.03},
+            {"type": "point", "name": "rim", "position": [0.1, 0.08, -0.1], "color": [0.8, 0.9, 1.0], "intensity": 0.015}],
         "background": [0.18, 0.2, 0.24],
         "exposure": 1.0, "max_depth": 3, "width": 1024, "height": 1024})
     # GlassVaseFlowers: two vases 12 cm apart (alpha-blend left, transmission right).
@@ -530,7 +532,8 @@ def third_party(out):
         "model": "assets:lightspunctuallamp/glTF/LightsPunctualLamp.gltf",
         "camera": {"name": "front", "eye": [1.2, 1.3, 2.9], "target": [0.25, 0.92, 0.0], "yfov_deg": 38.0},
         "background": [0.02, 0.02, 0.03],
-        "exposure": 1.0, "max_depth": 2, "width": 768, "height": 1024})
+        # Its lights are 15..180 cd at 1-2 m: exposure 0.1 keeps the lit side in range.
+        "exposure": 0.1, "max_depth": 2, "width": 768, "height": 1024})
 
 
 def main():
