@@ -38,7 +38,7 @@ def scene_crops(scene_dir: Path, adaptive_label: str, out: Path, count: int = 3)
                ("uniform 25 lattice", scene_dir / f"{LATTICE25.label}.png"),
                ("adaptive", scene_dir / f"{adaptive_label}.png"),
                ("reference", scene_dir / "reference.png"),
-               ("adaptive rays/px", scene_dir / f"{adaptive_label}_rays.png")]
+               ("rays/px (dark 1 → bright 25)", scene_dir / f"{adaptive_label}_rays.png")]
     images = [(name, load(p)) for name, p in columns]
     if any(img is None for _, img in images[:4]):
         return None

@@ -74,7 +74,7 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference) 
     aov = folder / f"{setting.label}_rays.png" if setting.mode == "adaptive" else None
     args = [*setting.render_args(), "--assets", str(ctx.assets)]
     timings = []
-    for i in range(ctx.runs):
+    for i in range(setting.timed_runs(ctx.runs)):
         res = zzrun.render(ctx.zigzag, scene, ctx.size, ctx.threads, args, exr,
                            folder / f"{setting.label}.json", aov if i == 0 else None)
         timings.append({**stage_times(res.stats), "wall_s": res.wall_s, "cpu_s": res.cpu_s,

@@ -147,7 +147,7 @@ def tuner_pareto(csv_path: Path, out: Path) -> Path | None:
     return path
 
 
-def all_plots(rows: list[dict], out: Path, tuner_csv: Path) -> list[tuple[str, Path]]:
+def all_plots(rows: list[dict], out: Path, tuner_csv: Path, chosen: str) -> list[tuple[str, Path]]:
     from settings import CLI_DEFAULT, LATTICE25
     import dataclasses
     figs = []
@@ -156,6 +156,8 @@ def all_plots(rows: list[dict], out: Path, tuner_csv: Path) -> list[tuple[str, P
     picks = {"1 ray/px": "none", "uniform grid 25": "uniform-grid-25", "lattice 25": LATTICE25.label,
              "adaptive (CLI default)": CLI_DEFAULT.label,
              "adaptive edges off": dataclasses.replace(CLI_DEFAULT, edges="off").label}
+    if chosen not in picks.values():
+        picks["adaptive (recommended)"] = chosen
     if any(finite(r.get("total_s")) for r in rows):
         figs.append(("time per stage", stage_bars(rows, picks, out)))
     t = tuner_pareto(tuner_csv, out)

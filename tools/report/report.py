@@ -106,7 +106,11 @@ def measure_scenes(ctx, scenes, points, store: RowStore) -> dict:
         for s in points:
             if store.has(scene.stem, s.label):
                 continue
-            row = measure.measure_render(ctx, scene, s, ref)
+            try:
+                row = measure.measure_render(ctx, scene, s, ref)
+            except (RuntimeError, OSError, ValueError) as e:
+                log(f"{scene.stem}: {s.label} FAILED: {e}")
+                continue
             store.add([row])
             log(f"{scene.stem}: {s.label:55s} {row['rays_per_px']:6.2f} rays/px "
                 f"{row['image_s']:7.3f} s  rmse {row['rmse']:.5f}  flip {row['flip']:.4f}")
@@ -175,8 +179,8 @@ def main(argv: list[str]) -> int:
     env["loadavg_end"] = os.getloadavg()
     rows = store.rows
     write_csv(rows, args.out / "accuracy_vs_time.csv")
-    figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv")
     choice = markdown.choose_defaults(rows, TARGET_SCENES)
+    figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
     figures += crops.all_crops(rows, work, args.out, choice)
     markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped, choice, figures,
                           settings.__doc__)

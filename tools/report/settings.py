@@ -2,9 +2,14 @@
 
 The full cross product eps x edges x filter x tables x geo-policy (7 x 2 x 2 x 3 x 2 = 168
 adaptive points per scene) is too slow for a 2-core machine, so the grid is pruned:
-  * an eps sweep for the `paper` and the `tuned` table sets (edges vulkan, box, geo paper);
-  * around two eps values, one factor changed at a time: --edges off, --filter mitchell,
-    --tables all, --geo-policy all, and tuned + geo all.
+  * an eps sweep (0.02 0.05 0.1 0.2) for the `paper` and the `tuned` table sets
+    (edges vulkan, box filter, geo policy paper);
+  * around eps 0.05 and 0.1, one factor changed at a time: --edges off, --filter mitchell,
+    --tables all, --geo-policy all, tuned + geo all, tuned + edges off;
+  * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
+Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
+for the other uniform points (4-25x longer renders, so their relative noise is smaller).
+The Siemens star runs the default and its one-factor variations with the box filter only.
 """
 from __future__ import annotations
 
@@ -39,6 +44,10 @@ class Setting:
         if self.mode == "none":
             return "none"
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}"
+
+    def timed_runs(self, runs: int) -> int:
+        """Long uniform renders are timed once; the compared points `runs` times."""
+        return 1 if self.mode == "uniform" and self.pattern != "lattice" else runs
 
     def render_args(self) -> list[str]:
         if self.mode == "none":
@@ -75,7 +84,8 @@ def variations(base: Setting) -> list[Setting]:
     """One factor at a time around base."""
     r = dataclasses.replace
     return [r(base, edges="off"), r(base, filter="mitchell"), r(base, tables="all"),
-            r(base, geo="all"), r(base, tables="tuned", geo="all")]
+            r(base, geo="all"), r(base, tables="tuned", geo="all"),
+            r(base, tables="tuned", edges="off")]
 
 
 def adaptive_settings(quick: bool) -> list[Setting]:
@@ -83,10 +93,10 @@ def adaptive_settings(quick: bool) -> list[Setting]:
         sweep = [0.05, 0.1, 0.2]
         points = [dataclasses.replace(CLI_DEFAULT, eps=e) for e in sweep]
         return points + [dataclasses.replace(CLI_DEFAULT, edges="off")]
-    sweep = [0.02, 0.04, 0.06, 0.08, 0.1, 0.15, 0.2]
+    sweep = [0.02, 0.05, 0.1, 0.2]
     points = [dataclasses.replace(CLI_DEFAULT, eps=e, tables=t)
               for t in ("paper", "tuned") for e in sweep]
-    for eps in (0.04, 0.1):
+    for eps in (0.05, 0.1):
         points += variations(dataclasses.replace(CLI_DEFAULT, eps=eps))
     return _unique(points)
 

@@ -1,0 +1,67 @@
+"""Checks of the quick report's outputs: every expected row and file, sane numbers, and the
+report's tone map reproducing zigzag's own PNG (FLIP is computed on that display image)."""
+import csv
+import json
+import math
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+from PIL import Image
+
+build, root, out = map(Path, sys.argv[1:4])
+sys.path.insert(0, str(root / "tools" / "report"))
+import metrics  # noqa: E402
+
+failures = []
+
+
+def check(cond, msg):
+    if not cond:
+        failures.append(msg)
+
+
+rows = list(csv.DictReader(open(out / "accuracy_vs_time.csv")))
+by = {(r["scene"], r["setting"]): r for r in rows}
+for scene in ("room", "glass"):
+    none = by.get((scene, "none"))
+    lat = by.get((scene, "uniform-lattice-25"))
+    ada = by.get((scene, "adaptive-eps0.1-vulkan-box-paper-geopaper"))
+    check(none and lat and ada, f"{scene}: missing none/lattice/adaptive rows")
+    if not (none and lat and ada):
+        continue
+    f = {k: float(v) for k, v in ada.items() if k in ("rmse", "flip", "rays_per_px", "image_s", "maxrss_mb")}
+    check(all(math.isfinite(v) and v > 0 for v in f.values()), f"{scene}: non-finite adaptive metrics {f}")
+    # Antialiasing must pay off: 25 rays/px beats 1 ray/px against the reference, adaptive in between.
+    check(float(lat["rmse"]) < float(none["rmse"]), f"{scene}: lattice RMSE not below 1 ray/px")
+    check(float(ada["flip"]) < float(none["flip"]), f"{scene}: adaptive FLIP not below 1 ray/px")
+    check(1.0 < float(ada["rays_per_px"]) < 25.0, f"{scene}: adaptive rays/px {ada['rays_per_px']}")
+    check(abs(float(lat["rays_per_px"]) - 25.0) < 0.1, f"{scene}: lattice rays/px {lat['rays_per_px']}")
+star = [r for r in rows if r["scene"] == "star"]
+check(any(r["mode"] == "adaptive" for r in star) and any(r["setting"] == "uniform-lattice-25" for r in star),
+      "star rows missing")
+report = (out / "REPORT.md").read_text()
+for needle in ("## Table 2", "## Targets of issue 5", "## Chosen defaults", "Recommended defaults"):
+    check(needle in report, f"REPORT.md lacks {needle!r}")
+for name in ("error_room.png", "error_star.png", "stages.png", "crops_room.png"):
+    check((out / name).exists(), f"missing {name}")
+
+# The report's display image (for FLIP and crops) must be the renderer's PNG, to the 8-bit step.
+with tempfile.TemporaryDirectory() as tmp:
+    tmp = Path(tmp)
+    base = [str(build / "zigzag"), "render", str(root / "scenes" / "glass.json"), "-q", "--width", "48",
+            "--height", "40", "--aa", "none", "--threads", "1"]
+    subprocess.run(base + ["-o", str(tmp / "g.exr")], check=True)
+    subprocess.run(base + ["-o", str(tmp / "g.png")], check=True)
+    exposure = json.loads((root / "scenes" / "glass.json").read_text()).get("exposure", 1.0)
+    ours = metrics.display(metrics.read_exr(tmp / "g.exr"), exposure)
+    theirs = np.asarray(Image.open(tmp / "g.png").convert("RGB")) / 255.0
+    diff = float(np.abs(ours - theirs).max())
+    check(ours.shape == theirs.shape and diff <= 1.0 / 255 + 1e-6, f"tone map differs from zigzag PNG by {diff}")
+
+for f in failures:
+    print("FAIL:", f)
+print(f"check_quick: {len(rows)} rows, {len(failures)} failure(s)")
+sys.exit(1 if failures else 0)

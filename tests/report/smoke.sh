@@ -1,0 +1,13 @@
+#!/bin/sh
+# report_quick: run the quick report into BUILD/report-quick and check what it wrote.
+set -eu
+BUILD="$1"
+ROOT="$2"
+PY="$BUILD/venv/bin/python"
+if [ ! -x "$PY" ]; then
+  echo "SKIP: $PY missing: create the venv with ./zz report (pinned tools/requirements.txt)"
+  exit 77
+fi
+OUT="$BUILD/report-quick"
+"$PY" "$ROOT/tools/report/report.py" --build "$BUILD" --quick --out "$OUT"
+"$PY" "$ROOT/tests/report/check_quick.py" "$BUILD" "$ROOT" "$OUT"
