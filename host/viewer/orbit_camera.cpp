@@ -25,9 +25,10 @@ OrbitCamera::OrbitCamera(const Camera& start, float focus) : start_(start) {
 }
 
 void OrbitCamera::orbit(float dx, float dy, int viewport_height) {
-  // A drag across the whole viewport height turns by ~pi.
+  // A drag across the whole viewport height turns by ~pi; the scene follows the mouse
+  // (drag right: the camera swings left around the target).
   const float k = 3.14159265f / float(std::max(viewport_height, 1));
-  yaw_ += dx * k;
+  yaw_ -= dx * k;
   pitch_ = std::clamp(pitch_ + dy * k, -kPitchLimit, kPitchLimit);
 }
 

@@ -1,0 +1,110 @@
+#include "viewer/progressive_renderer.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "accel/bvh.h"
+#include "render/image_io.h"
+#include "scene/loader.h"
+
+namespace zz {
+namespace {
+
+class ViewProgressive : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const std::filesystem::path path = std::string(ZZ_SOURCE_DIR) + "/scenes/default.json";
+    if (!std::filesystem::exists(path)) GTEST_SKIP() << path << " is missing (scenes/ not generated)";
+    LoadOptions load;
+    load.quiet = true;
+    scene_ = load_scene(path, load);
+    bvh_ = Bvh::build(scene_.positions);
+    shader_ = std::make_unique<Shader>(scene_, bvh_);
+  }
+
+  FrameRequest request(int w, int h, AaMode aa = AaMode::Adaptive) const {
+    FrameRequest r;
+    r.camera = scene_.cameras[0];
+    r.settings.width = w;
+    r.settings.height = h;
+    r.settings.aa = aa;
+    r.settings.tonemap.exposure = scene_.exposure;
+    r.settings.threads = 2;
+    return r;
+  }
+
+  Scene scene_;
+  Bvh bvh_;
+  std::unique_ptr<Shader> shader_;
+};
+
+TEST_F(ViewProgressive, FullFrameEqualsABatchRender) {
+  DisplayFrame display;
+  ProgressiveRenderer renderer(*shader_, display);
+  const FrameRequest r = request(150, 100);
+  const uint64_t id = renderer.request(r);
+  ASSERT_TRUE(renderer.wait_for(id, 120.0));
+  const ProgressStatus s = renderer.status();
+  EXPECT_EQ(s.completed, id);
+  EXPECT_EQ(s.frames_completed, 1);
+  EXPECT_EQ(s.tiles_done, s.tiles_total);
+  EXPECT_EQ(s.tiles_total, 3 * 2);
+  EXPECT_GE(s.rays_per_pixel, 1.0);
+
+  Film film;
+  RenderStats stats;
+  render_frame(*shader_, r.camera, GeoMap{}, r.settings, film, stats);
+  EXPECT_EQ(display.rgb(ViewMode::Image), display_bytes(film, r.settings.tonemap));
+  EXPECT_DOUBLE_EQ(s.rays_per_pixel, double(stats.rays.primary) / (150.0 * 100.0));
+}
+
+TEST_F(ViewProgressive, ANewRequestCancelsTheOldOneAndWins) {
+  DisplayFrame display;
+  ProgressiveRenderer renderer(*shader_, display);
+  FrameRequest slow = request(800, 600, AaMode::Uniform);
+  slow.settings.uniform = {UniformPattern::Stratified, 64};
+  const uint64_t a = renderer.request(slow);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const uint64_t b = renderer.request(request(64, 48));
+  EXPECT_GT(b, a);
+  EXPECT_TRUE(renderer.wait_for(a, 120.0));  // returns: a newer request replaced it
+  ASSERT_TRUE(renderer.wait_for(b, 120.0));
+  const ProgressStatus s = renderer.status();
+  EXPECT_EQ(s.completed, b);
+  EXPECT_EQ(s.frames_completed, 1);  // the slow frame never completed
+  EXPECT_EQ(display.width(), 64);
+  EXPECT_EQ(display.height(), 48);
+}
+
+TEST_F(ViewProgressive, DestroyingMidFrameCancelsAndJoins) {
+  DisplayFrame display;
+  auto renderer = std::make_unique<ProgressiveRenderer>(*shader_, display);
+  FrameRequest slow = request(1024, 768, AaMode::Uniform);
+  slow.settings.uniform = {UniformPattern::Stratified, 256};
+  renderer->request(slow);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  renderer.reset();  // must return (cancel at the next tile), not finish the frame
+  SUCCEED();
+}
+
+TEST_F(ViewProgressive, PreviewIsFullyReplacedByTheFullFrame) {
+  DisplayFrame display;
+  ProgressiveRenderer renderer(*shader_, display);
+  FrameRequest r = request(128, 96);
+  r.preview_scale = 4;
+  const uint64_t id = renderer.request(r);
+  ASSERT_TRUE(renderer.wait_for(id, 120.0));
+  // The full frame overwrote every preview pixel: the result equals a run without preview.
+  DisplayFrame direct;
+  ProgressiveRenderer renderer2(*shader_, direct);
+  r.preview_scale = 1;
+  ASSERT_TRUE(renderer2.wait_for(renderer2.request(r), 120.0));
+  EXPECT_EQ(display.rgb(ViewMode::Image), direct.rgb(ViewMode::Image));
+  EXPECT_EQ(display.rgb(ViewMode::Rays), direct.rgb(ViewMode::Rays));
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,46 @@
+#include "viewer/script.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+TEST(ViewScript, ParsesEveryCommand) {
+  const auto e = parse_script(" drag:10,20,30.5,40 ; drag:1,2,3,4,right;scroll:-2;key:R;resize:300,200;"
+                              "wait;screenshot:out/a b.png;quit;");
+  ASSERT_EQ(e.size(), 8u);
+  EXPECT_EQ(e[0].kind, ScriptEvent::Kind::Drag);
+  EXPECT_EQ(e[0].x0, 10.0f);
+  EXPECT_EQ(e[0].y1, 40.0f);
+  EXPECT_EQ(e[0].x1, 30.5f);
+  EXPECT_EQ(e[0].button, 0);
+  EXPECT_EQ(e[1].button, 1);
+  EXPECT_EQ(e[2].kind, ScriptEvent::Kind::Scroll);
+  EXPECT_EQ(e[2].steps, -2.0f);
+  EXPECT_EQ(e[3].kind, ScriptEvent::Kind::Key);
+  EXPECT_EQ(e[3].text, "R");
+  EXPECT_EQ(e[4].kind, ScriptEvent::Kind::Resize);
+  EXPECT_EQ(e[4].x0, 300.0f);
+  EXPECT_EQ(e[5].kind, ScriptEvent::Kind::Wait);
+  EXPECT_EQ(e[6].kind, ScriptEvent::Kind::Screenshot);
+  EXPECT_EQ(e[6].text, "out/a b.png");
+  EXPECT_EQ(e[7].kind, ScriptEvent::Kind::Quit);
+  EXPECT_TRUE(parse_script("").empty());
+}
+
+TEST(ViewScript, RejectsBadCommandsWithTheCommandInTheMessage) {
+  for (const char* bad : {"drag:1,2,3", "drag:1,2,3,x", "drag:1,2,3,4,up", "jump", "wait:3", "screenshot:",
+                          "resize:0,10", "scroll:"}) {
+    try {
+      parse_script(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--script"), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,159 @@
+// The real `zigzag view` under a private Xvfb: its screenshot against `zigzag render`,
+// a scripted camera drag, AOV views, closing mid-render, and the no-display error.
+// Validation layers are on in every windowed run and must stay silent.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "../app/cli.h"
+#include "render/image_io.h"
+#include "xvfb.h"
+
+namespace zz {
+namespace {
+
+using test::run_command;
+
+std::string scene_path() { return std::string(ZZ_SOURCE_DIR) + "/scenes/default.json"; }
+
+std::vector<float> read_png(const std::filesystem::path& path, int& w, int& h) { return read_rgb_float(path, w, h); }
+
+// Fraction of pixels (of two equal-size images) that differ by more than 2/255 in any channel.
+double changed_fraction(const std::vector<float>& a, const std::vector<float>& b) {
+  size_t changed = 0;
+  for (size_t i = 0; i + 2 < a.size(); i += 3)
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(a[i + c] - b[i + c]) > 2.0f / 255.0f) {
+        ++changed;
+        break;
+      }
+  return double(changed) / double(a.size() / 3);
+}
+
+class ViewXvfb : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!std::filesystem::exists(scene_path())) GTEST_SKIP() << scene_path() << " is missing";
+    if (run_command("command -v Xvfb").exit_code != 0) GTEST_SKIP() << "Xvfb is not installed (apt-get install xvfb)";
+    xvfb_ = std::make_unique<test::Xvfb>();
+    if (!xvfb_->ok()) GTEST_SKIP() << "could not start Xvfb on any display :97..:120";
+    dir_ = std::filesystem::temp_directory_path() /
+           ("zz_view_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(getpid()));
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!dir_.empty()) std::filesystem::remove_all(dir_);
+  }
+
+  // `zigzag view` with validation on, bounded by `timeout` so a hang fails instead of blocking.
+  test::CommandResult view(const std::string& args, int timeout = 180) {
+    const std::string cmd = "cd " + dir_.string() + " && DISPLAY=" + xvfb_->display() + " timeout -k 5 " +
+                            std::to_string(timeout) + " " + test::zigzag_binary() + " view " + scene_path() +
+                            " --vk-validate " + args;
+    test::CommandResult r = run_command(cmd);
+    if (r.output.find("no Vulkan device") != std::string::npos ||
+        r.output.find("cannot present to this display") != std::string::npos)
+      skip_reason_ = "no Vulkan device that can present: " + r.output;
+    return r;
+  }
+  static void expect_clean(const test::CommandResult& r) {
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("0 Vulkan validation message(s)"), std::string::npos) << r.output;
+  }
+  std::string file(const std::string& name) const { return (dir_ / name).string(); }
+
+  std::unique_ptr<test::Xvfb> xvfb_;
+  std::filesystem::path dir_;
+  std::string skip_reason_;
+};
+
+#define SKIP_IF_NO_VULKAN()                                   \
+  do {                                                        \
+    if (!skip_reason_.empty()) GTEST_SKIP() << skip_reason_;  \
+  } while (0)
+
+TEST_F(ViewXvfb, ScreenshotEqualsRenderOfTheSameCamera) {
+  const std::string size = " --width 200 --height 130 --threads 2";
+  const test::CommandResult v = view("--exit-after-frame --screenshot " + file("view.png") + size);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  const test::CommandResult r =
+      run_command(test::zigzag_binary() + " render " + scene_path() + " -q -o " + file("render.png") + size);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int vw, vh, rw, rh;
+  const std::vector<float> a = read_png(file("view.png"), vw, vh);
+  const std::vector<float> b = read_png(file("render.png"), rw, rh);
+  ASSERT_EQ(vw, 200);
+  ASSERT_EQ(vh, 130);
+  ASSERT_EQ(rw, vw);
+  ASSERT_EQ(rh, vh);
+  // Both are display_bytes of the same deterministic adaptive frame (same visibility map):
+  // identical, not merely close.
+  EXPECT_EQ(a, b);
+}
+
+TEST_F(ViewXvfb, DragChangesTheImageAndItCompletesAgain) {
+  const test::CommandResult v = view(
+      "--width 160 --height 120 --script \"wait;screenshot:" + file("before.png") +
+      ";drag:60,60,110,75;wait;screenshot:" + file("after.png") + ";drag:80,60,40,60,right;scroll:1;wait;screenshot:" +
+      file("panned.png") + ";key:R;wait;screenshot:" + file("reset.png") + ";quit\"");
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  int w, h;
+  const std::vector<float> before = read_png(file("before.png"), w, h);
+  const std::vector<float> after = read_png(file("after.png"), w, h);
+  const std::vector<float> panned = read_png(file("panned.png"), w, h);
+  const std::vector<float> reset = read_png(file("reset.png"), w, h);
+  EXPECT_GT(changed_fraction(before, after), 0.2) << "orbit drag left the image unchanged";
+  EXPECT_GT(changed_fraction(after, panned), 0.2) << "pan + zoom left the image unchanged";
+  EXPECT_EQ(before, reset) << "R must restore the scene camera exactly";
+  // Every "wait" saw a frame complete: the first, after the orbit, after pan + zoom, after reset.
+  size_t completions = 0;
+  for (size_t p = 0; (p = v.output.find(" complete (160x120", p)) != std::string::npos; ++p) ++completions;
+  EXPECT_EQ(completions, 4u) << v.output;
+}
+
+TEST_F(ViewXvfb, AovViewsEqualRenderAovs) {
+  const std::string size = " --width 128 --height 96 --threads 2";
+  const test::CommandResult v = view("--script \"wait;key:2;screenshot:" + file("rays.png") + ";key:3;screenshot:" +
+                                     file("levels.png") + ";key:4;screenshot:" + file("geo.png") + ";quit\"" + size);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  const test::CommandResult r = run_command(test::zigzag_binary() + " render " + scene_path() + " -q -o " +
+                                            file("r.png") + " --aov rays " + file("r_rays.png") + " --aov levels " +
+                                            file("r_levels.png") + " --aov geo " + file("r_geo.png") + size);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"levels", "geo", "rays"}) {
+    int w, h, rw, rh;
+    const std::vector<float> a = read_png(file(std::string(name) + ".png"), w, h);
+    std::vector<float> b = read_png(file(std::string("r_") + name + ".png"), rw, rh);
+    ASSERT_EQ(rw, w) << name;
+    ASSERT_GE(rh, h) << name;
+    b.resize(a.size());  // the rays AOV has a legend band below the image
+    EXPECT_EQ(a, b) << name;
+  }
+}
+
+TEST_F(ViewXvfb, ClosingMidRenderExitsCleanly) {
+  // A frame that takes far longer than the test allows; Esc arrives during the first tiles.
+  const auto start = std::chrono::steady_clock::now();
+  const test::CommandResult v = view("--width 1024 --height 768 --aa uniform --spp 256 --script \"key:ESC\"", 60);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);  // exit 0, not the timeout's 124
+  EXPECT_EQ(v.output.find("first full frame"), std::string::npos) << "the frame finished: not a mid-render close";
+  (void)start;
+}
+
+TEST(ViewNoDisplay, FailsWithAClearMessage) {
+  const test::CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY timeout -k 5 60 " +
+                                            test::zigzag_binary() + " view " + scene_path());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no display; use `zigzag render`"), std::string::npos) << r.output;
+}
+
+}  // namespace
+}  // namespace zz
