@@ -61,6 +61,14 @@ bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>
         }
         alignas(16) float tn[4];
         tnear.store(tn);
+        if constexpr (kAnyHit) {  // any hit will do: no ordering work
+          ref = n.child[i0];
+          for (; hit; hit &= hit - 1) {
+            int i = __builtin_ctz(hit);
+            stack[sp++] = Entry{n.child[i], tn[i]};
+          }
+          continue;
+        }
         // Sort the hit children farthest first; push all but the nearest, visit it next.
         Entry e[4];
         int m = 0;
