@@ -69,7 +69,15 @@ bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>
           }
           continue;
         }
-        // Sort the hit children farthest first; push all but the nearest, visit it next.
+        int i1 = __builtin_ctz(hit);
+        if (!(hit & (hit - 1))) {  // two children: push the farther, visit the nearer
+          bool swap = tn[i1] < tn[i0];
+          int near = swap ? i1 : i0, far = swap ? i0 : i1;
+          stack[sp++] = Entry{n.child[far], tn[far]};
+          ref = n.child[near];
+          continue;
+        }
+        // Three or four: sort farthest first; push all but the nearest, visit it next.
         Entry e[4];
         int m = 0;
         e[m++] = Entry{n.child[i0], tn[i0]};
