@@ -31,7 +31,7 @@ constexpr TableSet kAll = {
 // Written by tools/table_tuner (see tools/table_tuner/README.md and pareto.csv).
 #include "aa/tuned_tables.inc"
 
-constexpr std::array<const TableSet*, 3> kRegistry = {&kPaper, &kTuned, &kAll};
+constexpr std::array<const TableSet*, 4> kRegistry = {&kPaper, &kTuned, &kTunedHq, &kAll};
 
 }  // namespace
 

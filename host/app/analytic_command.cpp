@@ -99,7 +99,9 @@ void add_analytic_command(CLI::App& app) {
   cmd->add_option("--image", args->image, images)->capture_default_str();
   cmd->add_option("--size", args->size, "Frame size N (N x N pixels)")->capture_default_str()->check(CLI::Range(1, 8192));
   cmd->add_option("--eps", args->eps, "Colour threshold on tone-mapped display values")->capture_default_str();
-  cmd->add_option("--tables", args->tables, "Zone table set (paper|tuned|all)")->capture_default_str();
+  std::string tables;
+  for (std::string_view n : table_set_names()) tables += (tables.empty() ? "" : "|") + std::string(n);
+  cmd->add_option("--tables", args->tables, "Zone table set (" + tables + ")")->capture_default_str();
   cmd->add_option("--geo-policy", args->geo_policy, "paper|all")->capture_default_str();
   cmd->add_option("--geo-ss", args->geo_ss, "Geo map samples per pixel axis (0 = no geo map)")
       ->capture_default_str()

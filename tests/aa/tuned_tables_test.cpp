@@ -20,6 +20,10 @@ TEST(TunedTables, StrictlyBetterThanPaperOnHeldOut) {
   EXPECT_LE(tuned.rays, paper.rays);
   // Sanity: tracing everything is the error floor (only pixels level 1 misses remain).
   EXPECT_LE(all.error, tuned.error);
+  // tuned-hq: within 5 % of that floor (chosen on train), with fewer rays than "all".
+  const TableScore hq = score_tables(*find_table_set("tuned-hq"), held);
+  EXPECT_LT(hq.error, all.error * 1.06);
+  EXPECT_LT(hq.rays, all.rays * 0.85);
 }
 
 TEST(TunedTables, TunerModelMatchesTheSampler) {

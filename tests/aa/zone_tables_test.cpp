@@ -77,10 +77,11 @@ TEST(ZoneTables, WorkedExampleThroughTheMaskCode) {
 TEST(ZoneTables, RegistryAndAllSet) {
   EXPECT_EQ(find_table_set("nope"), nullptr);
   const auto names = table_set_names();
-  ASSERT_EQ(names.size(), 3u);
+  ASSERT_EQ(names.size(), 4u);
   EXPECT_EQ(names[0], "paper");
   EXPECT_EQ(names[1], "tuned");
-  EXPECT_EQ(names[2], "all");
+  EXPECT_EQ(names[2], "tuned-hq");
+  EXPECT_EQ(names[3], "all");
   const TableSet& all = *find_table_set("all");
   for (int m = 0; m < 16; ++m) EXPECT_EQ(all.zones(m, 0, 0), kAllZones);
   EXPECT_EQ(all.zones(0, 0, 0), kAllZones);  // every zone of every level-2 pixel
