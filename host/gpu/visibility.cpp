@@ -19,9 +19,6 @@ double seconds_since(Clock::time_point t0) {
 constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
 constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
-// 3x3 inverse in double (adjugate / determinant).
-glm::dmat3 inverse3(const glm::dmat3& m) { return glm::inverse(m); }
-
 }  // namespace
 
 // Everything one run() needs besides the tiles' own offsets.
@@ -243,7 +240,7 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   // Columns du, dv, dir00: a point q = M (t px, t py, t); its inverse projects exactly
   // like CameraRays, even for a slightly non-orthonormal camera basis.
   glm::dmat3 m(glm::dvec3(rays.du), glm::dvec3(rays.dv), glm::dvec3(rays.dir00));
-  f.view_from_ray = inverse3(m);
+  f.view_from_ray = glm::inverse(m);
   // Reverse-Z with an infinite far plane: depth = znear / t has float's relative
   // precision at every t, so znear only decides what is clipped. 1e-15 of the farthest
   // scene point keeps geometry at 1e-4 visible in a 1e7-sized scene, and znear / t stays

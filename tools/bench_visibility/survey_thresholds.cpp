@@ -2,11 +2,13 @@
 //  1. a histogram of the angle between camera-facing geometric normals over all pairs of
 //     adjacent supersamples on different triangles (smooth tessellation vs real creases);
 //  2. the flagged-pixel share (geo_fraction) as each threshold varies.
-// Usage: survey_thresholds [--size N] [scene files...]   (defaults: scenes/*.json)
+// Usage: survey_thresholds [--size N] [--dump DIR] [scene files...]
+//   --dump writes DIR/<scene>.pgm, the flag map with the default thresholds.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -60,7 +62,13 @@ void angle_histogram(VisibilityPass& pass, const Scene& scene, const Camera& cam
   std::printf("\n");
 }
 
-void survey(VulkanContext& context, const Scene& scene, int size) {
+void write_pgm(const std::string& path, const GeoMap& m) {
+  std::ofstream out(path, std::ios::binary);
+  out << "P5\n" << m.width << " " << m.height << "\n255\n";
+  for (uint8_t f : m.flags) out.put(f ? char(255) : char(0));
+}
+
+void survey(VulkanContext& context, const Scene& scene, int size, const std::string& dump) {
   const Camera& cam = scene.cameras.front();
   float aspect = cam.aspect > 0 ? cam.aspect : float(scene.default_width) / float(scene.default_height);
   int w = size, h = std::max(1, int(std::lround(size / aspect)));
@@ -82,26 +90,30 @@ void survey(VulkanContext& context, const Scene& scene, int size) {
     std::printf(" %g:%.4f", r, geo_fraction(pass.run(cam, w, h, s)));
   }
   VisibilitySettings def;
+  GeoMap map = pass.run(cam, w, h, def);
   std::printf("\n  defaults (%.0f deg, %g): geo_fraction %.4f\n", def.normal_angle_deg, def.depth_rel,
-              geo_fraction(pass.run(cam, w, h, def)));
+              geo_fraction(map));
+  if (!dump.empty()) write_pgm(dump + "/" + scene.name + ".pgm", map);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   int size = 512;
+  std::string dump;
   std::vector<std::string> files;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--size") && i + 1 < argc) size = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--dump") && i + 1 < argc) dump = argv[++i];
     else files.push_back(argv[i]);
   }
   try {
     auto context = VulkanContext::create({});
     std::printf("device: %s\n", context->device_name().c_str());
-    for (int slices : {32, 64, 128, 256}) survey(*context, bench::sphere_scene(slices), size);
+    for (int slices : {32, 64, 128, 256}) survey(*context, bench::sphere_scene(slices), size, dump);
     for (const auto& f : files) {
       size_t slash = f.find_last_of('/');
-      survey(*context, bench::scene_or_fallback(f, f.substr(slash == std::string::npos ? 0 : slash + 1)), size);
+      survey(*context, bench::scene_or_fallback(f, f.substr(slash == std::string::npos ? 0 : slash + 1)), size, dump);
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "survey_thresholds: %s\n", e.what());
