@@ -80,6 +80,7 @@ RenderSettings make_view_settings(const ViewOptions& o, const Scene& scene) {
 }
 
 int view(const ViewOptions& o) {
+  const auto started = std::chrono::steady_clock::now();
   // Fail fast, before loading anything, when no window can be opened.
   require_display();
   const auto t0 = std::chrono::steady_clock::now();
@@ -96,6 +97,7 @@ int view(const ViewOptions& o) {
 
   ViewerOptions v;
   v.name = std::filesystem::path(o.scene).stem().string();
+  v.started = started;
   v.camera = scene.cameras[size_t(o.camera)];
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const glm::vec3& p : scene.positions) {

@@ -80,6 +80,7 @@ class Viewer {
   bool waiting_ = false;
   int pending_width_ = 0, pending_height_ = 0;  // a scripted resize not yet seen
   int exit_code_ = 0;
+  double first_frame_since_start_ = -1.0;
 
   uint64_t presented_version_ = ~uint64_t(0);
   ViewMode presented_mode_ = ViewMode::Image;
@@ -338,6 +339,8 @@ int Viewer::run() {
     // Wake at ~60 Hz to show finished tiles; input wakes it earlier.
     glfwWaitEventsTimeout(1.0 / 60.0);
     step_script();
+    if (first_frame_since_start_ < 0 && renderer_->status().frames_completed > 0)
+      first_frame_since_start_ = since(options_.started);  // within one UI tick (<= 1/60 s)
     if (options_.exit_after_frame && script_.empty() && !exit_frame_seen && frame_done()) {
       exit_frame_seen = true;
       if (!options_.screenshot.empty()) save_screenshot(options_.screenshot);
@@ -363,8 +366,11 @@ int Viewer::run() {
   renderer_->stop();
   const ProgressStatus s = renderer_->status();
   if (s.first_full_seconds >= 0)
-    std::fprintf(stderr, "zigzag view: first full frame %.3f s after the window opened; last full frame %.3f s, %.2f rays/px, %d frame(s)\n",
-                 s.first_full_seconds, s.last_full_seconds, s.rays_per_pixel, s.frames_completed);
+    std::fprintf(stderr,
+                 "zigzag view: first full frame %.3f s after the command started (%.3f s after the render "
+                 "thread started); last full frame %.3f s, %.2f rays/px, %d frame(s)\n",
+                 first_frame_since_start_, s.first_full_seconds, s.last_full_seconds, s.rays_per_pixel,
+                 s.frames_completed);
   presenter_.reset();  // its objects are destroyed before counting, so leaks would be reported
   if (options_.validate) {
     const int messages = context_->validation_message_count();

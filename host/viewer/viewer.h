@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include <chrono>
 #include <filesystem>
 #include <functional>
 #include <mutex>
@@ -22,6 +23,9 @@ class VulkanContext;
 
 struct ViewerOptions {
   std::string name = "scene";  // shown in the title and screenshot names
+  // When the command started (before scene loading): the exit summary reports the time
+  // to the first full frame from here as well as from the window opening.
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   Camera camera;               // start (and reset) pose
   glm::vec3 scene_centre{0.0f};
   float scene_radius = 1.0f;

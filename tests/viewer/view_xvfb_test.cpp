@@ -117,6 +117,24 @@ TEST_F(ViewXvfb, DragChangesTheImageAndItCompletesAgain) {
   EXPECT_EQ(completions, 4u) << v.output;
 }
 
+TEST_F(ViewXvfb, ResizedWindowRendersAtTheNewSize) {
+  const test::CommandResult v =
+      view("--width 128 --height 96 --threads 2 --script \"wait;resize:180,140;wait;screenshot:" +
+           file("resized.png") + ";quit\"");
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  EXPECT_NE(v.output.find(" complete (180x140"), std::string::npos) << v.output;
+  const test::CommandResult r = run_command(test::zigzag_binary() + " render " + scene_path() + " -q -o " +
+                                            file("render.png") + " --width 180 --height 140 --threads 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  int w, h, rw, rh;
+  const std::vector<float> a = read_png(file("resized.png"), w, h);
+  const std::vector<float> b = read_png(file("render.png"), rw, rh);
+  EXPECT_EQ(w, 180);
+  EXPECT_EQ(h, 140);
+  EXPECT_EQ(a, b);
+}
+
 TEST_F(ViewXvfb, AovViewsEqualRenderAovs) {
   const std::string size = " --width 128 --height 96 --threads 2";
   const test::CommandResult v = view("--script \"wait;key:2;screenshot:" + file("rays.png") + ";key:3;screenshot:" +
