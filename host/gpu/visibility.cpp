@@ -6,7 +6,6 @@
 #include <cstring>
 
 #include "core/error.h"
-#include "gpu/shaders.h"
 
 namespace zz {
 namespace {
@@ -15,9 +14,6 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
-
-constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
-constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;
 
 }  // namespace
 
@@ -102,128 +98,6 @@ VisibilityPass::~VisibilityPass() {
   if (flag_set_layout_) vkDestroyDescriptorSetLayout(d, flag_set_layout_, nullptr);
   if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
   if (raster_layout_) vkDestroyPipelineLayout(d, raster_layout_, nullptr);
-}
-
-void VisibilityPass::create_pipelines() {
-  VkDevice d = context_.device();
-  VkShaderModule vert = create_shader_module(d, shader_ids_vert());
-  VkShaderModule frag = create_shader_module(d, shader_ids_frag());
-  VkShaderModule comp = create_shader_module(d, shader_geo_flags_comp());
-  struct Modules {
-    VkDevice d;
-    VkShaderModule m[3];
-    ~Modules() {
-      for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
-    }
-  } modules{d, {vert, frag, comp}};
-
-  // Raster: positions in, triangle id out, reverse-Z depth (GREATER, clear 0).
-  VkPushConstantRange raster_push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::RasterPush)};
-  VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  layout.pushConstantRangeCount = 1;
-  layout.pPushConstantRanges = &raster_push;
-  vk_check(vkCreatePipelineLayout(d, &layout, nullptr, &raster_layout_), "vkCreatePipelineLayout");
-
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = frag;
-  stages[1].pName = "main";
-
-  VkVertexInputBindingDescription binding{0, sizeof(glm::vec4), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription attribute{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = 1;
-  vertex_input.pVertexBindingDescriptions = &binding;
-  vertex_input.vertexAttributeDescriptionCount = 1;
-  vertex_input.pVertexAttributeDescriptions = &attribute;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;
-  VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = 1;
-  blend.pAttachments = &blend_attachment;
-  VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = 1;
-  rendering.pColorAttachmentFormats = &kIdFormat;
-  rendering.depthAttachmentFormat = kDepthFormat;
-
-  VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  graphics.pNext = &rendering;
-  graphics.stageCount = 2;
-  graphics.pStages = stages;
-  graphics.pVertexInputState = &vertex_input;
-  graphics.pInputAssemblyState = &assembly;
-  graphics.pViewportState = &viewport;
-  graphics.pRasterizationState = &raster;
-  graphics.pMultisampleState = &multisample;
-  graphics.pDepthStencilState = &depth;
-  graphics.pColorBlendState = &blend;
-  graphics.pDynamicState = &dynamic;
-  graphics.layout = raster_layout_;
-  vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &raster_pipeline_),
-           "vkCreateGraphicsPipelines");
-
-  // Compute: ids (storage image), positions, normals, packed flags.
-  VkDescriptorSetLayoutBinding bindings[4] = {
-      {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
-  VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_layout.bindingCount = 4;
-  set_layout.pBindings = bindings;
-  vk_check(vkCreateDescriptorSetLayout(d, &set_layout, nullptr, &flag_set_layout_),
-           "vkCreateDescriptorSetLayout");
-  VkPushConstantRange flag_push{VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(gpu::FlagPush)};
-  VkPipelineLayoutCreateInfo flag_layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
-  flag_layout.setLayoutCount = 1;
-  flag_layout.pSetLayouts = &flag_set_layout_;
-  flag_layout.pushConstantRangeCount = 1;
-  flag_layout.pPushConstantRanges = &flag_push;
-  vk_check(vkCreatePipelineLayout(d, &flag_layout, nullptr, &flag_layout_), "vkCreatePipelineLayout");
-  VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-  compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
-  compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  compute.stage.module = comp;
-  compute.stage.pName = "main";
-  compute.layout = flag_layout_;
-  vk_check(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &compute, nullptr, &flag_pipeline_),
-           "vkCreateComputePipelines");
-
-  VkDescriptorPoolSize sizes[1] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
-  VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  pool.maxSets = 1;
-  pool.poolSizeCount = 1;
-  pool.pPoolSizes = sizes;
-  vk_check(vkCreateDescriptorPool(d, &pool, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
-  VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
-  alloc.descriptorPool = descriptor_pool_;
-  alloc.descriptorSetCount = 1;
-  alloc.pSetLayouts = &flag_set_layout_;
-  vk_check(vkAllocateDescriptorSets(d, &alloc, &flag_set_), "vkAllocateDescriptorSets");
 }
 
 VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int height,

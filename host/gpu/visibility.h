@@ -64,13 +64,15 @@ class VisibilityPass {
   double upload_seconds() const { return upload_s_; }
 
  private:
+  static constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
+  static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;  // reverse-Z
   struct Tile {
     int x, y, w, h;  // pixels
   };
   struct Frame;
   Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
   void ensure_targets(uint32_t width, uint32_t height);
-  void create_pipelines();
+  void create_pipelines();  // visibility_pipelines.cpp
   void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile);
   // Copies the tile's id image (ring included, rows tightly packed) into `dst`.
   void record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuffer dst);

@@ -4,6 +4,7 @@
 // into GPU raster / compute (timestamps) and host readback. Compare LP_NUM_THREADS=1/2.
 // Usage: bench_visibility [benchmark flags] [scene.json ...]
 #include <benchmark/benchmark.h>
+#include <sys/resource.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -23,12 +24,21 @@ std::unique_ptr<VulkanContext> g_context;
 std::vector<std::unique_ptr<Scene>> g_scenes;
 std::vector<std::unique_ptr<VisibilityPass>> g_passes;
 
+// CPU seconds of the whole process (lavapipe's worker threads included): on a machine
+// shared with other jobs this is steadier than wall time.
+double process_cpu_s() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return double(u.ru_utime.tv_sec + u.ru_stime.tv_sec) + 1e-6 * double(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
 void run(benchmark::State& state, VisibilityPass* pass, const Scene* scene, int size, int ss) {
   VisibilitySettings settings;
   settings.supersample = ss;
   const Camera& camera = scene->cameras.front();
   double raster = 0, compute = 0, readback = 0, geo = 0;
   int tiles = 0;
+  double cpu0 = process_cpu_s();
   for (auto _ : state) {
     VisibilityTimings t;
     GeoMap map = pass->run(camera, size, size, settings, &t);
@@ -42,6 +52,7 @@ void run(benchmark::State& state, VisibilityPass* pass, const Scene* scene, int 
     geo = double(n) / double(map.flags.size());
   }
   double it = double(state.iterations());
+  state.counters["process_cpu_ms"] = 1e3 * (process_cpu_s() - cpu0) / it;
   state.counters["raster_ms"] = 1e3 * raster / it;
   state.counters["compute_ms"] = 1e3 * compute / it;
   state.counters["readback_ms"] = 1e3 * readback / it;
