@@ -7,6 +7,7 @@
 
 int main(int argc, char** argv) {
   CLI::App app{"zigzag: an adaptive antialiasing ray tracer with SSE 4-ray packets"};
+  app.set_version_flag("--version", "zigzag 0.1.0");
   app.require_subcommand(1);
   int exit_code = 0;
   zz::add_render_command(app, exit_code);
