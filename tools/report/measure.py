@@ -140,3 +140,21 @@ def measure_star(ctx: Context, setting: Setting, geo_ss: int) -> list[dict]:
                     "pixels_off": run.get("pixels_off")})
         rows.append(row)
     return rows
+
+
+def add_display_rmse(rows: list[dict], work: Path) -> None:
+    """RMSE of the 8-bit display images (the space the sampler's eps lives in), from the saved PNGs.
+
+    Linear HDR RMSE is dominated by the few brightest pixels (lamps, highlights), so the
+    display-space RMSE is reported beside it."""
+    refs: dict[str, np.ndarray] = {}
+    for r in rows:
+        png = work / r["scene"] / f"{r['setting']}.png"
+        ref_png = work / r["scene"] / "reference.png"
+        if r["scene"] == "star" or not png.exists() or not ref_png.exists():
+            r.setdefault("rmse_display", np.nan)
+            continue
+        if r["scene"] not in refs:
+            refs[r["scene"]] = np.asarray(Image.open(ref_png).convert("RGB"), dtype=np.float64) / 255
+        test = np.asarray(Image.open(png).convert("RGB"), dtype=np.float64) / 255
+        r["rmse_display"] = metrics.rmse(test, refs[r["scene"]])

@@ -13,6 +13,7 @@ import csv
 import datetime
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -71,8 +72,21 @@ def available_scenes(args) -> tuple[list[Path], list[str]]:
             log(f"SKIP {why} (put the Khronos models there or pass --assets)")
             skipped.append(why)
         else:
-            scenes.append(path)
+            scenes.append(snapshot(path, args))
     return scenes, skipped
+
+
+def snapshot(scene: Path, args) -> Path:
+    """Copies the rig and its own glTF/buffers (not the shared assets) into the work folder, so
+    a scene regenerated while the report runs cannot mix two versions into one comparison."""
+    folder = args.work / "scenes"
+    folder.mkdir(parents=True, exist_ok=True)
+    for f in zzrun.scene_files(scene, args.assets):
+        if f.is_relative_to(scene.parent):
+            target = folder / f.relative_to(scene.parent)
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copyfile(f, target)
+    return folder / scene.name
 
 
 class RowStore:
@@ -165,6 +179,7 @@ def main(argv: list[str]) -> int:
     args.out.mkdir(parents=True, exist_ok=True)
     work = args.build / ("report-work-quick" if args.quick else f"report-work-{args.size}")
     work.mkdir(parents=True, exist_ok=True)
+    args.work = work
     ctx = measure.Context(zigzag, args.assets, args.size, args.threads, args.runs, work,
                           args.build / "report-cache", args.ref_spp)
     env = environment(args, zigzag)
@@ -178,6 +193,7 @@ def main(argv: list[str]) -> int:
         measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
     rows = store.rows
+    measure.add_display_rmse(rows, work)
     write_csv(rows, args.out / "accuracy_vs_time.csv")
     choice = markdown.choose_defaults(rows, TARGET_SCENES)
     figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
