@@ -10,6 +10,7 @@
 
 #include "aa/adaptive_sampler.h"
 #include "core/error.h"
+#include "core/fp_mode.h"
 #include "render/scene_source.h"
 
 namespace zz {
@@ -47,6 +48,7 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
 
   auto render_tile = [&](size_t index) {
     if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+    const ScopedFlushDenormals flush_denormals;  // MXCSR is per thread: set it in every task
     const TileTarget target = film.target(tiles[index]);
     SceneSource source(shader, rays);
     TileResult& result = results[index];
