@@ -418,6 +418,10 @@ struct Loader {
     c.forward = glm::normalize(f);
     c.right = glm::normalize(glm::cross(c.forward, u));
     c.up = glm::cross(c.right, c.forward);
+    if (!finite(c.position) || !finite(c.forward) || !finite(c.right) || !finite(c.up)) {
+      warn("camera '" + c.name + "' has a non-finite transform, ignored");
+      return;
+    }
     const auto& p = g.perspective;
     c.yfov = p.yfov > 0.0 && p.yfov < 3.1 ? float(p.yfov) : 0.8f;
     c.aspect = p.aspectRatio > 0.0 ? float(p.aspectRatio) : 0.0f;

@@ -128,6 +128,8 @@ Light parse_light(const Json& J, const json& l, const std::string& where) {
   glm::vec3 color = l.contains("color") ? J.vec3_or_scalar(l["color"], where + ".color") : glm::vec3(1.0f);
   float intensity = l.contains("intensity") ? J.number(l["intensity"], where + ".intensity") : 1.0f;
   out.intensity = color * intensity;
+  if (!std::isfinite(out.intensity.x) || !std::isfinite(out.intensity.y) || !std::isfinite(out.intensity.z))
+    J.fail(where + ": color * intensity overflows");
   if (l.contains("range")) out.range = J.number(l["range"], where + ".range");
   if (l.contains("inner_cone_deg")) out.inner_cone = glm::radians(J.number(l["inner_cone_deg"], where));
   if (l.contains("outer_cone_deg")) out.outer_cone = glm::radians(J.number(l["outer_cone_deg"], where));
@@ -262,6 +264,12 @@ Camera auto_camera(const Scene& scene, float yfov) {
   const glm::vec3 dir = glm::normalize(glm::vec3(0.35f, 0.3f, 1.0f));
   Camera c = Camera::look_at(centre + dir * dist, centre, glm::vec3(0.0f, 1.0f, 0.0f), yfov);
   c.name = "auto";
+  if (!std::isfinite(dist) || !std::isfinite(c.position.x) || !std::isfinite(c.position.y) ||
+      !std::isfinite(c.position.z)) {
+    Camera fallback;  // bounds beyond float range: any finite camera will do
+    fallback.name = "auto";
+    return fallback;
+  }
   c.znear = std::max(dist - radius, radius * 1e-3f);
   c.zfar = dist + 2.0f * radius;
   return c;
