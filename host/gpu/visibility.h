@@ -20,7 +20,8 @@ struct VisibilitySettings {
   int supersample = 4;            // S per axis: 4 normal, 6 high quality
   float normal_angle_deg = 25.0f; // camera-facing geometric normals further apart flag
   float depth_rel = 0.02f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
-  // Budget for one tile's id + depth images, in supersamples (8 bytes each).
+  // Budget for one tile, in supersamples (12 bytes each: id image, depth, the id copy
+  // the compute pass reads); larger frames are split into bands / tiles.
   int64_t max_tile_samples = int64_t(32) << 20;
   // Largest tile image side in supersamples, ring included; 0 = maxImageDimension2D.
   int max_tile_dim = 0;
@@ -29,17 +30,17 @@ struct VisibilitySettings {
 struct VisibilityTimings {
   double upload_s = 0;    // one-off scene upload at construction
   double raster_s = 0;    // GPU time (timestamps) of all tiles' raster passes
-  double compute_s = 0;   // GPU time of all tiles' flag dispatches
+  double compute_s = 0;   // GPU time of all tiles' id copies + flag dispatches
   double readback_s = 0;  // host time to unpack the flags into the GeoMap
   double total_s = 0;     // host wall time of run()
   int tiles = 0;
 };
 
-// The compute pass's per-frame constants (tile left zero): the sample rays and the
-// thresholds exactly as the shader sees them. Public so tests can mirror the rule.
 // Unit geometric normals, one per triangle, exactly as uploaded (zero if degenerate).
 std::vector<glm::vec4> geometric_normals(const Scene& scene);
 
+// The compute pass's per-frame constants (tile left zero): the sample rays and the
+// thresholds exactly as the shader sees them. Public so tests can mirror the rule.
 gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
                              const VisibilitySettings& settings);
 
