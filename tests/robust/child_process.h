@@ -9,7 +9,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
+#include <future>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -39,8 +41,9 @@ struct ChildOptions {
 
 inline ChildResult run_child(const std::vector<std::string>& argv, const ChildOptions& opt = {}) {
   namespace fs = std::filesystem;
-  const fs::path err_file = fs::temp_directory_path() /
-                            ("zz_robust_child_" + std::to_string(::getpid()) + "_stderr.txt");
+  static std::atomic<int> serial{0};
+  const fs::path err_file = fs::temp_directory_path() / ("zz_robust_child_" + std::to_string(::getpid()) + "_" +
+                                                         std::to_string(serial++) + "_stderr.txt");
   ChildResult r;
   // Everything the child needs is prepared before fork(): after it only async-signal-safe
   // calls (the test process has other threads).
@@ -98,6 +101,16 @@ inline ChildResult run_child(const std::vector<std::string>& argv, const ChildOp
   std::error_code ec;
   fs::remove(err_file, ec);
   return r;
+}
+
+// Several children at once (each start costs ~1 s of dynamic loading on a busy machine).
+inline std::vector<ChildResult> run_children(const std::vector<std::vector<std::string>>& argvs,
+                                             const ChildOptions& opt = {}) {
+  std::vector<std::future<ChildResult>> running;
+  for (const auto& argv : argvs) running.push_back(std::async(std::launch::async, [&argv, &opt] { return run_child(argv, opt); }));
+  std::vector<ChildResult> out;
+  for (auto& f : running) out.push_back(f.get());
+  return out;
 }
 
 // Non-empty lines of a text.

@@ -235,14 +235,14 @@ TEST(Degenerate, SliversAndZeroAreaTrianglesNeverBreakTracing) {
 }
 
 TEST(Extremes, TinyTrianglesBesideAHugeOne) {
-  // A 1e7 floor triangle and a 1e-5 triangle 1e-4 above it, near the origin, and another
-  // tiny one 1e4 away.
+  // A 1e7 floor triangle and 1e-5 triangles 1e-4 above it at the origin and at x = 1
+  // (where 1e-5 is still ~80 float steps; at x = 1e4 it would round to a point).
   Tris p;
   tri(p, {-1e7f, -1e7f, 0}, {1e7f, -1e7f, 0}, {0, 1e7f, 0});
   tri(p, {-1e-5f, -1e-5f, 1e-4f}, {1e-5f, -1e-5f, 1e-4f}, {0, 1e-5f, 1e-4f});
-  tri(p, {1e4f - 1e-5f, -1e-5f, 1e-4f}, {1e4f + 1e-5f, -1e-5f, 1e-4f}, {1e4f, 1e-5f, 1e-4f});
+  tri(p, {1.0f - 1e-5f, -1e-5f, 1e-4f}, {1.0f + 1e-5f, -1e-5f, 1e-4f}, {1.0f, 1e-5f, 1e-4f});
   const Bvh bvh = Bvh::build(p);
-  for (float x0 : {0.0f, 1e4f}) {
+  for (float x0 : {0.0f, 1.0f}) {
     const int tiny = x0 == 0.0f ? 1 : 2;
     const Ray onto{{x0, 0.0f, 1.0f}, {0, 0, -1}};
     const Hit h = bvh.intersect1(onto);

@@ -88,8 +88,12 @@ TEST(Glass, TotalInternalReflectionAndTheCriticalAngle) {
     }
     // Fresnel itself: exactly 1 past the critical angle, continuous up to it.
     const float f = fresnel_dielectric(float(std::cos(incidence)), 1.5f);
-    if (delta >= 1e-4) EXPECT_EQ(f, 1.0f) << delta;
-    if (delta <= -1e-4) EXPECT_LT(f, 1.0f) << delta;
+    if (delta >= 1e-4) {
+      EXPECT_EQ(f, 1.0f) << delta;
+    }
+    if (delta <= -1e-4) {
+      EXPECT_LT(f, 1.0f) << delta;
+    }
     EXPECT_GE(f, 0.0f);
     EXPECT_LE(f, 1.0f);
     std::printf("[ glass ] critical%+g rad: F = %.6f, L = %.6f\n", delta, f, c.r[0]);
