@@ -1,5 +1,8 @@
 // Counts of the adaptive sampler (ALGORITHM.md §10), one per tile, merged in tile order.
-// Integers only, so merging is exact and the totals do not depend on thread count.
+// The counts are integers, so merging is exact and the totals do not depend on thread
+// count. Times are CPU seconds summed over tiles (wall-clock per tile, so with N threads
+// they add up to about N x the elapsed time); levels 2 and 3 interleave per pixel and are
+// timed together with the level-1 decisions and the box filter as "refine".
 #pragma once
 
 #include <cstdint>
@@ -16,6 +19,9 @@ struct AaStats {
   uint64_t zones_traced = 0;       // over own refined pixels
   uint64_t zones_interpolated = 0;
   uint64_t geo_pixels = 0;         // own pixels whose geo flag was set
+  double seconds_corners = 0;      // level 1: tracing + tone mapping the corner grid
+  double seconds_refine = 0;       // per-pixel levels 1–3 (+ box filter)
+  double seconds_filter = 0;       // Mitchell pass
 
   void merge(const AaStats& o) {
     pixels += o.pixels;
@@ -27,6 +33,9 @@ struct AaStats {
     zones_traced += o.zones_traced;
     zones_interpolated += o.zones_interpolated;
     geo_pixels += o.geo_pixels;
+    seconds_corners += o.seconds_corners;
+    seconds_refine += o.seconds_refine;
+    seconds_filter += o.seconds_filter;
   }
   uint64_t total_rays() const { return rays[0] + rays[1] + rays[2]; }
   double per_pixel(uint64_t n) const { return pixels ? double(n) / double(pixels) : 0.0; }

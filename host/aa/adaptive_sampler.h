@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <vector>
 
 #include "aa/aa_stats.h"
@@ -70,7 +71,10 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
   float4* corner_disp = scratch.corner_display.data();
   const float4 eps(settings.eps);
   const ToneMap& tonemap = settings.tonemap;
-  const TableSet& tables = *settings.tables;
+  const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  Clock::time_point t0 = Clock::now();
 
   // ---- level 1: corner grid in 2x2 packets (odd edges repeat a lane, not counted) ----
   uint64_t corner_rays = 0;
@@ -93,6 +97,8 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
   }
   stats.rays[0] += corner_rays;
   stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
+  stats.seconds_corners += seconds_since(t0);
+  t0 = Clock::now();
 
   // ---- levels 1–3 per pixel of the region ----
   alignas(16) float4 lattice[kLatticePoints];
@@ -160,7 +166,9 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
       if (target.level) target.level[fi] = uint8_t(level + (o == Orientation::Vertical ? 4 : 0));
     }
   }
+  stats.seconds_refine += seconds_since(t0);
   if (!mitchell) return;
+  t0 = Clock::now();
 
   // ---- Mitchell: filter own pixels over the region's lattice (§8) ----
   // Fixed summation order per output pixel (neighbours row by row, points in k order,
@@ -212,6 +220,7 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
       max(((acc0 + acc1) + (acc2 + acc3)) / float4(wsum), float4(0.0f)).store(v);
       target.radiance[size_t(y) * W + x] = glm::vec3(v[0], v[1], v[2]);
     }
+  stats.seconds_filter += seconds_since(t0);
 }
 
 }  // namespace zz

@@ -44,6 +44,10 @@ nlohmann::json to_json(const AnalyticRun& r) {
     j["zones_interpolated"] = r.stats.zones_interpolated;
     j["geo_pixels"] = r.stats.geo_pixels;
     j["vertical_pixels"] = r.stats.vertical_pixels;
+    j["margin_rays_per_pixel"] = r.stats.per_pixel(r.stats.margin_rays);
+    j["seconds"] = {{"corners", r.stats.seconds_corners},
+                    {"refine", r.stats.seconds_refine},
+                    {"filter", r.stats.seconds_filter}};
   }
   return j;
 }
