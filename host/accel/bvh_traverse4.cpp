@@ -2,7 +2,6 @@
 // Coherent Ray Tracing", 2001) over the 4-wide tree: one SSE lane per ray, the packet
 // enters a child when any active lane hits its box; hit children are visited in order of
 // their nearest entry distance over the packet.
-#include <cstring>
 #include <limits>
 
 #include "accel/box_test.h"
@@ -32,11 +31,11 @@ struct PacketSetup {
 PacketSetup setup(const RayPacket4& r, mask4 active) {
   PacketSetup p;
   float4 ax = abs(r.dx), ay = abs(r.dy), az = abs(r.dz);
-  // kz = argmax |d| with make_shear's tie-breaks (NaN ends at kz = 2).
+  // kz = argmax |d| with make_shear's tie-breaks.
   mask4 x_gt_y = ax > ay;
   mask4 kz0 = x_gt_y & (ax > az);
   mask4 kz1 = andnot(x_gt_y, ay > az);
-  mask4 kz2 = !(kz0 | kz1);
+  mask4 kz2 = !(kz0 | kz1);  // NaN lanes end here, like make_shear
   // kx follows kz cyclically, ky follows kx: (kz, kx, ky) = (0,1,2), (1,2,0), (2,0,1).
   float4 dkz = select(kz0, r.dx, select(kz1, r.dy, r.dz));
   mask4 flip = dkz < float4(0.0f);  // swap kx, ky to keep the winding
@@ -66,7 +65,6 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
     if ((bits >> i & 1) && code[i] != code[first]) p.uniform = false;
   static constexpr int kPerm[6][3] = {{1, 2, 0}, {2, 1, 0}, {2, 0, 1}, {0, 2, 1}, {0, 1, 2}, {1, 0, 2}};
   p.kx = kPerm[code[first]][0], p.ky = kPerm[code[first]][1], p.kz = kPerm[code[first]][2];
-  (void)kz2;
   // Safe reciprocals for the slab test (box_test.h): tiny components become +-1e-30.
   auto safe = [](float4 d) {
     float4 tiny = _mm_or_ps(signmask(d), _mm_set1_ps(1e-30f));
