@@ -63,6 +63,26 @@ TEST(Bvh, EqualDistancesGoToTheLowerIndex) {
   EXPECT_EQ(h.t, 1.0f);
 }
 
+TEST(Bvh, ManyCopiesSplitByCountAndKeepTheTieBreak) {
+  // 50 identical triangles: no SAH split exists (equal centroids), the builder halves
+  // by index, and the answer is still the lowest index from every traversal.
+  std::vector<glm::vec3> tris;
+  test::add_tri(tris, {-1, -1, 3}, {1, -1, 3}, {0, 1, 3});  // a farther one first
+  for (int k = 0; k < 50; ++k) test::add_tri(tris, {-1, -1, 1}, {1, -1, 1}, {0, 1, 1});
+  BvhBuildStats s;
+  Bvh bvh = Bvh::build(tris, &s);
+  EXPECT_GE(s.leaf_count, 13u);  // <= 4 triangles per leaf
+  Ray r{{0.1f, 0.0f, -1.0f}, {0.0f, 0.0f, 1.0f}};
+  EXPECT_EQ(bvh.intersect1(r).prim, 1);
+  RayPacket4 p;
+  p.ox = float4(0.1f), p.oy = float4(0.0f), p.oz = float4(-1.0f);
+  p.dx = float4(0.0f), p.dy = float4(0.0f), p.dz = float4(1.0f);
+  p.tmax = float4(kInfinity);
+  HitPacket4 h;
+  bvh.intersect4(p, mask4(true), h);
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(h.prim[i], 1);
+}
+
 TEST(Bvh, StatsDescribeTheTree) {
   std::mt19937 rng(3);
   auto tris = test::random_soup(rng, 5000, 0.05f);
