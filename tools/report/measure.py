@@ -66,7 +66,7 @@ def median_of(dicts: list[dict], key: str) -> float:
     return float(statistics.median(d[key] for d in dicts))
 
 
-def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference) -> dict:
+def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference | None) -> dict:
     """Renders one point ctx.runs times; returns its CSV row."""
     folder = ctx.work / scene.stem
     folder.mkdir(parents=True, exist_ok=True)
@@ -84,12 +84,13 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference) 
     disp = metrics.display(linear, exposure_of(scene))
     save_png(disp, folder / f"{setting.label}.png")
     exr.unlink()  # display PNG kept for crops; EXRs are large
-    err = metrics.rmse(linear, ref.linear)
     row = base_row(scene.stem, setting, stats)
     row.update({k: median_of(timings, k) for k in timings[0]})
     row["maxrss_mb"] = max(t["maxrss_mb"] for t in timings)
-    row.update({"rmse": err, "psnr": metrics.psnr(err),
-                "flip": metrics.mean_flip(disp, ref.display)})
+    row.update({"rmse": np.nan, "psnr": np.nan, "flip": np.nan})
+    if ref is not None:  # None: a timing-only run (--no-reference)
+        err = metrics.rmse(linear, ref.linear)
+        row.update({"rmse": err, "psnr": metrics.psnr(err), "flip": metrics.mean_flip(disp, ref.display)})
     return row
 
 

@@ -49,10 +49,14 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--out", type=Path, help="output folder; default reports/ (quick: BUILD/report-quick)")
     p.add_argument("--resume", action="store_true", help="keep points already measured in the work folder")
     p.add_argument("--no-star", action="store_true", help="skip the analytic Siemens star")
+    p.add_argument("--only", nargs="*", help="measure only these setting labels (see the CSV's setting column)")
+    p.add_argument("--no-reference", action="store_true", help="timing and rays only: no reference, no error")
+    p.add_argument("--table2-extra", type=Path, nargs="*", default=[],
+                   help="accuracy_vs_time.csv of other runs (e.g. a larger frame) to add to Table 2")
     a = p.parse_args(argv)
     a.size = a.size or (256 if a.quick else 1024)
     a.runs = a.runs or (1 if a.quick else 3)
-    a.ref_spp = a.ref_spp or (64 if a.quick else 256)
+    a.ref_spp = 0 if a.no_reference else a.ref_spp or (64 if a.quick else 256)
     a.out = a.out or (a.build / "report-quick" if a.quick else ROOT / "reports")
     return a
 
@@ -114,9 +118,11 @@ def measure_scenes(ctx, scenes, points, store: RowStore) -> dict:
     refs_stats = {}
     for scene in scenes:
         t0 = time.time()
-        log(f"{scene.stem}: reference {ctx.ref_spp} rays/px stratified at {ctx.size}^2 (cached)")
-        ref = measure.load_reference(ctx, scene)
-        refs_stats[scene.stem] = ref.stats
+        ref = None
+        if ctx.ref_spp > 0:
+            log(f"{scene.stem}: reference {ctx.ref_spp} rays/px stratified at {ctx.size}^2 (cached)")
+            ref = measure.load_reference(ctx, scene)
+            refs_stats[scene.stem] = ref.stats
         for s in points:
             if store.has(scene.stem, s.label):
                 continue
@@ -186,10 +192,12 @@ def main(argv: list[str]) -> int:
     log(f"zigzag {zigzag} ({env['binary_digest']}), {args.size}^2, {args.runs} run(s), "
         f"{args.threads} threads, load {env['loadavg'][0]:.1f}")
     points = settings.uniform_settings(args.quick) + settings.adaptive_settings(args.quick)
+    if args.only:
+        points = [p for p in points if p.label in args.only]
     scenes, skipped = available_scenes(args)
     store = RowStore(work / "rows.jsonl", args.resume)
     refs = measure_scenes(ctx, scenes, points, store)
-    if not args.no_star and (not args.scenes or "star" in args.scenes):
+    if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
         measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
     rows = store.rows
@@ -198,8 +206,9 @@ def main(argv: list[str]) -> int:
     choice = markdown.choose_defaults(rows, TARGET_SCENES)
     figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
     figures += crops.all_crops(rows, work, args.out, choice)
+    extra = [r for f in args.table2_extra for r in csv.DictReader(open(f))]
     markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped, choice, figures,
-                          settings.__doc__)
+                          settings.__doc__, extra)
     log(f"wrote {args.out / 'REPORT.md'} and {len(figures)} figures")
     return 0
 
