@@ -155,6 +155,51 @@ TEST_F(Cli, MissingAndMalformedSceneFiles) {
   expect_clean_failure(results[cases.size() + 1], "dir.png", "");
 }
 
+// A glTF whose one accessor/buffer view/buffer/node graph is built by `edit`.
+std::string hostile_gltf(const std::string& accessor, const std::string& view, const std::string& buffer,
+                         const std::string& nodes = R"([{"mesh":0}])") {
+  return R"({"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":)" + nodes +
+         R"(,"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}],"accessors":[)" + accessor +
+         R"(],"bufferViews":[)" + view + R"(],"buffers":[)" + buffer + "]}";
+}
+
+TEST_F(Cli, HostileGltfFailsQuicklyAndCleanly) {
+  const float pos[9] = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  const std::string data = R"({"byteLength":36,"uri":"data:application/octet-stream;base64,)" + base64(pos, 36) + R"("})";
+  const std::string view = R"({"buffer":0,"byteLength":36})";
+  auto acc = [](const std::string& count) {
+    return R"({"bufferView":0,"componentType":5126,"count":)" + count + R"(,"type":"VEC3"})";
+  };
+  // 40 levels of nodes that each instance the next one twice: 2^40 copies of a triangle.
+  std::string dag = "[";
+  for (int i = 0; i < 40; ++i) dag += R"({"children":[)" + std::to_string(i + 1) + "," + std::to_string(i + 1) + "]},";
+  dag += R"({"mesh":0}])";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"count_2e31.gltf", hostile_gltf(acc("2147483648"), view, data)},
+      {"count_2e32.gltf", hostile_gltf(acc("4294967299"), view, data)},
+      {"count_negative.gltf", hostile_gltf(acc("-5"), view, data)},
+      {"stride_2e31.gltf", hostile_gltf(acc("3"), R"({"buffer":0,"byteLength":36,"byteStride":2147483648})", data)},
+      {"dev_zero.gltf", hostile_gltf(acc("3"), view, R"({"byteLength":36,"uri":"/dev/zero"})")},
+      {"dev_zero_huge.gltf", hostile_gltf(acc("68719476736"), R"({"buffer":0,"byteLength":1099511627776})",
+                                          R"({"byteLength":1099511627776,"uri":"/dev/zero"})")},
+      {"self_cycle.gltf", hostile_gltf(acc("3"), view, data, R"([{"mesh":0,"children":[0,0]}])")},
+      {"instancing_2e40.gltf", hostile_gltf(acc("3"), view, data, dag)},
+  };
+  std::vector<std::vector<std::string>> argvs;
+  for (const auto& [name, text] : cases) {
+    write(name, text);
+    argvs.push_back(render_argv({path(name).string(), "-q", "--width", "8", "--height", "8"}));
+  }
+  robust::ChildOptions opt;
+  opt.timeout_s = 20.0;
+  opt.address_space_limit = size_t(4) << 30;  // an explosion fails inside the child
+  const std::vector<robust::ChildResult> results = robust::run_children(argvs, opt);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    SCOPED_TRACE(cases[i].first);
+    expect_clean_failure(results[i], fs::path(cases[i].first).stem().string() + ".png", "");
+  }
+}
+
 TEST_F(Cli, UnsupportedPrimitiveModesAreSkippedWithAWarning) {
   // Lines only: nothing to render is a warning per primitive (the loader's documented
   // leniency), not a crash; the frame shows the background.
