@@ -49,6 +49,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--out", type=Path, help="output folder; default reports/ (quick: BUILD/report-quick)")
     p.add_argument("--resume", action="store_true", help="keep points already measured in the work folder")
     p.add_argument("--no-star", action="store_true", help="skip the analytic Siemens star")
+    p.add_argument("--report-only", action="store_true",
+                   help="no rendering: rewrite the outputs from the rows measured so far (implies --resume)")
     p.add_argument("--only", nargs="*", help="measure only these setting labels (see the CSV's setting column)")
     p.add_argument("--no-reference", action="store_true", help="timing and rays only: no reference, no error")
     p.add_argument("--table2-extra", type=Path, nargs="*", default=[],
@@ -195,10 +197,14 @@ def main(argv: list[str]) -> int:
     if args.only:
         points = [p for p in points if p.label in args.only]
     scenes, skipped = available_scenes(args)
-    store = RowStore(work / "rows.jsonl", args.resume)
-    refs = measure_scenes(ctx, scenes, points, store)
-    if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
-        measure_star(ctx, settings.star_settings(args.quick), store)
+    store = RowStore(work / "rows.jsonl", args.resume or args.report_only)
+    if args.report_only:
+        refs = {s.stem: json.loads(p.read_text()) for s in scenes
+                for p in sorted(ctx.cache.glob(f"{s.stem}_{args.size}_{args.ref_spp}_*.json"))[-1:]}
+    else:
+        refs = measure_scenes(ctx, scenes, points, store)
+        if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
+            measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
     rows = store.rows
     measure.add_display_rmse(rows, work)
