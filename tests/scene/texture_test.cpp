@@ -82,6 +82,31 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   EXPECT_TRUE(s.effects().textures);
 }
 
+TEST(Texture, SixteenBitGreyAlphaImagesExpandToRgba) {
+  auto dir = test::temp_dir("grey16");
+  // 1 x 1 PNG, 16-bit grey + alpha: grey 0.5 (sRGB), alpha 0.25 (linear, never decoded).
+  const uint16_t pixel[] = {32768, 16384};
+  auto out = OIIO::ImageOutput::create((dir / "g.png").string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(1, 1, 2, OIIO::TypeDesc::UINT16);
+  spec.alpha_channel = 1;
+  spec.attribute("oiio:UnassociatedAlpha", 1);  // store as given, no un-premultiply
+  ASSERT_TRUE(out->open((dir / "g.png").string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, pixel));
+  out->close();
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", "g.png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
+  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  ASSERT_EQ(s.materials[0].emissive_texture, 0);
+  const glm::vec4 t = s.textures[0].texels[0];
+  const float g = std::pow((32768 / 65535.0f + 0.055f) / 1.055f, 2.4f);
+  expect_rgba(t, {g, g, g, 16384 / 65535.0f}, 1e-4f);
+  EXPECT_TRUE(s.effects().emission);
+}
+
 TEST(Texture, MissingImageIsIgnoredNotFatal) {
   auto dir = test::temp_dir("noimg");
   test::GltfBuilder b;
