@@ -38,10 +38,7 @@ bool Presenter::ensure_swapchain(uint32_t fb_width, uint32_t fb_height) {
   if (fb_width == 0 || fb_height == 0) return false;
   const bool size_changed = swapchain_.extent.width != fb_width || swapchain_.extent.height != fb_height;
   if (swapchain_.swapchain && !size_changed && !out_of_date_) return true;
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    vkDeviceWaitIdle(context_.device());  // the old images may still be written by a copy
-  }
+  vkDeviceWaitIdle(context_.device());  // the old images may still be written by a copy (queue lock held)
   if (!create_swapchain(context_, swapchain_, fb_width, fb_height)) return false;
   out_of_date_ = false;
   VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
@@ -54,6 +51,10 @@ bool Presenter::ensure_swapchain(uint32_t fb_width, uint32_t fb_height) {
 }
 
 bool Presenter::present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_width, uint32_t fb_height) {
+  // The render thread's visibility pass may hold the queue for a while: skip this tick
+  // rather than stall the UI loop (the caller presents again on the next one).
+  std::unique_lock<std::mutex> lock(queue_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return false;
   VkDevice device = context_.device();
   vk_check(vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   if (!ensure_swapchain(fb_width, fb_height)) return false;
@@ -140,7 +141,6 @@ bool Presenter::present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_wi
   submit.pCommandBuffers = &commands_;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &rendered_[index];
-  std::lock_guard<std::mutex> lock(queue_mutex_);
   vk_check(vkQueueSubmit(context_.queue(), 1, &submit, fence_), "vkQueueSubmit");
 
   VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};

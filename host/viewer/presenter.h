@@ -29,7 +29,8 @@ class Presenter {
 
   // Presents `mode` of `frame` in a framebuffer of fb_width x fb_height (the swapchain
   // follows that size). Returns false when nothing could be shown (minimised window or
-  // an out-of-date swapchain, which is recreated for the next call).
+  // an out-of-date swapchain, which is recreated for the next call, or the queue busy
+  // with the render thread's visibility pass).
   bool present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_width, uint32_t fb_height);
 
  private:

@@ -45,7 +45,7 @@ ProgressStatus ProgressiveRenderer::status() const {
 bool ProgressiveRenderer::wait_for(uint64_t id, double timeout_seconds) const {
   std::unique_lock<std::mutex> lock(mutex_);
   return changed_.wait_for(lock, std::chrono::duration<double>(timeout_seconds),
-                           [&] { return stopping_ || status_.completed >= id || next_id_ > id; });
+                           [&] { return stopping_ || status_.completed >= id || next_id_ > id || !status_.error.empty(); });
 }
 
 void ProgressiveRenderer::run() {
@@ -61,7 +61,14 @@ void ProgressiveRenderer::run() {
       id = pending_id_;
       cancel_ = false;  // under the lock: a request() after this point cancels this frame
     }
-    render(request, id);
+    try {
+      render(request, id);
+    } catch (const std::exception& e) {
+      // Reported through status(): the UI thread decides how to fail, this thread lives on.
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.error = e.what();
+    }
+    changed_.notify_all();
   }
 }
 

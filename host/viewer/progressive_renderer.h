@@ -11,6 +11,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include "core/geo_map.h"
@@ -37,6 +38,7 @@ struct ProgressStatus {
   double last_full_seconds = 0.0;   // preview + full render of the last completed frame
   double first_full_seconds = -1.0; // from construction to the first completed frame
   double rays_per_pixel = 0.0;      // primary rays / pixel of the last completed frame
+  std::string error;                // set when a frame failed (e.g. the visibility pass threw)
 };
 
 class ProgressiveRenderer {

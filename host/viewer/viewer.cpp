@@ -339,6 +339,11 @@ int Viewer::run() {
     // Wake at ~60 Hz to show finished tiles; input wakes it earlier.
     glfwWaitEventsTimeout(1.0 / 60.0);
     step_script();
+    if (const std::string error = renderer_->status().error; !error.empty()) {
+      std::fprintf(stderr, "zigzag view: error: %s\n", error.c_str());
+      exit_code_ = 1;
+      break;
+    }
     if (first_frame_since_start_ < 0 && renderer_->status().frames_completed > 0)
       first_frame_since_start_ = since(options_.started);  // within one UI tick (<= 1/60 s)
     if (options_.exit_after_frame && script_.empty() && !exit_frame_seen && frame_done()) {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -30,17 +31,25 @@ class Xvfb {
       if (pid < 0) return;
       // Ready when its socket appears; gone early = the number was taken meanwhile.
       const auto start = std::chrono::steady_clock::now();
+      bool lost = false;
       while (std::chrono::steady_clock::now() - start < std::chrono::seconds(10)) {
         int status = 0;
-        if (waitpid(pid, &status, WNOHANG) == pid) break;
-        if (std::filesystem::exists(socket)) {
+        if (waitpid(pid, &status, WNOHANG) == pid) {
+          lost = true;  // exited: the number was taken
+          break;
+        }
+        const pid_t owner = lock_owner(number);
+        if (owner > 0 && owner != pid) break;  // another server owns it
+        // Ours only when the lock file names our child: two tests racing for the same
+        // number would otherwise share (and one would kill) the other's server.
+        if (std::filesystem::exists(socket) && lock_owner(number) == pid) {
           pid_ = pid;
           display_ = name;
           return;
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
       }
-      if (display_.empty()) {
+      if (display_.empty() && !lost) {
         kill(pid, SIGKILL);
         waitpid(pid, nullptr, 0);
       }
@@ -54,6 +63,14 @@ class Xvfb {
   }
   Xvfb(const Xvfb&) = delete;
   Xvfb& operator=(const Xvfb&) = delete;
+
+  // The PID in /tmp/.X<n>-lock (written by the X server that owns display n), or -1.
+  static pid_t lock_owner(const std::string& number) {
+    std::ifstream lock("/tmp/.X" + number + "-lock");
+    long pid = -1;
+    if (!(lock >> pid)) return -1;
+    return pid_t(pid);
+  }
 
   bool ok() const { return !display_.empty(); }
   const std::string& display() const { return display_; }
