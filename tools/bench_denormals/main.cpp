@@ -2,12 +2,16 @@
 //
 // One thread traces a 128x128 frame (one camera packet per 2x2 pixels) through the
 // Whitted shader, on the calling thread so that its MXCSR is the one that counts:
-//   Scene/normal     lights of 60, a clear glass block
-//   Scene/denormal   lights of 1e-38 and a glass block that absorbs to exp(-1e4)
+//   normal     lights of 60, background 0.2
+//   denormal   the same scene with lights of 1e-38 and background 1e-38: every
+//              radiance value along every path is denormal (below 1.2e-38)
+// (the same tinted, absorbing glass block in both, so the paths are the same)
 // each with FTZ/DAZ off (the default MXCSR) and on (ScopedFlushDenormals, what the tile
-// tasks use). Expected: denormal/off is several times slower than normal/off (microcode
-// assists on every denormal multiply), and denormal/on runs at the speed of normal/on.
-// Rates are rays per second of CPU time.
+// tasks use). Expected: denormal/off slower than normal/off (microcode assists on
+// denormal arithmetic), and denormal/on at least as fast as normal/on (flushed
+// contributions are 0, so their shadow rays are skipped). Compare the CPU time per
+// frame; rays/s is per CPU second. Measured (Xeon, 2 cores, busy machine, median of 5):
+// normal 9.6 ms, denormal 13.5 ms without FTZ/DAZ (1.4x); with them 8.6 and 5.7 ms.
 #include <benchmark/benchmark.h>
 
 #include <optional>
@@ -42,10 +46,8 @@ Scene make_scene(bool denormal) {
   glass.roughness = 0.0f;
   glass.transmission = 1.0f;
   glass.base_color = glm::vec3(1.0f);
-  if (denormal) {
-    glass.attenuation_color = glm::vec3(1e-6f);
-    glass.attenuation_distance = 1e-3f;
-  }
+  glass.attenuation_color = glm::vec3(0.3f, 0.6f, 0.9f);
+  glass.attenuation_distance = 0.5f;
   s.materials = {floor, glass};
   add_tri(s, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, 0);
   add_tri(s, {-10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
