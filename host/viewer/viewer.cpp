@@ -3,8 +3,8 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
+#include <cctype>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
@@ -111,7 +111,9 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
   vk.device_index = options.vk_device;
   uint32_t count = 0;
   const char** extensions = glfwGetRequiredInstanceExtensions(&count);
-  if (!extensions) throw Error("GLFW found no Vulkan surface extensions for this display; use `zigzag render`");
+  if (!extensions)
+    throw Error("no Vulkan device with window-system support found (no Vulkan surface extensions); install "
+                "mesa-vulkan-drivers or use `zigzag render`");
   vk.instance_extensions.assign(extensions, extensions + count);
   vk.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
   GLFWwindow* window = window_.get();
