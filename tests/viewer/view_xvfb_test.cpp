@@ -156,6 +156,30 @@ TEST_F(ViewXvfb, AovViewsEqualRenderAovs) {
   }
 }
 
+TEST_F(ViewXvfb, KeysChangeFilterEdgesAndEpsLikeTheRenderOptions) {
+  // F = --filter mitchell, E = --edges off, ] twice = eps 0.1 * 1.25^2 = 0.15625 (exact in float).
+  const std::string size = " --width 128 --height 96 --threads 2";
+  const test::CommandResult v = view("--script \"wait;key:F;wait;screenshot:" + file("mitchell.png") +
+                                     ";key:F;key:E;wait;screenshot:" + file("no_edges.png") +
+                                     ";key:E;key:];key:];wait;screenshot:" + file("eps.png") + ";quit\"" + size);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  const std::pair<const char*, const char*> cases[] = {
+      {"mitchell", "--filter mitchell"}, {"no_edges", "--edges off"}, {"eps", "--eps 0.15625"}};
+  std::vector<float> previous;
+  for (const auto& [name, option] : cases) {
+    const test::CommandResult r = run_command(test::zigzag_binary() + " render " + scene_path() + " -q -o " +
+                                              file(std::string("r_") + name + ".png") + " " + option + size);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    int w, h, rw, rh;
+    const std::vector<float> a = read_png(file(std::string(name) + ".png"), w, h);
+    const std::vector<float> b = read_png(file(std::string("r_") + name + ".png"), rw, rh);
+    EXPECT_EQ(a, b) << name;
+    EXPECT_NE(a, previous) << name << " looks like the previous setting";
+    previous = a;
+  }
+}
+
 TEST_F(ViewXvfb, ClosingMidRenderExitsCleanly) {
   // A frame that takes far longer than the test allows; Esc arrives during the first tiles.
   const test::CommandResult v = view("--width 1024 --height 768 --aa uniform --spp 256 --script \"key:ESC\"", 60);
