@@ -6,7 +6,8 @@
 # tools/fuzz/corpus/FORMAT and grows in build-fuzz/fuzz/corpus/FORMAT (the repository's
 # seeds stay small); crashes, timeouts and OOMs land in build-fuzz/fuzz/artifacts/FORMAT.
 # Exit status: 0 when no harness found anything. Env: ZZ_FUZZ_BUILD (build dir),
-# ZZ_JOBS (build parallelism), FUZZ_ARGS (extra libFuzzer flags).
+# ZZ_JOBS (build parallelism), FUZZ_ARGS (extra libFuzzer flags), ZZ_FUZZ_NO_TRACE=1 (load
+# and check scenes but do not trace them).
 set -eu
 
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
