@@ -264,7 +264,7 @@ def observations(rows: list[dict], label: str) -> list[str]:
             out.append(f"- {scene}: the linear RMSE ratio ({rat['rmse']:.1f}×) is far above the display one "
                        f"({rat['rmse_display']:.2f}×): the error sits in very bright pixels (lamps, highlights) whose "
                        "display values saturate near 1, so the eps test on display colours (ALGORITHM.md §2) sees no "
-                       "difference between corners there and averages radiances that differ far more than their display values."))
+                       "difference between corners there and averages radiances that differ far more than their display values.")
     base = CLI_DEFAULT
     on, off = by_scene(rows, base.label), by_scene(rows, dataclasses.replace(base, edges="off").label)
     for scene in on:
