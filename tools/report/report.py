@@ -176,7 +176,7 @@ def environment(args, zigzag: Path) -> dict:
             "dirty": bool(git("status", "--porcelain", "--", "host", "shaders")),
             "size": args.size, "runs": args.runs, "threads": args.threads, "ref_spp": args.ref_spp,
             "cores": os.cpu_count(), "loadavg": os.getloadavg(), "binary_digest": zzrun.file_digest([zigzag])[:12],
-            "quick": args.quick}
+            "quick": args.quick, "argv": " ".join(sys.argv[1:])}
 
 
 def main(argv: list[str]) -> int:
@@ -206,6 +206,11 @@ def main(argv: list[str]) -> int:
         if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
             measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
+    run_file = work / "run.json"
+    if args.report_only and run_file.exists():
+        env = {**env, **json.loads(run_file.read_text())}  # describe the measuring run, not this one
+    elif not args.report_only:
+        run_file.write_text(json.dumps(env))
     rows = store.rows
     measure.add_display_rmse(rows, work)
     write_csv(rows, args.out / "accuracy_vs_time.csv")
