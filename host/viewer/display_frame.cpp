@@ -109,8 +109,10 @@ void DisplayFrame::compose(ViewMode mode, bool bgra, std::vector<uint8_t>& out, 
   compose_locked(mode, bgra, 4, out.data());
 }
 
-std::vector<uint8_t> DisplayFrame::rgb(ViewMode mode) const {
+std::vector<uint8_t> DisplayFrame::rgb(ViewMode mode, int* width, int* height) const {
   std::lock_guard<std::mutex> lock(mutex_);
+  if (width) *width = width_;
+  if (height) *height = height_;
   std::vector<uint8_t> out(size_t(width_) * height_ * 3);
   compose_locked(mode, false, 3, out.data());
   return out;

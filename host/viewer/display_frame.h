@@ -33,8 +33,9 @@ class DisplayFrame {
   // The view as 4 bytes per pixel (B,G,R,A when bgra, else R,G,B,A) into `out`
   // (resized), with the size it has at this moment (the render thread may resize it).
   void compose(ViewMode mode, bool bgra, std::vector<uint8_t>& out, int& width, int& height) const;
-  // The view as 8-bit RGB (for screenshots).
-  std::vector<uint8_t> rgb(ViewMode mode) const;
+  // The view as 8-bit RGB (for screenshots); width/height, when given, receive the size
+  // it was composed at (the render thread may resize the frame at any time).
+  std::vector<uint8_t> rgb(ViewMode mode, int* width = nullptr, int* height = nullptr) const;
 
   // Bumped on every change: the UI presents only when it moved.
   uint64_t version() const;

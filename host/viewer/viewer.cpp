@@ -243,10 +243,17 @@ void Viewer::on_framebuffer(int width, int height) {
 void Viewer::save_screenshot(const std::filesystem::path& path) {
   // The composed view (not a swapchain read-back): in the image view these are exactly
   // the bytes `zigzag render` writes for the same camera and size.
-  std::vector<uint8_t> rgb = display_.rgb(mode_);
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  write_rgb8(path, display_.width(), display_.height(), rgb);
-  std::fprintf(stderr, "zigzag view: saved %s\n", path.string().c_str());
+  int width = 0, height = 0;
+  const std::vector<uint8_t> rgb = display_.rgb(mode_, &width, &height);
+  try {
+    if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
+    write_rgb8(path, width, height, rgb);
+    std::fprintf(stderr, "zigzag view: saved %s\n", path.string().c_str());
+  } catch (const std::exception& e) {
+    // Called from GLFW's C callbacks: report, never throw through them.
+    std::fprintf(stderr, "zigzag view: error: screenshot %s: %s\n", path.string().c_str(), e.what());
+    exit_code_ = 1;
+  }
 }
 
 bool Viewer::frame_done() const {
