@@ -37,10 +37,20 @@ struct alignas(16) HitPacket4 {
   int4 prim;  // -1 = miss
 };
 
-// A point just off a surface, so that a ray spawned from it in direction d never hits
-// the surface it left (Waechter & Binder, "A Fast and Robust Method for Avoiding
-// Self-Intersection", Ray Tracing Gems ch. 6). n is the geometric normal on the side the
-// ray leaves from. No scene-size epsilon: the offset scales with |p|.
-glm::vec3 offset_ray_origin(glm::vec3 p, glm::vec3 n);
+// A hit point on a triangle, interpolated from its vertices with barycentrics
+// (w, u, v), w = 1 - u - v, and a conservative bound of the rounding error of that
+// interpolation per axis: gamma(7) * (|w p0| + |u p1| + |v p2|) (pbrt-v4, 6.8.5).
+struct SurfacePosition {
+  glm::vec3 p;
+  glm::vec3 error;
+};
+SurfacePosition interpolate_hit(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, float u, float v);
+
+// A point just off a surface, so that a ray spawned from it on the side n points to never
+// hits the surface it left (pbrt-v4, "Robust Spawned Ray Origins", 6.8.6): move past the
+// error box along the normal (by its largest axis bound, see ray_offset.cpp), then round
+// away from the surface.
+// No scene-size epsilon: the offset is a few ULPs of the vertex coordinates.
+glm::vec3 offset_ray_origin(const SurfacePosition& hit, glm::vec3 n);
 
 }  // namespace zz

@@ -1,41 +1,57 @@
-// Self-intersection avoidance by offsetting the origin in integer ULPs (Waechter &
-// Binder, "A Fast and Robust Method for Avoiding Self-Intersection", Ray Tracing Gems,
-// ch. 6, 2019).
-#include <bit>
+// Robust spawned-ray origins from the hit point's floating-point error bound
+// (Pharr, Jakob & Humphreys, Physically Based Rendering 4th ed., 6.8.5-6.8.6).
+// An integer-ULP offset of the point alone (Waechter & Binder 2019) cannot know how far
+// the point is from its triangle's vertices: measured here, its 256 ULPs were two scene
+// lengths for a scene 1e5 of its lengths from the origin, and its fixed 1/65536 near 0 was
+// 15% of a 1e-4-sized scene. The error bound scales with the vertices themselves.
+#include <algorithm>
 #include <cmath>
-#include <cstdint>
+#include <limits>
 
 #include "accel/ray.h"
 
 namespace zz {
+
 namespace {
 
-// Constants of the chapter's Listing 6-1: below kOrigin (in |p|) a fixed float offset
-// of kFloatScale * n is used, because integer ULP steps near 0 are too fine; kIntScale
-// ULPs per unit normal otherwise.
-// Measured limits of these published constants (tests/robust/scale_test.cpp): 256 ULPs
-// is ~2 scene lengths for a scene placed 1e5 of its own lengths from the origin (light
-// leaks at contact shadows; 32 ULPs removes them and still passes ray_offset_test, 16 does
-// not), and the absolute 1/65536 near 0 is 15% of a 1e-4-sized scene at the origin. A
-// tight, scale-free offset needs the hit point's error bound (pbrt-v4), i.e. the
-// triangle's vertices, which this (p, n) signature does not carry.
-constexpr float kOrigin = 1.0f / 32.0f;
-constexpr float kFloatScale = 1.0f / 65536.0f;
-constexpr float kIntScale = 256.0f;
-
-float offset_component(float p, float n) {
-  int32_t of_i = int32_t(kIntScale * n);
-  // Moving the bit pattern towards larger magnitude for positive p means +of_i, and for
-  // negative p the pattern grows with |p|, so the step flips sign.
-  int32_t bits = std::bit_cast<int32_t>(p);
-  float p_i = std::bit_cast<float>(bits + ((p < 0.0f) ? -of_i : of_i));
-  return std::fabs(p) < kOrigin ? p + kFloatScale * n : p_i;
+// gamma(n) = n eps / (1 - n eps), eps = 2^-24 (pbrt's bound on n rounded operations).
+constexpr float gamma(int n) {
+  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (float(n) * eps) / (1.0f - float(n) * eps);
 }
 
 }  // namespace
 
-glm::vec3 offset_ray_origin(glm::vec3 p, glm::vec3 n) {
-  return {offset_component(p.x, n.x), offset_component(p.y, n.y), offset_component(p.z, n.z)};
+SurfacePosition interpolate_hit(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, float u, float v) {
+  const float w = 1.0f - u - v;
+  SurfacePosition s;
+  s.p = w * p0 + u * p1 + v * p2;
+  // pbrt bounds the interpolation with gamma(7); one more for computing w from u and v.
+  s.error = gamma(8) * (glm::abs(w * p0) + glm::abs(u * p1) + glm::abs(v * p2));
+  return s;
+}
+
+glm::vec3 offset_ray_origin(const SurfacePosition& hit, glm::vec3 n) {
+  // pbrt moves by dot(|n|, error). We use the largest axis bound on every axis: the
+  // watertight test shears all three coordinates of the vertices relative to the origin,
+  // so its rounding follows their largest magnitude. On a plane z = 0 the z bound alone
+  // is 0 and the origin would stay on the plane (or 1 denormal ULP off it, which the
+  // shear's products flush to 0): measured as acne on every lit floor.
+  const float largest = std::max(hit.error.x, std::max(hit.error.y, hit.error.z));
+  const float d = largest * (std::abs(n.x) + std::abs(n.y) + std::abs(n.z));
+  const glm::vec3 offset = d * n;
+  glm::vec3 po = hit.p + offset;
+  // Round away from the surface: the addition above may have rounded back towards it.
+  // Stepping by the normal's sign (not the offset's, as pbrt does) also moves a point
+  // whose error bound is exactly 0 (an axis-aligned plane at 0) off the plane: the BVH
+  // accepts t = 0, so an origin on the plane would shadow itself.
+  for (int i = 0; i < 3; ++i) {
+    if (n[i] > 0.0f)
+      po[i] = std::nextafter(po[i], std::numeric_limits<float>::infinity());
+    else if (n[i] < 0.0f)
+      po[i] = std::nextafter(po[i], -std::numeric_limits<float>::infinity());
+  }
+  return po;
 }
 
 }  // namespace zz

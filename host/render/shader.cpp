@@ -18,7 +18,7 @@ glm::vec3 lane(const float4& x, const float4& y, const float4& z, int i) { retur
 
 // What the shader needs at one lane's hit point.
 struct SurfacePoint {
-  glm::vec3 p;         // hit point from barycentrics (the offset scheme bounds its error)
+  SurfacePosition hit; // hit point from barycentrics + its rounding-error bound
   glm::vec3 ng;        // geometric normal facing the incoming ray
   glm::vec3 ns;        // shading normal facing the incoming ray, same hemisphere as ng
   glm::vec3 wo;        // unit direction back towards the ray origin
@@ -132,7 +132,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
     const size_t t3 = size_t(prim) * 3;
     const glm::vec3 &p0 = scene_.positions[t3], &p1 = scene_.positions[t3 + 1], &p2 = scene_.positions[t3 + 2];
     SurfacePoint& s = sp[i];
-    s.p = w * p0 + u * p1 + v * p2;
+    s.hit = interpolate_hit(p0, p1, p2, u, v);
     const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
     const float dir_len = glm::length(dir);
     s.wo = -dir / dir_len;
@@ -172,7 +172,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         const SurfacePoint& s = sp[i];
         glm::vec3 wi, scale;
         float dist;
-        if (!light_towards(light, s.p, wi, dist, scale)) continue;
+        if (!light_towards(light, s.hit.p, wi, dist, scale)) continue;
         const float cos_s = glm::dot(s.ns, wi);
         if (cos_s <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
         const WhittedMaterial& m = *s.material;
@@ -183,7 +183,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         const glm::vec3 f = s.albedo * kInvPi + m.specular * phong;
         contribution[i] = f * scale * cos_s;
         if (!(contribution[i].r > 0.0f || contribution[i].g > 0.0f || contribution[i].b > 0.0f)) continue;
-        const glm::vec3 origin = offset_ray_origin(s.p, s.ng);
+        const glm::vec3 origin = offset_ray_origin(s.hit, s.ng);
         if (light.type == Light::Type::Directional)
           shadow.set(i, origin, wi, kInfinity);
         else
@@ -233,7 +233,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         if (kr.r > 0.0f || kr.g > 0.0f || kr.b > 0.0f) {
           glm::vec3 r = 2.0f * glm::dot(s.ns, s.wo) * s.ns - s.wo;
           if (glm::dot(r, s.ng) <= 0.0f) r = 2.0f * glm::dot(s.ng, s.wo) * s.ng - s.wo;
-          reflected.set(i, offset_ray_origin(s.p, s.ng), r, kInfinity);
+          reflected.set(i, offset_ray_origin(s.hit, s.ng), r, kInfinity);
           reflect_weight[i] = kr;
           do_reflect[i] = true;
         }
@@ -243,7 +243,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
             const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
             const glm::vec3 t = -eta * s.wo + (eta * cos_i - cos_t) * s.ns;  // Snell, vector form
             if (glm::dot(t, s.ng) < 0.0f) {
-              refracted.set(i, offset_ray_origin(s.p, -s.ng), t, kInfinity);
+              refracted.set(i, offset_ray_origin(s.hit, -s.ng), t, kInfinity);
               do_refract[i] = true;
             }
           }

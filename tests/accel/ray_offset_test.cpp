@@ -1,4 +1,4 @@
-// offset_ray_origin (Waechter & Binder, Ray Tracing Gems ch. 6) and the re-intersection
+// offset_ray_origin (pbrt-v4 6.8.6, error-bound offsets) and the re-intersection
 // test of pbrt-v4's tests: a ray leaving a hit point never hits its own triangle.
 #include <gtest/gtest.h>
 
@@ -10,32 +10,26 @@
 namespace zz {
 namespace {
 
-TEST(RayOffset, MovesAlongTheNormalByUlps) {
-  glm::vec3 p(1.0f, -2.0f, 1000.0f), n(0.0f, 0.6f, -0.8f);
-  glm::vec3 q = offset_ray_origin(p, n);
-  EXPECT_EQ(q.x, p.x);  // zero normal component: unchanged
-  EXPECT_GT(q.y, p.y);  // moves towards +n even where p is negative
-  EXPECT_LT(q.z, p.z);
-  // 256 ULPs per unit normal: 0.6 * 256 = 153 ULPs (towards 0 from -2, where a ULP is
-  // 2^-23), 0.8 * 256 = 204 ULPs of 1000 (2^-14 each).
-  EXPECT_FLOAT_EQ(q.y - p.y, 153.0f * std::ldexp(1.0f, -23));
-  EXPECT_FLOAT_EQ(p.z - q.z, 204.0f * std::ldexp(1.0f, -14));
-}
-
-TEST(RayOffset, NearTheOriginUsesAFixedFloatOffset) {
-  glm::vec3 q = offset_ray_origin(glm::vec3(0.0f, 0.01f, -0.02f), glm::vec3(1.0f, 0.0f, -1.0f));
-  EXPECT_FLOAT_EQ(q.x, 1.0f / 65536.0f);
-  EXPECT_EQ(q.y, 0.01f);
-  EXPECT_FLOAT_EQ(q.z, -0.02f - 1.0f / 65536.0f);
-}
-
-TEST(RayOffset, OffsetScalesWithMagnitudeNotSceneSize) {
-  for (float s : {0.04f, 1.0f, 1e4f, 1e8f}) {
-    glm::vec3 p(s, s, s), n(0.0f, 0.0f, 1.0f);
-    float d = offset_ray_origin(p, n).z - s;
-    EXPECT_GT(d, 0.0f);
-    EXPECT_LT(d / s, 1e-4f) << s;  // a few hundred ULPs, relative
+TEST(RayOffset, ErrorBoundScalesWithTheVertices) {
+  // A hit at the centroid of a unit triangle placed at distance s from the origin: the
+  // bound is ~gamma(8) * s, i.e. a few ULPs of s, whatever the triangle's own size.
+  for (float s : {1e-6f, 1.0f, 1e5f, 1e8f}) {
+    const glm::vec3 p0(s, s, s), p1(s + 1, s, s), p2(s, s + 1, s);
+    const SurfacePosition hit = interpolate_hit(p0, p1, p2, 1.0f / 3.0f, 1.0f / 3.0f);
+    EXPECT_GT(hit.error.z, 0.0f);
+    EXPECT_LT(hit.error.z, 1e-6f * std::max(s, 1.0f)) << s;
   }
+}
+
+TEST(RayOffset, MovesStrictlyToTheNormalSide) {
+  const glm::vec3 p0(-3, 1e4f, 2), p1(5, 1e4f, 2), p2(0, 1e4f, 9);
+  const SurfacePosition hit = interpolate_hit(p0, p1, p2, 0.25f, 0.5f);
+  const glm::vec3 up = offset_ray_origin(hit, {0, 1, 0}), down = offset_ray_origin(hit, {0, -1, 0});
+  EXPECT_GT(up.y, hit.p.y);
+  EXPECT_LT(down.y, hit.p.y);
+  EXPECT_EQ(up.x, hit.p.x);  // zero normal components leave the point alone
+  EXPECT_EQ(up.z, hit.p.z);
+  EXPECT_LT(up.y - hit.p.y, 1e4f * 1e-5f);  // a few ULPs of 1e4, not a scene epsilon
 }
 
 // pbrt-v4 style: random triangles from 1e-8 to 1e8 in size and position, hit from a
@@ -65,11 +59,11 @@ TEST(RayOffset, SpawnedRaysNeverHitTheirOwnTriangle) {
     glm::vec3 o = target + 4.0f * scale * test::random_unit(rng);
     Hit h = bvh.intersect1(Ray{o, target - o});
     if (!h.hit()) continue;
-    glm::vec3 p = (1.0f - h.u - h.v) * tri[0] + h.u * tri[1] + h.v * tri[2];
+    const SurfacePosition hit = interpolate_hit(tri[0], tri[1], tri[2], h.u, h.v);
     // Leave on the side the ray came from (reflection) or the other (transmission).
-    glm::vec3 side = glm::dot(o - p, n) > 0.0f ? n : -n;
+    glm::vec3 side = glm::dot(o - hit.p, n) > 0.0f ? n : -n;
     if (rng() % 2) side = -side;
-    glm::vec3 start = offset_ray_origin(p, side);
+    glm::vec3 start = offset_ray_origin(hit, side);
     for (int k = 0; k < 4; ++k) {
       glm::vec3 d = test::random_unit(rng);
       if (glm::dot(d, side) < 0.0f) d = -d;
