@@ -148,16 +148,20 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
     const uint32_t mat_index = scene_.material_of[prim];
     s.material = &scene_.whitted[mat_index];
     s.albedo = s.material->diffuse;
+    glm::vec3 emission = s.material->emission;
     if constexpr ((kEffects & kTextures) != 0) {
-      const int tex = scene_.materials[mat_index].base_color_texture;
-      if (tex >= 0) {
+      const Material& gltf = scene_.materials[mat_index];
+      if (gltf.base_color_texture >= 0 || gltf.emissive_texture >= 0) {
         const glm::vec2 uv = w * scene_.uvs[t3] + u * scene_.uvs[t3 + 1] + v * scene_.uvs[t3 + 2];
-        s.albedo *= glm::vec3(scene_.textures[size_t(tex)].sample(uv));
+        if (gltf.base_color_texture >= 0)
+          s.albedo *= glm::vec3(scene_.textures[size_t(gltf.base_color_texture)].sample(uv));
+        if (gltf.emissive_texture >= 0 && emission != glm::vec3(0.0f))
+          emission *= glm::vec3(scene_.textures[size_t(gltf.emissive_texture)].sample(uv));
       }
     }
-    out[0][i] = s.material->emission.r;
-    out[1][i] = s.material->emission.g;
-    out[2][i] = s.material->emission.b;
+    out[0][i] = emission.r;
+    out[1][i] = emission.g;
+    out[2][i] = emission.b;
     shaded[i] = true;
   }
 

@@ -172,3 +172,24 @@ TEST(Shader, ExtremeLightsStayFinite) {
 
 }  // namespace
 }  // namespace zz
+
+namespace zz {
+namespace {
+
+TEST(Shader, EmissiveTextureModulatesTheEmissiveFactor) {
+  // glTF: emission = emissiveFactor * emissiveTexture. A black texture must not glow.
+  Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
+  s.lights.clear();
+  Texture black;
+  black.width = black.height = 1;
+  black.texels = {glm::vec4(0.0f, 0.25f, 0.0f, 1.0f)};
+  s.textures.push_back(black);
+  s.materials[0].emissive = glm::vec3(1.0f);
+  s.materials[0].emissive_texture = 0;
+  s.finalize_materials();
+  const glm::vec3 l = centre_radiance(s);
+  EXPECT_EQ(l, glm::vec3(0.0f, 0.25f, 0.0f));
+}
+
+}  // namespace
+}  // namespace zz
