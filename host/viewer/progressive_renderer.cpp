@@ -101,6 +101,8 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
     callbacks.tile_done = [&](const TileRect& rect) { display_.put_tile(film, rect, s, full.tonemap); };
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
     if (cancel_) return;
+    std::lock_guard<std::mutex> lock(mutex_);
+    status_.last_preview_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
 
   // The visibility map after the preview, so the first coarse picture is not delayed.

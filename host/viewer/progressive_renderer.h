@@ -35,6 +35,7 @@ struct ProgressStatus {
   bool preview = false;       // the preview pass is running
   int tiles_done = 0;         // full-frame tiles finished for `request`
   int tiles_total = 0;
+  double last_preview_seconds = 0.0; // request to finished coarse preview (the latency of a camera move)
   double last_full_seconds = 0.0;   // preview + full render of the last completed frame
   double first_full_seconds = -1.0; // from construction to the first completed frame
   double rays_per_pixel = 0.0;      // primary rays / pixel of the last completed frame
