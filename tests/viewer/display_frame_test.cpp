@@ -26,7 +26,7 @@ Film gradient_film(int w, int h) {
   return film;
 }
 
-TEST(ViewDisplayFrame, TilesGiveExactlyTheDisplayBytesOfRender) {
+TEST(DisplayFrame, TilesGiveExactlyTheDisplayBytesOfRender) {
   const Film film = gradient_film(150, 70);  // partial tiles on both axes
   ToneMap tonemap;
   tonemap.exposure = 1.7f;
@@ -37,7 +37,7 @@ TEST(ViewDisplayFrame, TilesGiveExactlyTheDisplayBytesOfRender) {
   EXPECT_EQ(frame.rgb(ViewMode::Image), display_bytes(film, tonemap));
 }
 
-TEST(ViewDisplayFrame, PreviewTilesAreUpscaledNearest) {
+TEST(DisplayFrame, PreviewTilesAreUpscaledNearest) {
   const Film coarse = gradient_film(5, 3);
   DisplayFrame frame;
   frame.resize(18, 10);  // not a multiple of 4: the last blocks are clipped
@@ -50,7 +50,7 @@ TEST(ViewDisplayFrame, PreviewTilesAreUpscaledNearest) {
         ASSERT_EQ(big[(size_t(y) * 18 + x) * 3 + c], small[(size_t(y / 4) * 5 + x / 4) * 3 + c]) << x << "," << y;
 }
 
-TEST(ViewDisplayFrame, ComposeSwizzlesForBgraAndSetsAlpha) {
+TEST(DisplayFrame, ComposeSwizzlesForBgraAndSetsAlpha) {
   const Film film = gradient_film(8, 4);
   DisplayFrame frame;
   frame.resize(8, 4);
@@ -72,7 +72,7 @@ TEST(ViewDisplayFrame, ComposeSwizzlesForBgraAndSetsAlpha) {
   }
 }
 
-TEST(ViewDisplayFrame, AovViewsUseTheRenderAovColours) {
+TEST(DisplayFrame, AovViewsUseTheRenderAovColours) {
   const Film film = gradient_film(16, 8);
   DisplayFrame frame;
   frame.resize(16, 8);
@@ -99,7 +99,7 @@ TEST(ViewDisplayFrame, AovViewsUseTheRenderAovColours) {
   EXPECT_EQ(level[3 + 2], c[2]);
 }
 
-TEST(ViewDisplayFrame, GeoViewShowsFlagsOrNotAvailable) {
+TEST(DisplayFrame, GeoViewShowsFlagsOrNotAvailable) {
   DisplayFrame frame;
   frame.resize(4, 2);
   EXPECT_FALSE(frame.has_geo());
@@ -112,7 +112,7 @@ TEST(ViewDisplayFrame, GeoViewShowsFlagsOrNotAvailable) {
   EXPECT_FALSE(frame.has_geo());
 }
 
-TEST(ViewDisplayFrame, VersionMovesOnEveryChange) {
+TEST(DisplayFrame, VersionMovesOnEveryChange) {
   DisplayFrame frame;
   const uint64_t v0 = frame.version();
   frame.resize(64, 64);

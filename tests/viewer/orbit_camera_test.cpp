@@ -17,7 +17,7 @@ Camera start_camera() {
   return Camera::look_at({1.0f, 2.0f, 6.0f}, {0.0f, 0.5f, 0.0f}, {0.0f, 1.0f, 0.0f}, 0.7f);
 }
 
-TEST(ViewOrbitCamera, StartsAtTheGivenPose) {
+TEST(OrbitCamera, StartsAtTheGivenPose) {
   const Camera start = start_camera();
   const OrbitCamera orbit(start, 5.0f);
   const Camera c = orbit.camera();
@@ -28,7 +28,7 @@ TEST(ViewOrbitCamera, StartsAtTheGivenPose) {
   EXPECT_EQ(c.yfov, start.yfov);
 }
 
-TEST(ViewOrbitCamera, OrbitKeepsTheTargetAndDistance) {
+TEST(OrbitCamera, OrbitKeepsTheTargetAndDistance) {
   OrbitCamera orbit(start_camera(), 5.0f);
   const glm::vec3 target = orbit.target();
   orbit.orbit(120.0f, -40.0f, 480);
@@ -41,7 +41,7 @@ TEST(ViewOrbitCamera, OrbitKeepsTheTargetAndDistance) {
   expect_near(quarter.camera().position, {-5.0f, 0.0f, 0.0f}, 1e-3f);
 }
 
-TEST(ViewOrbitCamera, PitchStopsShortOfThePoles) {
+TEST(OrbitCamera, PitchStopsShortOfThePoles) {
   OrbitCamera orbit(start_camera(), 5.0f);
   orbit.orbit(0.0f, 1e5f, 480);
   const Camera c = orbit.camera();
@@ -50,7 +50,7 @@ TEST(ViewOrbitCamera, PitchStopsShortOfThePoles) {
   EXPECT_GT(std::abs(c.forward.y), 0.99f);
 }
 
-TEST(ViewOrbitCamera, PanMovesThePointUnderTheCursorWithIt) {
+TEST(OrbitCamera, PanMovesThePointUnderTheCursorWithIt) {
   // At the target's depth the image is 2 d tan(fov/2) tall: a drag of h/2 pixels moves the
   // camera by d tan(fov/2) along its right axis (opposite to the drag).
   const Camera start = Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.8f);
@@ -61,7 +61,7 @@ TEST(ViewOrbitCamera, PanMovesThePointUnderTheCursorWithIt) {
   expect_near(c.forward, start.forward, 1e-5f);
 }
 
-TEST(ViewOrbitCamera, ZoomScalesTheDistance) {
+TEST(OrbitCamera, ZoomScalesTheDistance) {
   OrbitCamera orbit(start_camera(), 4.0f);
   orbit.zoom(2.0f);
   EXPECT_NEAR(orbit.distance(), 4.0f * 0.85f * 0.85f, 1e-5f);
@@ -69,7 +69,7 @@ TEST(ViewOrbitCamera, ZoomScalesTheDistance) {
   EXPECT_NEAR(orbit.distance(), 4.0f, 1e-5f);
 }
 
-TEST(ViewOrbitCamera, FocusDistanceIsTheSceneCentreAlongTheView) {
+TEST(OrbitCamera, FocusDistanceIsTheSceneCentreAlongTheView) {
   const Camera c = Camera::look_at({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 0.8f);
   EXPECT_NEAR(focus_distance(c, {1.0f, 0.0f, 2.0f}, 3.0f), 8.0f, 1e-5f);
   EXPECT_NEAR(focus_distance(c, {0.0f, 0.0f, 20.0f}, 3.0f), 0.3f, 1e-6f);  // behind: clamp

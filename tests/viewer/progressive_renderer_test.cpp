@@ -13,7 +13,7 @@
 namespace zz {
 namespace {
 
-class ViewProgressive : public ::testing::Test {
+class Progressive : public ::testing::Test {
  protected:
   void SetUp() override {
     const std::filesystem::path path = std::string(ZZ_SOURCE_DIR) + "/scenes/default.json";
@@ -41,7 +41,7 @@ class ViewProgressive : public ::testing::Test {
   std::unique_ptr<Shader> shader_;
 };
 
-TEST_F(ViewProgressive, FullFrameEqualsABatchRender) {
+TEST_F(Progressive, FullFrameEqualsABatchRender) {
   DisplayFrame display;
   ProgressiveRenderer renderer(*shader_, display);
   const FrameRequest r = request(150, 100);
@@ -61,7 +61,7 @@ TEST_F(ViewProgressive, FullFrameEqualsABatchRender) {
   EXPECT_DOUBLE_EQ(s.rays_per_pixel, double(stats.rays.primary) / (150.0 * 100.0));
 }
 
-TEST_F(ViewProgressive, ANewRequestCancelsTheOldOneAndWins) {
+TEST_F(Progressive, ANewRequestCancelsTheOldOneAndWins) {
   DisplayFrame display;
   ProgressiveRenderer renderer(*shader_, display);
   FrameRequest slow = request(800, 600, AaMode::Uniform);
@@ -79,7 +79,7 @@ TEST_F(ViewProgressive, ANewRequestCancelsTheOldOneAndWins) {
   EXPECT_EQ(display.height(), 48);
 }
 
-TEST_F(ViewProgressive, DestroyingMidFrameCancelsAndJoins) {
+TEST_F(Progressive, DestroyingMidFrameCancelsAndJoins) {
   DisplayFrame display;
   auto renderer = std::make_unique<ProgressiveRenderer>(*shader_, display);
   FrameRequest slow = request(1024, 768, AaMode::Uniform);
@@ -90,7 +90,7 @@ TEST_F(ViewProgressive, DestroyingMidFrameCancelsAndJoins) {
   SUCCEED();
 }
 
-TEST_F(ViewProgressive, PreviewIsFullyReplacedByTheFullFrame) {
+TEST_F(Progressive, PreviewIsFullyReplacedByTheFullFrame) {
   DisplayFrame display;
   ProgressiveRenderer renderer(*shader_, display);
   FrameRequest r = request(128, 96);

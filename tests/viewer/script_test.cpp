@@ -7,7 +7,7 @@
 namespace zz {
 namespace {
 
-TEST(ViewScript, ParsesEveryCommand) {
+TEST(Script, ParsesEveryCommand) {
   const auto e = parse_script(" drag:10,20,30.5,40 ; drag:1,2,3,4,right;scroll:-2;key:R;resize:300,200;"
                               "wait;screenshot:out/a b.png;quit;");
   ASSERT_EQ(e.size(), 8u);
@@ -30,7 +30,7 @@ TEST(ViewScript, ParsesEveryCommand) {
   EXPECT_TRUE(parse_script("").empty());
 }
 
-TEST(ViewScript, RejectsBadCommandsWithTheCommandInTheMessage) {
+TEST(Script, RejectsBadCommandsWithTheCommandInTheMessage) {
   for (const char* bad : {"drag:1,2,3", "drag:1,2,3,x", "drag:1,2,3,4,up", "jump", "wait:3", "screenshot:",
                           "resize:0,10", "scroll:"}) {
     try {

@@ -7,7 +7,7 @@
 namespace zz {
 namespace {
 
-TEST(ViewSwapchain, PrefersUnormBgraSoBytesPassUnchanged) {
+TEST(Swapchain, PrefersUnormBgraSoBytesPassUnchanged) {
   const VkColorSpaceKHR srgb = VK_COLOR_SPACE_SRGB_NONLINEAR_KHR;
   // Lavapipe under Xvfb lists the sRGB format first (TOOLCHAIN.md).
   EXPECT_EQ(choose_surface_format({{VK_FORMAT_B8G8R8A8_SRGB, srgb}, {VK_FORMAT_B8G8R8A8_UNORM, srgb}}).format,

@@ -33,7 +33,7 @@ double changed_fraction(const std::vector<float>& a, const std::vector<float>& b
   return double(changed) / double(a.size() / 3);
 }
 
-class ViewXvfb : public ::testing::Test {
+class Window : public ::testing::Test {
  protected:
   void SetUp() override {
     if (!std::filesystem::exists(scene_path())) GTEST_SKIP() << scene_path() << " is missing";
@@ -76,7 +76,7 @@ class ViewXvfb : public ::testing::Test {
     if (!skip_reason_.empty()) GTEST_SKIP() << skip_reason_;  \
   } while (0)
 
-TEST_F(ViewXvfb, ScreenshotEqualsRenderOfTheSameCamera) {
+TEST_F(Window, ScreenshotEqualsRenderOfTheSameCamera) {
   const std::string size = " --width 200 --height 130 --threads 2";
   const test::CommandResult v = view("--exit-after-frame --screenshot " + file("view.png") + size);
   SKIP_IF_NO_VULKAN();
@@ -96,7 +96,7 @@ TEST_F(ViewXvfb, ScreenshotEqualsRenderOfTheSameCamera) {
   EXPECT_EQ(a, b);
 }
 
-TEST_F(ViewXvfb, DragChangesTheImageAndItCompletesAgain) {
+TEST_F(Window, DragChangesTheImageAndItCompletesAgain) {
   const test::CommandResult v = view(
       "--width 160 --height 120 --script \"wait;screenshot:" + file("before.png") +
       ";drag:60,60,110,75;wait;screenshot:" + file("after.png") + ";drag:80,60,40,60,right;scroll:1;wait;screenshot:" +
@@ -117,7 +117,7 @@ TEST_F(ViewXvfb, DragChangesTheImageAndItCompletesAgain) {
   EXPECT_EQ(completions, 4u) << v.output;
 }
 
-TEST_F(ViewXvfb, ResizedWindowRendersAtTheNewSize) {
+TEST_F(Window, ResizedWindowRendersAtTheNewSize) {
   const test::CommandResult v =
       view("--width 128 --height 96 --threads 2 --script \"wait;resize:180,140;wait;screenshot:" +
            file("resized.png") + ";quit\"");
@@ -135,7 +135,7 @@ TEST_F(ViewXvfb, ResizedWindowRendersAtTheNewSize) {
   EXPECT_EQ(a, b);
 }
 
-TEST_F(ViewXvfb, AovViewsEqualRenderAovs) {
+TEST_F(Window, AovViewsEqualRenderAovs) {
   const std::string size = " --width 128 --height 96 --threads 2";
   const test::CommandResult v = view("--script \"wait;key:2;screenshot:" + file("rays.png") + ";key:3;screenshot:" +
                                      file("levels.png") + ";key:4;screenshot:" + file("geo.png") + ";quit\"" + size);
@@ -156,7 +156,7 @@ TEST_F(ViewXvfb, AovViewsEqualRenderAovs) {
   }
 }
 
-TEST_F(ViewXvfb, KeysChangeFilterEdgesAndEpsLikeTheRenderOptions) {
+TEST_F(Window, KeysChangeFilterEdgesAndEpsLikeTheRenderOptions) {
   // F = --filter mitchell, E = --edges off, ] twice = eps 0.1 * 1.25^2 = 0.15625 (exact in float).
   const std::string size = " --width 128 --height 96 --threads 2";
   const test::CommandResult v = view("--script \"wait;key:F;wait;screenshot:" + file("mitchell.png") +
@@ -180,7 +180,7 @@ TEST_F(ViewXvfb, KeysChangeFilterEdgesAndEpsLikeTheRenderOptions) {
   }
 }
 
-TEST_F(ViewXvfb, ClosingMidRenderExitsCleanly) {
+TEST_F(Window, ClosingMidRenderExitsCleanly) {
   // A frame that takes far longer than the test allows; Esc arrives during the first tiles.
   const test::CommandResult v = view("--width 1024 --height 768 --aa uniform --spp 256 --script \"key:ESC\"", 60);
   SKIP_IF_NO_VULKAN();
@@ -188,7 +188,7 @@ TEST_F(ViewXvfb, ClosingMidRenderExitsCleanly) {
   EXPECT_EQ(v.output.find("first full frame"), std::string::npos) << "the frame finished: not a mid-render close";
 }
 
-TEST(ViewNoDisplay, FailsWithAClearMessage) {
+TEST(NoDisplay, FailsWithAClearMessage) {
   const test::CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY timeout -k 5 60 " +
                                             test::zigzag_binary() + " view " + scene_path());
   EXPECT_NE(r.exit_code, 0);
