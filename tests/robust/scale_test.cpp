@@ -39,7 +39,23 @@ struct Comparison {
   double mean_abs = 0.0;       // mean |difference| in display bytes
 };
 
+// 1 where the unscaled scene's pixel-centre ray hits the floor (triangles 0 and 1): the
+// acne and leak counts look at floor pixels only (a moved silhouette is neither).
+std::vector<int> floor_mask() {
+  const Scene s = robust::shadow_scene({});
+  const Bvh bvh = Bvh::build(s.positions);
+  const CameraRays rays(s.cameras[0], kW, kH);
+  std::vector<int> mask(size_t(kW) * kH);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const Hit h = bvh.intersect1(Ray{rays.origin, rays.direction(x + 0.5f, y + 0.5f)});
+      mask[size_t(y) * kW + x] = h.hit() && h.prim < 2;
+    }
+  return mask;
+}
+
 Comparison compare(const Film& reference, const Film& test) {
+  static const std::vector<int> on_floor = floor_mask();
   const std::vector<int> a = display_max(reference), b = display_max(test);
   const std::vector<uint8_t> ra = display_bytes(reference, ToneMap{}), rb = display_bytes(test, ToneMap{});
   Comparison c;
@@ -48,11 +64,15 @@ Comparison compare(const Film& reference, const Film& test) {
   for (int y = 0; y < kH; ++y)
     for (int x = 0; x < kW; ++x) {
       const size_t i = size_t(y) * kW + x;
-      if (interior(a, x, y, lit)) {
+      const bool floor = interior(on_floor, x, y, [](int f) { return f != 0; });
+      if (floor && interior(a, x, y, lit)) {
         ++c.lit;
-        c.acne += b[i] < a[i] / 2;
+        if (b[i] < a[i] / 2) {
+          ++c.acne;
+          std::printf("[ scale ]   acne at pixel (%d, %d): %d, unscaled %d\n", x, y, b[i], a[i]);
+        }
       }
-      if (interior(a, x, y, dark)) {
+      if (floor && interior(a, x, y, dark)) {
         ++c.shadow;
         c.leaks += b[i] > 16;
       }
@@ -86,8 +106,11 @@ TEST(Scale, SameImageFrom1eMinus4To1e6AndFarFromTheOrigin) {
         EXPECT_GT(c.shadow, 100);         // ... and a shadow
         EXPECT_EQ(c.acne, 0);
         EXPECT_EQ(c.leaks, 0);
-        // Rounding moves silhouettes and shadow edges by a fraction of a pixel only.
-        EXPECT_LE(c.differing, kW * kH / 100);
+        // Rounding moves silhouettes and shadow edges by a fraction of a pixel only. Far
+        // from the origin the vertices themselves are quantised (1e5 lengths: steps of
+        // 1/1000 of the scene), which moves every edge by a few % of a pixel and flips
+        // some adaptive refinement decisions: up to 2 % of the pixels.
+        EXPECT_LE(c.differing, kW * kH / 50);
         EXPECT_LT(c.mean_abs, 0.5);
       }
   }
