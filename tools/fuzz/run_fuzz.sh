@@ -38,9 +38,11 @@ run_one() {
   "$BUILD/tools/fuzz/fuzz_$f" -max_total_time="$SECONDS_EACH" -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 -dict="$ROOT/tools/fuzz/scene.dict" -artifact_prefix="$artifacts/" \
     ${FUZZ_ARGS:-} "$corpus" "$ROOT/tools/fuzz/corpus/$f" >"$log" 2>&1 || status=$?
-  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+  execs=$(grep -ao 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
   found=$(find "$artifacts" -type f | wc -l)
-  echo "fuzz_$f: ${SECONDS_EACH}s, $execs execs, exit $status, $found artifact(s) in $artifacts (log $log)"
+  summary="fuzz_$f: ${SECONDS_EACH}s, $execs execs, exit $status, $found artifact(s) in $artifacts (log $log)"
+  echo "$summary"
+  echo "$(date -u +%FT%TZ) trace=$([ "${ZZ_FUZZ_NO_TRACE:-0}" = 1 ] && echo off || echo on) $summary" >>"$BUILD/fuzz/history.txt"
   [ "$status" = 0 ] && [ "$found" = 0 ]
 }
 
