@@ -291,6 +291,7 @@ def write_report(path: Path, rows, env, refs, skipped, choice, figures, grid_doc
     if env["quick"]:
         lines += ["**Quick mode: a smoke test (small frame, few points, low-sample reference) — not a measurement.**", ""]
     lines += [f"Skipped: {s}" for s in skipped] + ([""] if skipped else [])
+    lines += [f"**Note:** {n}\n" for n in env.get("notes", [])]
     lines += ["Definitions: *rays/px* = primary (camera) rays per pixel, as in the paper; *time* = visibility map + "
               "render wall seconds from `--stats` (tracing, shading, antialiasing, filtering; excludes load, BVH, write); "
               "RMSE on linear HDR radiance (PSNR = 20·log10(1/RMSE) in the CSV) — dominated by the few brightest pixels "

@@ -59,7 +59,9 @@ def error_axes(ax, rows: list[dict], xkey: str, ykey: str) -> None:
         pts = [(r[xkey], r[ykey]) for r in members if finite(r[xkey]) and finite(r[ykey])]
         if pts:
             st = style(name)
-            ax.plot(*zip(*pts), label=name, ms=4, lw=1.2 if len(pts) > 1 else 0, **st)
+            if len(pts) == 1:
+                st["ls"] = "none"
+            ax.plot(*zip(*pts), label=name, ms=4, lw=1.2, **st)
     for r in rows:
         if r["mode"] == "none" and finite(r[xkey]) and finite(r[ykey]):
             ax.plot(r[xkey], r[ykey], "kx", ms=7, label="1 ray/px")

@@ -51,6 +51,7 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     p.add_argument("--no-star", action="store_true", help="skip the analytic Siemens star")
     p.add_argument("--report-only", action="store_true",
                    help="no rendering: rewrite the outputs from the rows measured so far (implies --resume)")
+    p.add_argument("--note", action="append", default=[], help="a caveat paragraph for REPORT.md (repeatable)")
     p.add_argument("--only", nargs="*", help="measure only these setting labels (see the CSV's setting column)")
     p.add_argument("--no-reference", action="store_true", help="timing and rays only: no reference, no error")
     p.add_argument("--table2-extra", type=Path, nargs="*", default=[],
@@ -206,9 +207,11 @@ def main(argv: list[str]) -> int:
         if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
             measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
+    env["notes"] = args.note
     run_file = work / "run.json"
     if args.report_only and run_file.exists():
         env = {**env, **json.loads(run_file.read_text())}  # describe the measuring run, not this one
+        env["notes"] = args.note or env.get("notes", [])
     elif not args.report_only:
         run_file.write_text(json.dumps(env))
     rows = store.rows
