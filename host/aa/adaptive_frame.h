@@ -10,32 +10,20 @@
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
+#include "core/film.h"
 
 namespace zz {
-
-struct FrameBuffers {
-  int width = 0, height = 0;
-  std::vector<glm::vec3> radiance;
-  std::vector<uint8_t> rays, level;
-
-  FrameBuffers() = default;
-  FrameBuffers(int w, int h) : width(w), height(h), radiance(size_t(w) * h), rays(size_t(w) * h), level(size_t(w) * h) {}
-};
-
-// Tiles of tile_size² in row-major order.
-std::vector<TileRect> make_tiles(int width, int height, int tile_size);
 
 // Each tile gets its own copy of `source` (so per-tile state such as ray counters never
 // races). threads = 0: TBB's default.
 template <SampleSource S>
-AaStats render_frame_adaptive(const S& source, FrameBuffers& frame, const GeoMap& geo,
+AaStats render_frame_adaptive(const S& source, Film& frame, const GeoMap& geo,
                               const AdaptiveSettings& settings, int tile_size = kTileSize, int threads = 0) {
   const std::vector<TileRect> tiles = make_tiles(frame.width, frame.height, tile_size);
   std::vector<AaStats> tile_stats(tiles.size());
   auto body = [&](const tbb::blocked_range<size_t>& r) {
     for (size_t t = r.begin(); t != r.end(); ++t) {
-      TileTarget target{tiles[t], frame.width, frame.height, frame.radiance.data(), frame.rays.data(),
-                        frame.level.data()};
+      const TileTarget target = frame.target(tiles[t]);
       S local = source;
       render_tile_adaptive(local, target, geo, settings, tile_stats[t]);
     }

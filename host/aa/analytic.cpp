@@ -157,8 +157,8 @@ std::vector<glm::vec3> render_uniform(const AnalyticImage& image, int per_axis, 
 
 AnalyticRun adaptive_run(const char* method, const AnalyticImage& image, const GeoMap& geo,
                          const AdaptiveSettings& settings, const AnalyticOptions& o,
-                         const std::vector<glm::vec3>& reference, FrameBuffers& frame) {
-  frame = FrameBuffers(image.size, image.size);
+                         const std::vector<glm::vec3>& reference, Film& frame) {
+  frame = Film(image.size, image.size);
   AnalyticRun r;
   r.method = method;
   r.stats = render_frame_adaptive(AnalyticSource{&image}, frame, geo, settings, o.tile_size, o.threads);
@@ -188,7 +188,7 @@ AnalyticReport run_analytic(const AnalyticOptions& o) {
 
   AdaptiveSettings full = o.settings;
   full.refine_all = true;
-  FrameBuffers lattice_frame;
+  Film lattice_frame;
   report.runs.push_back(adaptive_run("lattice25", image, GeoMap{}, full, o, reference, lattice_frame));
 
   AnalyticRun grid;

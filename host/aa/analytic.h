@@ -89,7 +89,7 @@ struct AnalyticOptions {
 
 struct AnalyticReport {
   std::vector<AnalyticRun> runs;      // adaptive, 1spp, lattice25, grid5x5
-  FrameBuffers adaptive;              // the adaptive image and its AOVs
+  Film adaptive;              // the adaptive image and its AOVs
 };
 
 AnalyticReport run_analytic(const AnalyticOptions& options);

@@ -84,7 +84,7 @@ void run(const AnalyticArgs& a) {
   }
   if (!a.out.empty()) {
     // Analytic values are already display values in [0, 1]: quantise without a tone map.
-    const FrameBuffers& fb = report.adaptive;
+    const Film& fb = report.adaptive;
     std::vector<uint8_t> rgb(size_t(fb.width) * fb.height * 3);
     for (size_t i = 0; i < fb.radiance.size(); ++i)
       for (int c = 0; c < 3; ++c)

@@ -311,7 +311,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       ->check(CLI::IsMember({"grid", "stratified", "lattice"}));
   cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
-  cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::PositiveNumber);
+  cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::Range(1e-6f, 1e6f));
   cmd->add_option("--max-depth", o->max_depth, "Reflection/refraction bounces (default: the scene's)")->check(CLI::Range(0, 64));
   cmd->add_option("--edges", o->edges, "Visibility map of geometric edges: vulkan | off")
       ->check(CLI::IsMember({"vulkan", "off"}));
@@ -320,7 +320,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--edge-angle", o->edge_angle, "Visibility map: normal angle threshold, degrees")
       ->check(CLI::Range(0.0f, 180.0f));
   cmd->add_option("--edge-depth", o->edge_depth, "Visibility map: relative distance threshold")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6f, 100.0f));
   cmd->add_option("--vk-device", o->vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
   cmd->add_flag("--vk-validate", o->vk_validate, "Enable the Vulkan validation layers");
   cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");

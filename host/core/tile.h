@@ -5,6 +5,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <vector>
 
 namespace zz {
 
@@ -27,5 +28,12 @@ struct TileTarget {
 
   glm::vec3& pixel(int x, int y) const { return radiance[size_t(y) * frame_width + x]; }
 };
+
+// The tiles of a frame in raster order (the last row/column may be partial).
+std::vector<TileRect> make_tiles(int width, int height, int tile_size = kTileSize);
+
+// The same tiles ordered by distance of their centre from the frame centre (the viewer
+// shows the middle first). Results never depend on the order.
+std::vector<TileRect> centre_out(std::vector<TileRect> tiles, int width, int height);
 
 }  // namespace zz

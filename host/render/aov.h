@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "core/geo_map.h"
-#include "render/film.h"
+#include "core/film.h"
 
 namespace zz {
 

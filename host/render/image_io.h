@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "core/tonemap.h"
-#include "render/film.h"
+#include "core/film.h"
 
 namespace zz {
 

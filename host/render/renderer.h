@@ -12,7 +12,7 @@
 #include "aa/uniform.h"
 #include "core/geo_map.h"
 #include "core/tonemap.h"
-#include "render/film.h"
+#include "core/film.h"
 #include "render/ray_counters.h"
 #include "render/shader.h"
 

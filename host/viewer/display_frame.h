@@ -11,7 +11,7 @@
 #include "core/geo_map.h"
 #include "core/tile.h"
 #include "core/tonemap.h"
-#include "render/film.h"
+#include "core/film.h"
 #include "viewer/view_mode.h"
 
 namespace zz {

@@ -9,7 +9,7 @@
 namespace zz {
 namespace {
 
-bool same(const FrameBuffers& a, const FrameBuffers& b) {
+bool same(const Film& a, const Film& b) {
   return a.radiance.size() == b.radiance.size() &&
          std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0 &&
          a.rays == b.rays && a.level == b.level;
@@ -24,7 +24,7 @@ TEST(AdaptiveDeterminism, BitIdenticalAcrossTilesAndThreads) {
       s.filter = f;
       s.geo_policy = gp;
       s.tables = find_table_set("tuned");
-      const FrameBuffers ref = test::render(AnalyticSource{&star}, 90, 90, s, 64, 1, geo);
+      const Film ref = test::render(AnalyticSource{&star}, 90, 90, s, 64, 1, geo);
       for (int tile : {64, 13, 1, 90, 7})
         for (int threads : {1, 2}) {
           SCOPED_TRACE(testing::Message() << to_string(f) << " " << to_string(gp) << " tile " << tile << " threads "
@@ -39,8 +39,8 @@ TEST(AdaptiveDeterminism, TileOrderDoesNotMatter) {
   const AnalyticImage zp = make_analytic_image("zoneplate", 70);
   AdaptiveSettings s;
   s.filter = Filter::Mitchell;
-  const FrameBuffers ref = test::render(AnalyticSource{&zp}, 70, 70, s, 16);
-  FrameBuffers fb(70, 70);
+  const Film ref = test::render(AnalyticSource{&zp}, 70, 70, s, 16);
+  Film fb(70, 70);
   std::vector<TileRect> tiles = make_tiles(70, 70, 16);
   AaStats st;
   for (auto it = tiles.rbegin(); it != tiles.rend(); ++it) {

@@ -21,8 +21,8 @@ void check_edges(const char* tables) {
         // Halfway between lattice columns c and c+1 of pixel column/row kCol.
         test::AxisEdgeSource src{bool(vertical_line), kCol + (c + 0.5f) / 25.0f, polarity ? 1.0f : 0.0f,
                                  polarity ? 0.0f : 1.0f};
-        const FrameBuffers a = test::render(src, kSize, kSize, s);
-        const FrameBuffers l = test::render(src, kSize, kSize, full);
+        const Film a = test::render(src, kSize, kSize, s);
+        const Film l = test::render(src, kSize, kSize, full);
         for (int y = 0; y < kSize; ++y)
           for (int x = 0; x < kSize; ++x) {
             const size_t i = size_t(y) * kSize + x;

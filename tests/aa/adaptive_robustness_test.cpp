@@ -9,7 +9,7 @@
 namespace zz {
 namespace {
 
-void expect_finite_nonnegative(const FrameBuffers& f) {
+void expect_finite_nonnegative(const Film& f) {
   for (const glm::vec3& c : f.radiance)
     for (int i = 0; i < 3; ++i) {
       ASSERT_TRUE(std::isfinite(c[i]));
@@ -23,7 +23,7 @@ TEST(AdaptiveRobustness, HdrValuesGiveNoNanOrInf) {
       AdaptiveSettings s;
       s.filter = f;
       s.refine_all = all;
-      const FrameBuffers fb = test::render(test::HdrNoiseSource{}, 37, 29, s, 16);
+      const Film fb = test::render(test::HdrNoiseSource{}, 37, 29, s, 16);
       expect_finite_nonnegative(fb);
       // 1e9 next to 0 is a discontinuity everywhere: most pixels refine.
       int refined = 0;
@@ -70,8 +70,8 @@ TEST(AdaptiveRobustness, OddFrameSizes) {
     for (auto [w, h] : {std::pair{1, 1}, {1, 77}, {77, 1}, {67, 131}, {130, 65}}) {
       SCOPED_TRACE(testing::Message() << w << "x" << h << " " << to_string(f));
       AaStats st;
-      const FrameBuffers a = test::render(src, w, h, s, 64, 2, {}, &st);
-      const FrameBuffers b = test::render(src, w, h, s, 5, 1);
+      const Film a = test::render(src, w, h, s, 64, 2, {}, &st);
+      const Film b = test::render(src, w, h, s, 5, 1);
       EXPECT_EQ(st.pixels, uint64_t(w) * h);
       expect_finite_nonnegative(a);
       for (uint8_t r : a.rays) EXPECT_GE(r, 1);

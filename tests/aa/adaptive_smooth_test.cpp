@@ -22,7 +22,7 @@ TEST(AdaptiveSmooth, ConstantAndGradientCostOnlyCorners) {
     s.filter = f;
     for (int which = 0; which < 2; ++which) {
       AaStats st;
-      const FrameBuffers fb = which == 0 ? test::render(test::ConstantSource{}, 100, 100, s, 64, 1, {}, &st)
+      const Film fb = which == 0 ? test::render(test::ConstantSource{}, 100, 100, s, 64, 1, {}, &st)
                                          : test::render(AnalyticSource{&gradient}, 100, 100, s, 64, 1, {}, &st);
       SCOPED_TRACE(which == 0 ? "constant" : "gradient");
       for (size_t i = 0; i < fb.rays.size(); ++i) {
@@ -51,7 +51,7 @@ TEST(AdaptiveSmooth, UnrefinedPixelsAreExactlyTheCornerMean) {
   const AnalyticImage zp = make_analytic_image("zoneplate", 64);
   for (const AnalyticImage* img : {&star, &zp}) {
     AdaptiveSettings s;
-    const FrameBuffers fb = test::render(AnalyticSource{img}, 64, 64, s, 16);
+    const Film fb = test::render(AnalyticSource{img}, 64, 64, s, 16);
     int unrefined = 0;
     for (int y = 0; y < 64; ++y)
       for (int x = 0; x < 64; ++x) {

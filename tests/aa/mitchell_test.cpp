@@ -45,7 +45,7 @@ TEST(Mitchell, ConstantImageStaysConstant) {
   s.filter = Filter::Mitchell;
   for (bool all : {false, true}) {
     s.refine_all = all;
-    const FrameBuffers f = test::render(test::ConstantSource{}, 9, 7, s, 4);
+    const Film f = test::render(test::ConstantSource{}, 9, 7, s, 4);
     for (const glm::vec3& c : f.radiance) {
       EXPECT_NEAR(c.r, 0.25f, 1e-6f);
       EXPECT_NEAR(c.g, 0.5f, 1e-6f);

@@ -45,9 +45,9 @@ struct HdrNoiseSource {
 };
 
 template <class S>
-FrameBuffers render(const S& source, int w, int h, const AdaptiveSettings& s, int tile = kTileSize, int threads = 1,
+Film render(const S& source, int w, int h, const AdaptiveSettings& s, int tile = kTileSize, int threads = 1,
                     const GeoMap& geo = {}, AaStats* stats = nullptr) {
-  FrameBuffers f(w, h);
+  Film f(w, h);
   AaStats st = render_frame_adaptive(source, f, geo, s, tile, threads);
   if (stats) *stats = st;
   return f;

@@ -36,7 +36,7 @@ TEST(TunedTables, TunerModelMatchesTheSampler) {
   for (const PixelPattern& p : pop.held_out) {
     const PatternRecord r = evaluate_pattern(p, s);
     const PixelPatternSource src{&p};
-    const FrameBuffers a = test::render(src, 1, 1, s), l = test::render(src, 1, 1, full);
+    const Film a = test::render(src, 1, 1, s), l = test::render(src, 1, 1, full);
     const int zones = r.refined ? s.tables->zones(r.b, r.c0, r.c1) : 0;
     EXPECT_FLOAT_EQ(std::fabs(a.radiance[0].r - l.radiance[0].r), r.error[zones]);
     EXPECT_EQ(a.rays[0], r.refined ? 5 + 4 * std::popcount(unsigned(zones)) : 1);

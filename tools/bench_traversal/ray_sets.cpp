@@ -131,7 +131,7 @@ Workload make_workload(Mesh mesh, const Bvh& bvh, int width, int height) {
         mask |= 1 << i;
         const glm::vec3* v = &mesh.positions[3 * size_t(prim)];
         glm::vec3 d(p.dx[i], p.dy[i], p.dz[i]);
-        glm::vec3 hit = (1.0f - h.u[i] - h.v[i]) * v[0] + h.u[i] * v[1] + h.v[i] * v[2];
+        const SurfacePosition hit = interpolate_hit(v[0], v[1], v[2], h.u[i], h.v[i]);
         glm::vec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
         if (glm::dot(n, d) > 0.0f) n = -n;  // the side the camera sees
         glm::vec3 o = offset_ray_origin(hit, n);

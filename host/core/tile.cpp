@@ -1,4 +1,4 @@
-#include "render/film.h"
+#include "core/tile.h"
 
 #include <algorithm>
 

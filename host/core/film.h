@@ -1,4 +1,5 @@
-// The frame being rendered: linear HDR radiance plus per-pixel AOVs.
+// The frame being rendered: linear HDR radiance plus per-pixel AOVs. Samplers write
+// into it through TileTargets (disjoint tiles, so workers never share a pixel).
 #pragma once
 
 #include <glm/glm.hpp>
@@ -6,7 +7,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/geo_map.h"
 #include "core/tile.h"
 
 namespace zz {
@@ -33,12 +33,5 @@ struct Film {
     return t;
   }
 };
-
-// The tiles of a frame in raster order (the last row/column may be partial).
-std::vector<TileRect> make_tiles(int width, int height, int tile_size = kTileSize);
-
-// The same tiles ordered by distance of their centre from the frame centre (the viewer
-// shows the middle first). Results never depend on the order.
-std::vector<TileRect> centre_out(std::vector<TileRect> tiles, int width, int height);
 
 }  // namespace zz
