@@ -197,6 +197,9 @@ TEST_F(Cli, HostileGltfFailsQuicklyAndCleanly) {
   for (size_t i = 0; i < cases.size(); ++i) {
     SCOPED_TRACE(cases[i].first);
     expect_clean_failure(results[i], fs::path(cases[i].first).stem().string() + ".png", "");
+    // Running out of the 4 GiB is not a diagnosis: the loader must see the problem itself.
+    EXPECT_EQ(results[i].err.find("bad_alloc"), std::string::npos) << results[i].err;
+    EXPECT_LT(results[i].seconds, 10.0);
   }
 }
 
