@@ -24,7 +24,7 @@ class Cli : public testing::Test {
  protected:
   void SetUp() override {
     const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("zz_robust_cli_" + std::string(info->name()));
+    dir_ = fs::temp_directory_path() / ("zz_robust_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     // A good, fast scene: the default model under a rig of our own.

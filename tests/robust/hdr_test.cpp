@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <limits>
 
+#include <unistd.h>
+
 #include "robust_scenes.h"
 
 namespace zz {
@@ -17,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path temp_file(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "zz_robust_hdr";
+  const fs::path dir = fs::temp_directory_path() / ("zz_robust_hdr_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   return dir / name;
 }
