@@ -278,5 +278,23 @@ TEST(Extremes, TinyTrianglesBesideAHugeOne) {
   EXPECT_LT(black, 64 * 64 / 5);
 }
 
+TEST(Extremes, DenormalCoordinatesBuildAndTrace) {
+  // Parallel triangles at x = k * 1e-41 (denormal): the centroids' extent along x is
+  // denormal, so a SAH bin scale of bins / extent overflows to +Inf (and 0 * Inf = NaN)
+  // unless the builder guards it. Found by fuzz_gltf (tools/fuzz/regressions/gltf/
+  // bvh_build_segv_glass.gltf: bufferViews reinterpreted as floats give denormals).
+  Tris p;
+  for (int k = 0; k < 16; ++k) {
+    const float d = float(k) * 1e-41f;
+    tri(p, {d, -1, -1}, {d, 1, -1}, {d, 0, 1});
+  }
+  const Bvh bvh = Bvh::build(p);
+  const Ray r{{1.0f, 0.0f, 0.0f}, {-1.0f, 0.0f, 0.0f}};
+  const Hit h = bvh.intersect1(r);
+  ASSERT_TRUE(h.hit());
+  EXPECT_EQ(h.prim, 15);  // the largest x is met first
+  expect_packet_agrees(bvh, r);
+}
+
 }  // namespace
 }  // namespace zz
