@@ -14,6 +14,14 @@ namespace zz {
 namespace {
 
 constexpr int kBins = 32;
+
+// The bin of a centroid coordinate c in [lo, lo + extent]. Divides by the extent instead
+// of multiplying by kBins / extent: for a denormal extent that quotient overflows to +Inf
+// and (c - lo) * Inf is NaN for c = lo (found by fuzzing). NaN and negatives map to bin 0.
+inline int centroid_bin(float c, float lo, float extent) {
+  const float t = (c - lo) / extent * (float(kBins) * 0.99999f);
+  return t > 0.0f ? std::min(kBins - 1, int(std::min(t, float(kBins)))) : 0;
+}
 constexpr uint32_t kMaxLeafSize = 4;  // one SoA block (BvhTriBlock)
 // SAH constants: cost of one traversal step relative to one triangle test. A leaf's
 // triangles are tested four at a time (single rays) and its block is one fetch, so the
@@ -83,9 +91,8 @@ struct Builder {
         if (!(extent[axis] > 0.0f)) continue;
         std::array<Box, kBins> bin_box;
         std::array<uint32_t, kBins> bin_count{};
-        float scale = float(kBins) * 0.99999f / extent[axis];
         for (uint32_t i = begin; i < end; ++i) {
-          int b = std::min(kBins - 1, int((centroid[refs[i]][axis] - cbounds.lo[axis]) * scale));
+          const int b = centroid_bin(centroid[refs[i]][axis], cbounds.lo[axis], extent[axis]);
           bin_box[b].grow(tri_box[refs[i]]);
           ++bin_count[b];
         }
@@ -121,11 +128,8 @@ struct Builder {
     int axis;
     if (best_axis >= 0) {
       axis = best_axis;
-      float scale = float(kBins) * 0.99999f / extent[axis];
-      float lo = cbounds.lo[axis];
-      auto left_of = [&](uint32_t r) {
-        return std::min(kBins - 1, int((centroid[r][axis] - lo) * scale)) <= best_bin;
-      };
+      const float lo = cbounds.lo[axis], ext = extent[axis];
+      auto left_of = [&](uint32_t r) { return centroid_bin(centroid[r][axis], lo, ext) <= best_bin; };
       mid = uint32_t(std::partition(refs.begin() + begin, refs.begin() + end, left_of) -
                      refs.begin());
     } else {
