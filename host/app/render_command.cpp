@@ -17,6 +17,7 @@
 
 #include "accel/bvh.h"
 #include "app/commands.h"
+#include "app/render_options.h"
 #include "core/error.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
@@ -30,31 +31,14 @@ namespace zz {
 
 namespace {
 
-struct RenderOptions {
+struct BatchOptions {
   std::vector<std::string> scenes;
   std::string output;
   std::string stats;
   std::string camera = "0";
-  int width = 0, height = 0;
-  std::string aa = "adaptive";
-  float eps = 0.1f;
-  std::string tables = "paper";
-  std::string geo_policy = "paper";
-  std::string filter = "box";
   std::vector<std::pair<std::string, std::string>> aovs;
-  std::string edges = "vulkan";
-  int edge_ss = 4;
-  float edge_angle = VisibilitySettings{}.normal_angle_deg;
-  float edge_depth = VisibilitySettings{}.depth_rel;
-  int vk_device = -1;
-  bool vk_validate = false;
-  int spp = 25;
-  std::string pattern = "stratified";
-  int threads = 0;
-  std::string assets;
-  float exposure = 0.0f;  // 0 = the scene's
-  int max_depth = -1;     // -1 = the scene's
   bool quiet = false;
+  RenderOptions render;
 };
 
 double seconds_since(std::chrono::steady_clock::time_point t) {
@@ -70,45 +54,10 @@ std::string expand_pattern(const std::string& pattern, const std::string& scene,
   return replace_all(replace_all(pattern, "{scene}", scene), "{camera}", camera);
 }
 
-RenderSettings make_settings(const RenderOptions& o, const Scene& scene) {
-  RenderSettings s;
-  s.width = o.width > 0 ? o.width : scene.default_width;
-  s.height = o.height > 0 ? o.height : scene.default_height;
-  if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
-    throw Error("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                " is out of range (1..16384 per side)");
-  s.threads = o.threads;
-  const std::string frame = "a " + std::to_string(s.width) + "x" + std::to_string(s.height) + " frame";
-  check_memory(frame_bytes(s.width, s.height, s.threads > 0 ? s.threads : int(std::thread::hardware_concurrency())),
-               frame.c_str());
-  s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
-  if (o.aa == "adaptive") {
-    s.aa = AaMode::Adaptive;
-    s.adaptive.eps = o.eps;
-    s.adaptive.tables = &parse_table_set(o.tables);
-    s.adaptive.geo_policy = parse_geo_policy(o.geo_policy);
-    s.adaptive.filter = parse_filter(o.filter);
-  } else if (o.aa == "none") {
-    s.aa = AaMode::None;
-  } else if (o.aa == "uniform") {
-    s.aa = AaMode::Uniform;
-    if (o.pattern == "lattice") {
-      if (o.spp != 25) throw Error("--pattern lattice needs --spp 25 (the 25-point lattice)");
-      s.uniform = {UniformPattern::Lattice, 25};
-    } else {
-      const int n = int(std::lround(std::sqrt(double(o.spp))));
-      if (o.spp < 1 || n * n != o.spp) throw Error("--spp must be a perfect square (4, 9, 16, 25, ...) for --pattern " + o.pattern);
-      s.uniform = {o.pattern == "grid" ? UniformPattern::Grid : UniformPattern::Stratified, o.spp};
-    }
-  }
-  return s;
-}
-
-bool wants_geo_map(const RenderOptions& o) {
-  if (o.edges != "vulkan") return false;
-  if (o.aa == "adaptive") return true;
+bool wants_geo_map(const BatchOptions& o) {
+  if (wants_visibility_map(o.render)) return true;
   for (const auto& aov : o.aovs)
-    if (aov.first == "geo") return true;
+    if (aov.first == "geo" && o.render.edges == "vulkan") return true;
   return false;
 }
 
@@ -136,14 +85,14 @@ class Progress {
   std::chrono::steady_clock::time_point start_;
 };
 
-void render_job(const RenderOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
+void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
   const auto t_total = std::chrono::steady_clock::now();
   LoadOptions load;
-  load.assets_dir = o.assets;
+  load.assets_dir = o.render.assets;
   load.quiet = o.quiet;
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
-  if (o.max_depth >= 0) scene.max_depth = o.max_depth;
+  if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
 
@@ -175,20 +124,20 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    const RenderSettings settings = make_settings(o, scene);
+    const RenderSettings settings = make_render_settings(o.render, scene);
+    const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
+    check_memory(frame_bytes(settings.width, settings.height,
+                             settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())),
+                 frame.c_str());
     const std::string camera_name = std::to_string(camera_index);
     const std::string default_output = o.camera == "all" ? "{scene}_{camera}.png" : "{scene}.png";
     const std::filesystem::path output = expand_pattern(o.output.empty() ? default_output : o.output, scene_name, camera_name);
 
     GeoMap geo;
     VisibilityTimings edge_times;
-    if (visibility) {
-      VisibilitySettings vs;
-      vs.supersample = o.edge_ss;
-      vs.normal_angle_deg = o.edge_angle;
-      vs.depth_rel = o.edge_depth;
-      geo = visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height, vs, &edge_times);
-    }
+    if (visibility)
+      geo = visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                            make_visibility_settings(o.render), &edge_times);
 
     Film film;
     RenderStats stats;
@@ -213,17 +162,17 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
     j["width"] = settings.width;
     j["height"] = settings.height;
     j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
-    j["aa"] = o.aa;
-    if (o.aa == "uniform") {
-      j["spp"] = o.spp;
-      j["pattern"] = o.pattern;
+    j["aa"] = o.render.aa;
+    if (o.render.aa == "uniform") {
+      j["spp"] = o.render.spp;
+      j["pattern"] = o.render.pattern;
     }
-    if (o.aa == "adaptive") {
+    if (o.render.aa == "adaptive") {
       const AaStats& a = stats.aa;
-      j["adaptive"] = {{"eps", o.eps},
-                       {"tables", o.tables},
-                       {"geo_policy", o.geo_policy},
-                       {"filter", o.filter},
+      j["adaptive"] = {{"eps", o.render.eps},
+                       {"tables", o.render.tables},
+                       {"geo_policy", o.render.geo_policy},
+                       {"filter", o.render.filter},
                        {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                        {"level2_fraction", a.level2_fraction()},
                        {"level3_fraction", a.level3_fraction()},
@@ -252,7 +201,7 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
     const double job_s = seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0);
     const double edges_s = visibility ? edge_times.total_s : 0.0;
     j["time_s"] = {{"load", load_s}, {"bvh", bvh_s}, {"render", stats.render_seconds}, {"write", write_s}, {"total", job_s}};
-    j["edges"] = o.edges;
+    j["edges"] = o.render.edges;
     if (visibility) {
       size_t flagged = 0;
       for (uint8_t f : geo.flags) flagged += f != 0;
@@ -262,7 +211,7 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
                               {"readback", edge_times.readback_s},
                               {"total", edge_times.total_s}};
       j["geo_fraction"] = double(flagged) / pixels;
-      j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}};
+      j["edge_settings"] = {{"supersample", o.render.edge_ss}, {"normal_angle_deg", o.render.edge_angle}, {"depth_rel", o.render.edge_depth}};
       j["vulkan_device"] = vulkan->device_name();
     }
     j["mrays_per_s"] = stats.render_seconds > 0 ? double(stats.rays.total()) / stats.render_seconds * 1e-6 : 0.0;
@@ -279,7 +228,7 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
       std::fprintf(stderr,
                    "%s cam %d: %dx%d aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
                    "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
-                   scene_name.c_str(), camera_index, settings.width, settings.height, o.aa.c_str(), rays_per_pixel,
+                   scene_name.c_str(), camera_index, settings.width, settings.height, o.render.aa.c_str(), rays_per_pixel,
                    double(stats.rays.total()) / pixels, effects.c_str(), stats.render_seconds,
                    j["mrays_per_s"].get<double>(), edges_s, load_s, bvh_s, output.string().c_str());
     }
@@ -290,46 +239,22 @@ void render_job(const RenderOptions& o, const std::filesystem::path& scene_path,
 }  // namespace
 
 void add_render_command(CLI::App& app, int& exit_code) {
-  auto o = std::make_shared<RenderOptions>();
+  auto o = std::make_shared<BatchOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   cmd->add_option("scenes", o->scenes, "Scene files")->required();
   cmd->add_option("-o,--output", o->output,
                   "Output image; {scene} and {camera} are replaced (.png = display, .exr = linear HDR)");
   cmd->add_option("--stats", o->stats, "Write JSON stats per job ({scene}/{camera} patterns allowed)");
   cmd->add_option("--camera", o->camera, "Camera index, or 'all'");
-  cmd->add_option("--width", o->width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--height", o->height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--aa", o->aa, "Antialiasing: adaptive | none | uniform")
-      ->check(CLI::IsMember({"adaptive", "none", "uniform"}));
-  cmd->add_option("--eps", o->eps, "Adaptive: colour threshold on display values [0,1]")->check(CLI::Range(0.0f, 1.0f));
-  cmd->add_option("--tables", o->tables, "Adaptive: zone table set (paper, tuned, all)");
-  cmd->add_option("--geo-policy", o->geo_policy, "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
-  cmd->add_option("--filter", o->filter, "Adaptive: reconstruction filter box | mitchell");
   cmd->add_option("--aov", o->aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
-  cmd->add_option("--spp", o->spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
-  cmd->add_option("--pattern", o->pattern, "Uniform pattern: grid | stratified | lattice")
-      ->check(CLI::IsMember({"grid", "stratified", "lattice"}));
-  cmd->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-  cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
-  cmd->add_option("--exposure", o->exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::Range(1e-6f, 1e6f));
-  cmd->add_option("--max-depth", o->max_depth, "Reflection/refraction bounces (default: the scene's)")->check(CLI::Range(0, 64));
-  cmd->add_option("--edges", o->edges, "Visibility map of geometric edges: vulkan | off")
-      ->check(CLI::IsMember({"vulkan", "off"}));
-  cmd->add_option("--edge-ss", o->edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
-      ->check(CLI::Range(1, 16));
-  cmd->add_option("--edge-angle", o->edge_angle, "Visibility map: normal angle threshold, degrees")
-      ->check(CLI::Range(0.0f, 180.0f));
-  cmd->add_option("--edge-depth", o->edge_depth, "Visibility map: relative distance threshold")
-      ->check(CLI::Range(1e-6f, 100.0f));
-  cmd->add_option("--vk-device", o->vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
-  cmd->add_flag("--vk-validate", o->vk_validate, "Enable the Vulkan validation layers");
+  add_render_options(cmd, o->render);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o, &exit_code] {
     std::unique_ptr<VulkanContext> vulkan;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
-      vo.device_index = o->vk_device;
-      vo.validate = o->vk_validate;
+      vo.device_index = o->render.vk_device;
+      vo.validate = o->render.vk_validate;
       vulkan = VulkanContext::create(vo);  // throws with an install hint when there is no device
     }
     int failed = 0;

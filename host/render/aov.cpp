@@ -37,12 +37,15 @@ Rgb8Image rays_heatmap(const Film& film) {
   return img;
 }
 
+void level_colour(int level, uint8_t rgb[3]) {
+  static const uint8_t colours[8][3] = {{0, 0, 0}, {70, 70, 70}, {40, 90, 230},  {230, 50, 40},
+                                        {0, 0, 0}, {70, 70, 70}, {40, 210, 230}, {240, 220, 40}};
+  std::copy_n(colours[level & 7], 3, rgb);
+}
+
 Rgb8Image level_map(const Film& film) {
-  static const uint8_t colours[8][3] = {{0, 0, 0},     {70, 70, 70},   {40, 90, 230}, {230, 50, 40},
-                                        {0, 0, 0},     {70, 70, 70},   {40, 210, 230}, {240, 220, 40}};
   Rgb8Image img{film.width, film.height, std::vector<uint8_t>(size_t(film.width) * film.height * 3)};
-  for (size_t i = 0; i < film.level.size(); ++i)
-    std::copy_n(colours[film.level[i] & 7], 3, &img.rgb[i * 3]);
+  for (size_t i = 0; i < film.level.size(); ++i) level_colour(film.level[i], &img.rgb[i * 3]);
   return img;
 }
 

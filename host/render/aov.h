@@ -28,6 +28,9 @@ Rgb8Image geo_image(const GeoMap& geo);
 // Colour of n rays on the heatmap ramp (n clamped to 1..25).
 void ray_count_colour(int n, uint8_t rgb[3]);
 
+// Colour of an AA level byte (1..3, +4 when vertical; 0 = not rendered: black).
+void level_colour(int level, uint8_t rgb[3]);
+
 // name: rays | levels | geo. Throws zz::Error for an unknown name or a missing geo map.
 void write_aov(const std::string& name, const std::filesystem::path& path, const Film& film, const GeoMap& geo);
 

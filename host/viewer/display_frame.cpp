@@ -26,14 +26,6 @@ void heat_color(int rays, uint8_t rgb[3]) {
   ray_count_colour(rays, rgb);  // the ramp of `zigzag render --aov rays`
 }
 
-void level_color(int level, uint8_t rgb[3]) {
-  // The colours of `zigzag render --aov levels` (render/aov.cpp level_map): 1 grey,
-  // 2 blue / cyan (vertical), 3 red / yellow (vertical).
-  static const uint8_t colours[8][3] = {{0, 0, 0}, {70, 70, 70}, {40, 90, 230},  {230, 50, 40},
-                                        {0, 0, 0}, {70, 70, 70}, {40, 210, 230}, {240, 220, 40}};
-  std::copy_n(colours[level & 7], 3, rgb);
-}
-
 int DisplayFrame::width() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return width_;
@@ -127,7 +119,7 @@ void DisplayFrame::compose_locked(ViewMode mode, bool bgra, int channels, uint8_
     switch (mode) {
       case ViewMode::Image: std::copy(&rgb_[i * 3], &rgb_[i * 3] + 3, c); break;
       case ViewMode::Rays: heat_color(rays_[i], c); break;
-      case ViewMode::Level: level_color(level_[i], c); break;
+      case ViewMode::Level: level_colour(level_[i], c); break;
       case ViewMode::Geo:
         if (geo_ok) {
           c[0] = c[1] = c[2] = geo_.flags[i] ? 255 : 0;  // as `zigzag render --aov geo`

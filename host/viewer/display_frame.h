@@ -53,8 +53,7 @@ class DisplayFrame {
 };
 
 // Per-pixel colours of the AOV views, the same as `zigzag render --aov rays|levels`
-// (pixels not rendered yet are black).
+// (pixels not rendered yet are black); levels use render/aov.h level_colour.
 void heat_color(int rays, uint8_t rgb[3]);
-void level_color(int level, uint8_t rgb[3]);
 
 }  // namespace zz

@@ -88,13 +88,13 @@ TEST(DisplayFrame, AovViewsUseTheRenderAovColours) {
   std::vector<std::array<uint8_t, 3>> seen;
   for (int l : {1, 2, 3, 5, 6, 7}) {
     uint8_t c[3];
-    level_color(l, c);
+    level_colour(l, c);
     seen.push_back({c[0], c[1], c[2]});
   }
   std::sort(seen.begin(), seen.end());
   EXPECT_EQ(std::unique(seen.begin(), seen.end()) - seen.begin(), 5);  // level 1 has no orientation
   uint8_t c[3];
-  level_color(film.level[1], c);
+  level_colour(film.level[1], c);
   EXPECT_EQ(level[3 + 0], c[0]);
   EXPECT_EQ(level[3 + 2], c[2]);
 }
