@@ -307,10 +307,18 @@ struct Loader {
     return t * r * s;  // glTF: M = T * R * S
   }
 
+  static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
+  size_t node_instances = 0;
+
   void visit(int node_index, const glm::mat4& parent, int depth) {
     if (node_index < 0 || size_t(node_index) >= model.nodes.size())
       throw Error(file + ": node " + std::to_string(node_index) + " out of range");
     if (depth > 256) throw Error(file + ": node hierarchy too deep or cyclic");
+    // A DAG may instance a node exponentially often (each level referencing the next
+    // twice): bound the instances, not only the depth.
+    if (++node_instances > kMaxNodeInstances)
+      throw Error(file + ": node hierarchy instances more than " + std::to_string(kMaxNodeInstances) +
+                  " nodes (exponential instancing)");
     const tinygltf::Node& node = model.nodes[size_t(node_index)];
     const glm::mat4 world = parent * local_matrix(node);
     for (int i = 0; i < 16; ++i)
