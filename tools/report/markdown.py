@@ -157,7 +157,7 @@ def targets(per: dict, scenes: list[str]) -> list[str]:
     lines = [f"Scenes: {', '.join(got)}" + ("" if len(got) == 3 else f" (not measured: {', '.join(s for s in scenes if s not in got)})"), ""]
     verdict = "**met**" if rays <= RAYS_TARGET else f"**missed** by {rays - RAYS_TARGET:.2f} rays/px ({rays / RAYS_TARGET - 1:.0%})"
     lines.append(f"- Rays/px ≤ {RAYS_TARGET} (mean): {rays:.2f} — {verdict} "
-                 f"(paper: room-like 1.75, 1.5, 2.01).")
+                 f"(the paper, on its own three scenes: 1.75 / 1.5 / 2.01).")
     for s in got:
         p = per[s]
         rat = p["ratios"]

@@ -200,8 +200,9 @@ def main(argv: list[str]) -> int:
     scenes, skipped = available_scenes(args)
     store = RowStore(work / "rows.jsonl", args.resume or args.report_only)
     if args.report_only:
-        refs = {s.stem: json.loads(p.read_text()) for s in scenes
-                for p in sorted(ctx.cache.glob(f"{s.stem}_{args.size}_{args.ref_spp}_*.json"))[-1:]}
+        keys = {s.stem: zzrun.reference_key(zigzag, s, args.assets, args.size, args.ref_spp) for s in scenes}
+        refs = {n: json.loads(p.read_text()) for n, k in keys.items()
+                for p in [ctx.cache / f"{n}_{args.size}_{args.ref_spp}_{k}.json"] if p.exists()}
     else:
         refs = measure_scenes(ctx, scenes, points, store)
         if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
