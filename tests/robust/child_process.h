@@ -23,6 +23,20 @@
 
 namespace zz::robust {
 
+// ASan reserves terabytes of address space for its shadow memory and inflates RSS: an
+// address-space limit or an RSS bound means nothing in a sanitizer build.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
 struct ChildResult {
   bool exited = false;   // normal exit (else: signal or timeout)
   int exit_code = -1;
