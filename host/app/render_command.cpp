@@ -180,7 +180,11 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
                        {"zones_traced", a.zones_traced},
                        {"zones_interpolated", a.zones_interpolated},
                        {"margin_rays", a.margin_rays},
-                       {"geo_fraction", a.per_pixel(a.geo_pixels)}};
+                       {"geo_fraction", a.per_pixel(a.geo_pixels)},
+                       // Summed over tiles (CPU seconds across threads): the split of render time.
+                       {"time_s", {{"level1_corners", a.seconds_corners},
+                                   {"levels_2_3", a.seconds_refine},
+                                   {"mitchell_filter", a.seconds_filter}}}};
     }
     j["triangles"] = scene.triangle_count();
     j["dropped_degenerate_triangles"] = scene.dropped_degenerate;
