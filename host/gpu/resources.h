@@ -49,6 +49,10 @@ void upload(VulkanContext& context, Buffer& buffer, const void* data, size_t byt
 // Makes device writes visible to the host for non-coherent memory.
 void invalidate(const Buffer& buffer);
 
+// One global memory dependency (synchronization2): writes of `src` visible to `dst`.
+void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags2 src_stage, VkAccessFlags2 src_access,
+                    VkPipelineStageFlags2 dst_stage, VkAccessFlags2 dst_access);
+
 Image create_image_2d(VulkanContext& context, uint32_t width, uint32_t height, VkFormat format,
                       VkImageUsageFlags usage, VkImageAspectFlags aspect);
 

@@ -324,15 +324,8 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
       if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 1));
 
       record_id_copy(cmd, tile, id_buffer_.buffer);
-      VkMemoryBarrier2 ids_ready{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-      ids_ready.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-      ids_ready.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-      ids_ready.dstStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-      ids_ready.dstAccessMask = VK_ACCESS_2_SHADER_STORAGE_READ_BIT;
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.memoryBarrierCount = 1;
-      dep.pMemoryBarriers = &ids_ready;
-      vkCmdPipelineBarrier2(cmd, &dep);
+      memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
 
       gpu::FlagPush push = f.flag;
       push.tile = glm::ivec4(tile.x, tile.y, tile.w, tile.h);
@@ -344,15 +337,8 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
                     uint32_t(tile.h + ZZ_FLAG_GROUP_Y - 1) / ZZ_FLAG_GROUP_Y, 1);
       if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 2));
     }
-    VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    to_host.srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-    to_host.srcAccessMask = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT;
-    to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-    to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    dep.memoryBarrierCount = 1;
-    dep.pMemoryBarriers = &to_host;
-    vkCmdPipelineBarrier2(cmd, &dep);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
   });
 
   auto t_read = Clock::now();
@@ -407,15 +393,8 @@ std::vector<uint32_t> VisibilityPass::render_ids(const Camera& camera, int width
     context_.run_commands([&](VkCommandBuffer cmd) {
       record_raster(cmd, f, tile);
       record_id_copy(cmd, tile, id_readback_.buffer);
-      VkMemoryBarrier2 to_host{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-      to_host.srcStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
-      to_host.srcAccessMask = VK_ACCESS_2_TRANSFER_WRITE_BIT;
-      to_host.dstStageMask = VK_PIPELINE_STAGE_2_HOST_BIT;
-      to_host.dstAccessMask = VK_ACCESS_2_HOST_READ_BIT;
-      VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-      dep.memoryBarrierCount = 1;
-      dep.pMemoryBarriers = &to_host;
-      vkCmdPipelineBarrier2(cmd, &dep);
+      memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
     });
     invalidate(id_readback_);
     const auto* src = static_cast<const uint32_t*>(id_readback_.mapped);
