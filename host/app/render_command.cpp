@@ -86,7 +86,6 @@ class Progress {
 };
 
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
-  const auto t_total = std::chrono::steady_clock::now();
   LoadOptions load;
   load.assets_dir = o.render.assets;
   load.quiet = o.quiet;
@@ -237,7 +236,6 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
                    j["mrays_per_s"].get<double>(), edges_s, load_s, bvh_s, output.string().c_str());
     }
   }
-  (void)t_total;
 }
 
 }  // namespace
