@@ -65,22 +65,25 @@ bool wants_geo_map(const BatchOptions& o) {
 class Progress {
  public:
   Progress(int tiles, bool live) : tiles_(tiles), live_(live), start_(std::chrono::steady_clock::now()) {}
-  void tile_done() {
+  void tile_done(uint64_t tile_rays) {
     const int done = ++done_;
+    const uint64_t rays = rays_ += tile_rays;
     if (!live_) return;
     std::lock_guard<std::mutex> lock(mutex_);
     const double t = seconds_since(start_);
     const double eta = done > 0 ? t * (tiles_ - done) / done : 0.0;
+    const double mrays_per_s = t > 0.0 ? double(rays) / t * 1e-6 : 0.0;
     const int width = 30, filled = tiles_ > 0 ? width * done / tiles_ : width;
-    std::fprintf(stderr, "\r[%.*s%*s] %d/%d tiles  %.1fs  ETA %.1fs ", filled, "##############################",
-                 width - filled, "", done, tiles_, t, eta);
-    if (done == tiles_) std::fprintf(stderr, "\r%*s\r", 70, "");
+    std::fprintf(stderr, "\r[%.*s%*s] %d/%d tiles  %.1f Mrays/s  %.1fs  ETA %.1fs ", filled,
+                 "##############################", width - filled, "", done, tiles_, mrays_per_s, t, eta);
+    if (done == tiles_) std::fprintf(stderr, "\r%*s\r", 90, "");
   }
 
  private:
   int tiles_;
   bool live_;
   std::atomic<int> done_{0};
+  std::atomic<uint64_t> rays_{0};
   std::mutex mutex_;
   std::chrono::steady_clock::time_point start_;
 };
@@ -143,7 +146,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     Progress progress(int(make_tiles(settings.width, settings.height, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
-    callbacks.tile_done = [&](const TileRect&) { progress.tile_done(); };
+    callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.tile_done(rays.total()); };
     render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
 
     t = std::chrono::steady_clock::now();

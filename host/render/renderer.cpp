@@ -61,7 +61,7 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
     }
     result.rays = source.counters;
     result.done = true;
-    if (callbacks.tile_done) callbacks.tile_done(tiles[index]);
+    if (callbacks.tile_done) callbacks.tile_done(tiles[index], result.rays);
   };
 
   const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();

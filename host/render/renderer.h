@@ -42,8 +42,9 @@ struct RenderStats {
 };
 
 struct RenderCallbacks {
-  // Called from a worker thread as soon as a tile's pixels are final.
-  std::function<void(const TileRect&)> tile_done;
+  // Called from a worker thread as soon as a tile's pixels are final, with the rays the
+  // tile traced (for progress and rays/s).
+  std::function<void(const TileRect&, const RayCounters&)> tile_done;
   // Set by another thread to stop promptly; unfinished tiles are left as they were.
   const std::atomic<bool>* cancel = nullptr;
 };

@@ -98,7 +98,7 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
     preview.centre_out = true;
     Film film;
     RenderStats stats;
-    callbacks.tile_done = [&](const TileRect& rect) { display_.put_tile(film, rect, s, full.tonemap); };
+    callbacks.tile_done = [&](const TileRect& rect, const RayCounters&) { display_.put_tile(film, rect, s, full.tonemap); };
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
     if (cancel_) return;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -117,7 +117,7 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
   settings.centre_out = true;
   Film film;
   RenderStats stats;
-  callbacks.tile_done = [&](const TileRect& rect) {
+  callbacks.tile_done = [&](const TileRect& rect, const RayCounters&) {
     display_.put_tile(film, rect, 1, full.tonemap);
     ++tiles_done_;
   };

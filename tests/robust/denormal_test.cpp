@@ -40,7 +40,7 @@ TEST(FpMode, EveryTileRunsWithDenormalsFlushed) {
   // tile_done runs on the worker thread inside the tile task.
   std::atomic<int> tiles{0}, flushed{0};
   RenderCallbacks cb;
-  cb.tile_done = [&](const TileRect&) {
+  cb.tile_done = [&](const TileRect&, const RayCounters&) {
     ++tiles;
     flushed += denormals_flushed();
   };
