@@ -162,15 +162,9 @@ bool setup(const Ray& ray, SingleSetup& s) {
 template <bool kAnyHit>
 bool dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& blocks,
               SingleSetup& s, Hit* out) {
-  const watertight::RayShear& w = s.shear;
-  switch (w.kz * 2 + (w.kx == (w.kz + 1) % 3 ? 0 : 1)) {
-    case 0: return traverse<kAnyHit, 1, 2, 0>(nodes, blocks, s, out);
-    case 1: return traverse<kAnyHit, 2, 1, 0>(nodes, blocks, s, out);
-    case 2: return traverse<kAnyHit, 2, 0, 1>(nodes, blocks, s, out);
-    case 3: return traverse<kAnyHit, 0, 2, 1>(nodes, blocks, s, out);
-    case 4: return traverse<kAnyHit, 0, 1, 2>(nodes, blocks, s, out);
-    default: return traverse<kAnyHit, 1, 0, 2>(nodes, blocks, s, out);
-  }
+  return watertight::with_axis_permutation(s.shear.kx, s.shear.kz, [&]<int kX, int kY, int kZ>() {
+    return traverse<kAnyHit, kX, kY, kZ>(nodes, blocks, s, out);
+  });
 }
 
 }  // namespace

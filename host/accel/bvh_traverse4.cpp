@@ -207,15 +207,10 @@ template <bool kAnyHit>
 mask4 dispatch(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>& tris,
                PacketSetup& p, HitPacket4* out) {
   if (!p.uniform) return traverse<kAnyHit, -1, -1, -1>(nodes, tris, p, out);
-  // The six axis permutations of Woop's (kx, ky, kz); coherent packets share one.
-  switch (p.kz * 2 + (p.kx == (p.kz + 1) % 3 ? 0 : 1)) {
-    case 0: return traverse<kAnyHit, 1, 2, 0>(nodes, tris, p, out);
-    case 1: return traverse<kAnyHit, 2, 1, 0>(nodes, tris, p, out);
-    case 2: return traverse<kAnyHit, 2, 0, 1>(nodes, tris, p, out);
-    case 3: return traverse<kAnyHit, 0, 2, 1>(nodes, tris, p, out);
-    case 4: return traverse<kAnyHit, 0, 1, 2>(nodes, tris, p, out);
-    default: return traverse<kAnyHit, 1, 0, 2>(nodes, tris, p, out);
-  }
+  // Coherent packets share one of Woop's axis permutations.
+  return watertight::with_axis_permutation(p.kx, p.kz, [&]<int kX, int kY, int kZ>() {
+    return traverse<kAnyHit, kX, kY, kZ>(nodes, tris, p, out);
+  });
 }
 
 // Whether the active lanes travel together: one direction octant and directions within

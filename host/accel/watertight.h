@@ -55,6 +55,21 @@ inline RayShear make_shear(glm::vec3 d) {
   return s;
 }
 
+// Calls f.template operator()<kx, ky, kz>() with the ray's axis permutation as compile-time
+// constants: the six permutations of (kx, ky, kz), told apart by kz and whether kx follows
+// kz cyclically (ky then follows kx, or the two were swapped for a negative dir[kz]).
+template <class F>
+decltype(auto) with_axis_permutation(int kx, int kz, F&& f) {
+  switch (kz * 2 + (kx == (kz + 1) % 3 ? 0 : 1)) {
+    case 0: return f.template operator()<1, 2, 0>();
+    case 1: return f.template operator()<2, 1, 0>();
+    case 2: return f.template operator()<2, 0, 1>();
+    case 3: return f.template operator()<0, 2, 1>();
+    case 4: return f.template operator()<0, 1, 2>();
+    default: return f.template operator()<1, 0, 2>();
+  }
+}
+
 // The paper's double-precision fallback (Section 3, "if U, V or W is exactly 0"): products
 // of two floats are exact in double, so the sign of the 2x2 determinant is exact too.
 inline void edges_double(float ax, float ay, float bx, float by, float cx, float cy, float& u,
