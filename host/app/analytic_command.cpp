@@ -11,6 +11,7 @@
 
 #include "aa/analytic.h"
 #include "app/render_options.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "render/image_io.h"
 
@@ -80,8 +81,7 @@ void run(const AnalyticArgs& a) {
                         {"tables", tables},   {"geo_policy", geo_policy}, {"geo_ss", a.geo_ss},
                         {"filter", filter},   {"runs", nlohmann::json::array()}};
     for (const AnalyticRun& r : report.runs) j["runs"].push_back(to_json(r));
-    std::ofstream f(a.json);
-    if (!(f << j.dump(2) << "\n")) throw Error("cannot write " + a.json);
+    write_text_atomically(a.json, j.dump(2) + "\n");
   }
   if (!a.out.empty()) {
     // Analytic values are already display values in [0, 1]: quantise without a tone map.

@@ -30,10 +30,9 @@ std::vector<OutputPattern> output_patterns(const BatchOptions& o) {
   return p;
 }
 
-void validate(const BatchOptions& o) {
-  validate(o.render);
-  // The jobs as far as they are known before loading: with --camera all, every scene may
-  // have several cameras, so two stand-in cameras make a pattern without {camera} collide.
+std::vector<OutputKey> known_jobs(const BatchOptions& o) {
+  // With --camera all, every scene may have several cameras: two stand-in cameras make a
+  // pattern without {camera} collide.
   std::vector<OutputKey> jobs;
   for (const std::string& scene : o.scenes) {
     const std::string stem = std::filesystem::path(scene).stem().string();
@@ -44,7 +43,25 @@ void validate(const BatchOptions& o) {
       jobs.push_back({stem, o.camera, 0});
     }
   }
-  check_distinct_outputs(output_patterns(o), jobs);
+  return jobs;
+}
+
+void validate(const BatchOptions& o) {
+  validate(o.render);
+  for (const auto& [name, file] : o.aovs) {
+    if (name != "rays" && name != "levels" && name != "geo")
+      throw Error("--aov " + name + ": unknown AOV (valid: rays, levels, geo)");
+    if (name == "geo" && o.render.edges == EdgeMode::Off)
+      throw Error("--aov geo needs the visibility map (--edges vulkan)");
+  }
+  check_distinct_outputs(output_patterns(o), known_jobs(o));
+}
+
+void preflight_outputs(const BatchOptions& o) {
+  const std::vector<OutputPattern> patterns = output_patterns(o);
+  for (const OutputKey& job : known_jobs(o))
+    for (const OutputPattern& p : patterns)
+      preflight_output(p.option, expand_output_pattern(p.pattern, job, p.option), p.option != "--stats");
 }
 
 }  // namespace zz

@@ -35,6 +35,12 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o);
 // names, placeholders, and that no two jobs write the same file. Throws zz::Error.
 void validate(const BatchOptions& o);
 
+// The jobs' keys as far as they are known before loading (see batch_options.cpp).
+std::vector<OutputKey> known_jobs(const BatchOptions& o);
+
+// preflight_output for every output of every known job.
+void preflight_outputs(const BatchOptions& o);
+
 // The output patterns of one batch, with the option each came from.
 std::vector<OutputPattern> output_patterns(const BatchOptions& o);
 

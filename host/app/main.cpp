@@ -4,11 +4,13 @@
 
 #include "app/commands.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"zigzag: an adaptive antialiasing ray tracer with SSE 4-ray packets"};
   app.set_version_flag("--version", "zigzag 0.1.0");
   app.require_subcommand(1);
+  zz::install_interrupt_handlers();
   int exit_code = 0;
   zz::add_render_command(app, exit_code);
   zz::add_view_command(app, exit_code);
@@ -17,6 +19,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const zz::Interrupted& i) {
+    std::fprintf(stderr, "%s\n", zz::interrupt_message(i.signal));
+    return 128 + i.signal;
   } catch (const zz::Error& e) {
     std::fprintf(stderr, "zigzag: error: %s\n", e.what());
     return 1;

@@ -1,9 +1,15 @@
 #include "app/output_paths.h"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <map>
 
 #include "core/error.h"
+#include "render/image_io.h"
 
 namespace zz {
 
@@ -47,7 +53,40 @@ std::string missing_placeholder(const std::string& pattern, const OutputKey& a, 
   return "";
 }
 
+std::string errno_text() { return std::strerror(errno); }
+
 }  // namespace
+
+void preflight_output(const std::string& option, const std::filesystem::path& path, bool image) {
+  namespace fs = std::filesystem;
+  const std::string where = option + " " + path.string() + ": ";
+  std::error_code ec;
+  if (!path.has_filename() || fs::is_directory(path, ec))
+    throw Error(where + "is a directory; give a file name");
+  if (image) {
+    if (path.extension().empty())
+      throw Error(where + "no file extension to choose the format (use .png, .jpg or .exr)");
+    if (!can_write_image_format(path))
+      throw Error(where + "unknown image format '" + path.extension().string() + "' (use .png, .jpg or .exr)");
+  }
+  fs::path dir = path.parent_path();
+  if (dir.empty()) dir = ".";
+  fs::path existing = dir;
+  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  if (!fs::exists(existing, ec)) existing = ".";
+  if (!fs::is_directory(existing, ec))
+    throw Error(where + existing.string() + " is a file, not a directory");
+  const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const std::string why = errno_text();
+    throw Error(where + (existing == dir ? "cannot write into " : "cannot create directories in ") + existing.string() +
+                " (" + why + ")");
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
+}
 
 std::string expand_output_pattern(const std::string& pattern, const OutputKey& key, const std::string& option) {
   std::string out;

@@ -31,4 +31,11 @@ struct OutputPattern {
 // "-o out.png: jobs room and glass would both write out.png (add {scene})".
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs);
 
+// Before a render, for one expanded output path: the file name is not a directory, an
+// image has an extension OpenImageIO can write (`image`), and the nearest existing
+// ancestor of its directory is a directory this process can create files in (probed with
+// a file created and removed at once). Creates nothing. Throws zz::Error starting with
+// "OPTION PATH: ".
+void preflight_output(const std::string& option, const std::filesystem::path& path, bool image);
+
 }  // namespace zz

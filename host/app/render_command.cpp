@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <string>
 #include <thread>
@@ -18,7 +17,9 @@
 #include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/render_stats_json.h"
+#include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/interrupt.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
@@ -58,19 +59,13 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
   return {index};
 }
 
-void write_stats(const std::filesystem::path& path, const nlohmann::json& j) {
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
-  std::ofstream f(path);
-  f << j.dump(2) << "\n";
-  if (!f) throw Error("cannot write " + path.string());
-}
-
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
   LoadOptions load;
   load.assets_dir = o.render.assets;
   load.quiet = o.quiet;
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
+  require_triangles(scene, scene_path);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
@@ -106,7 +101,12 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
     callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.tile_done(rays.total()); };
-    render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
+    callbacks.cancel = &interrupt_flag();
+    {
+      CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written
+      render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
+    }
+    throw_if_interrupted();
 
     t = std::chrono::steady_clock::now();
     write_film(output, film, settings.tonemap);
@@ -132,7 +132,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
       record.vulkan_device = vulkan->device_name();
     }
     const nlohmann::json j = render_stats_json(record);
-    if (!o.stats.empty()) write_stats(expand_output_pattern(o.stats, key, "--stats"), j);
+    if (!o.stats.empty()) write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n");
     if (!o.quiet) {
       std::string effects;
       for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
@@ -156,6 +156,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
   add_batch_options(cmd, *o);
   cmd->callback([o, &exit_code] {
     validate(*o);  // before anything is loaded: a bad invocation costs no render
+    preflight_outputs(*o);
     std::unique_ptr<VulkanContext> vulkan;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;

@@ -43,6 +43,7 @@ int view(const ViewOptions& o) {
   LoadOptions load;
   load.assets_dir = o.render.assets;
   Scene scene = load_scene(o.scene, load);
+  require_triangles(scene, o.scene);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   if (o.camera < 0 || o.camera >= int(scene.cameras.size()))
     throw Error(o.scene + ": --camera " + std::to_string(o.camera) + " does not exist (the scene has " +

@@ -67,7 +67,6 @@ void write_aov(const std::string& name, const std::filesystem::path& path, const
   } else {
     throw Error("unknown AOV '" + name + "' (valid: rays, levels, geo)");
   }
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   write_rgb8(path, img.width, img.height, img.rgb);
 }
 

@@ -4,19 +4,33 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 
 namespace zz {
 
 namespace {
 
-void write_pixels(const std::filesystem::path& path, int width, int height, OIIO::TypeDesc type, const void* data) {
-  auto out = OIIO::ImageOutput::create(path.string());
-  if (!out) throw Error("cannot write " + path.string() + ": " + OIIO::geterror());
-  OIIO::ImageSpec spec(width, height, 3, type);
-  if (!out->open(path.string(), spec) || !out->write_image(type, data) || !out->close())
-    throw Error("cannot write " + path.string() + ": " + out->geterror());
+// The first line of a library message: OpenImageIO's can run to several sentences.
+std::string first_line(std::string s) {
+  const size_t nl = s.find('\n');
+  if (nl != std::string::npos) s.resize(nl);
+  return s;
+}
+
+// Writes through a temporary renamed over `path` (core/atomic_file.h).
+void write_pixels(const std::filesystem::path& path, int width, int height, int channels, OIIO::TypeDesc type,
+                  const void* data) {
+  if (width < 1 || height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    auto out = OIIO::ImageOutput::create(temporary.string());
+    if (!out) throw Error("cannot write " + path.string() + ": " + first_line(OIIO::geterror()));
+    OIIO::ImageSpec spec(width, height, channels, type);
+    if (!out->open(temporary.string(), spec) || !out->write_image(type, data) || !out->close())
+      throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+  });
 }
 
 }  // namespace
@@ -27,27 +41,46 @@ bool is_hdr_extension(const std::filesystem::path& path) {
   return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
 }
 
+bool can_write_image_format(const std::filesystem::path& path) {
+  if (path.extension().empty()) return false;
+  return OIIO::ImageOutput::create(path.string()) != nullptr;
+}
+
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {
-  std::vector<uint8_t> bytes(size_t(film.width) * film.height * 3);
-  const float* src = &film.radiance.data()->x;
-  const size_t n = bytes.size();
-  size_t i = 0;
-  for (; i + 4 <= n; i += 4) {
-    float4 t = tonemap.apply4(float4::loadu(src + i)) * float4(255.0f) + float4(0.5f);
-    for (int k = 0; k < 4; ++k) bytes[i + k] = uint8_t(std::clamp(t[k], 0.0f, 255.0f));
+  // Tone-mapped 4 floats at a time, in the order the RGB bytes are laid out: 4 pixels are
+  // 12 floats, copied out of the glm::vec3 array (not indexed through it) into a buffer.
+  std::vector<uint8_t> bytes(film.radiance.size() * 3);
+  const size_t pixels = film.radiance.size();
+  alignas(16) float buf[12];
+  size_t p = 0;
+  for (; p + 4 <= pixels; p += 4) {
+    std::memcpy(buf, &film.radiance[p], sizeof buf);
+    for (int k = 0; k < 12; k += 4) {
+      const float4 t = tonemap.apply4(float4::load(buf + k)) * float4(255.0f) + float4(0.5f);
+      for (int j = 0; j < 4; ++j) bytes[3 * p + size_t(k + j)] = uint8_t(std::clamp(t[j], 0.0f, 255.0f));
+    }
   }
-  for (; i < n; ++i) bytes[i] = uint8_t(std::clamp(tonemap.apply(src[i]) * 255.0f + 0.5f, 0.0f, 255.0f));
+  // The last 0..3 pixels: whole groups of 4 floats, then one float at a time.
+  const size_t rest = (pixels - p) * 3;
+  if (rest > 0) std::memcpy(buf, &film.radiance[p], rest * sizeof(float));
+  size_t i = 0;
+  for (; i + 4 <= rest; i += 4) {
+    const float4 t = tonemap.apply4(float4::load(buf + i)) * float4(255.0f) + float4(0.5f);
+    for (int j = 0; j < 4; ++j) bytes[3 * p + i + size_t(j)] = uint8_t(std::clamp(t[j], 0.0f, 255.0f));
+  }
+  for (; i < rest; ++i) bytes[3 * p + i] = uint8_t(std::clamp(tonemap.apply(buf[i]) * 255.0f + 0.5f, 0.0f, 255.0f));
   return bytes;
 }
 
 void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
-  write_pixels(path, width, height, OIIO::TypeDesc::UINT8, rgb.data());
+  write_pixels(path, width, height, 3, OIIO::TypeDesc::UINT8, rgb.data());
 }
 
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap) {
-  if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
   if (is_hdr_extension(path)) {
-    write_pixels(path, film.width, film.height, OIIO::TypeDesc::FLOAT, film.radiance.data());
+    // OpenImageIO copies the bytes: a glm::vec3 is three packed floats.
+    static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
+    write_pixels(path, film.width, film.height, 3, OIIO::TypeDesc::FLOAT, static_cast<const void*>(film.radiance.data()));
   } else {
     write_rgb8(path, film.width, film.height, display_bytes(film, tonemap));
   }

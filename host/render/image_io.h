@@ -12,7 +12,11 @@ namespace zz {
 
 bool is_hdr_extension(const std::filesystem::path& path);
 
-// Throws zz::Error naming the file when it cannot be written.
+// Whether OpenImageIO has a writer for the path's extension.
+bool can_write_image_format(const std::filesystem::path& path);
+
+// Throws zz::Error naming the file when it cannot be written. Every write goes through a
+// temporary renamed over the target (core/atomic_file.h): an old file survives a failure.
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap);
 
 // Display image as 8-bit RGB bytes (the same bytes a PNG would hold).

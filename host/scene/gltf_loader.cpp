@@ -425,6 +425,7 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
                     const LoadOptions& options) {
   const std::string file = path.string();
   std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error(file + ": is a directory, not a glTF file");
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(file + ": file not found");
   tinygltf::Model model;
   tinygltf::TinyGLTF gltf;

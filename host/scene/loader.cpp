@@ -12,7 +12,9 @@
 #include <cstdlib>
 #include <fstream>
 #include <initializer_list>
+#include <iterator>
 #include <limits>
+#include <vector>
 
 #include "core/error.h"
 
@@ -159,18 +161,66 @@ fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
   return (json_dir / ".." / ".." / "shared" / "scenes").lexically_normal();
 }
 
-Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
+// "file:line:column: invalid JSON: what", the position from the parser's byte offset.
+[[noreturn]] void throw_json_error(const std::string& file, const std::string& text, size_t byte, std::string what) {
+  // nlohmann's text: "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ...".
+  if (const size_t colon = what.find(": ", what.find("column")); colon != std::string::npos) what = what.substr(colon + 2);
+  std::replace(what.begin(), what.end(), '\n', ' ');
+  size_t line = 1, column = 1;
+  for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
+    if (text[i] == '\n') ++line, column = 1;
+    else ++column;
+  }
+  throw Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + what);
+}
+
+json parse_rig_file(const fs::path& path) {
   const std::string file = path.string();
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(file + ": file not found");
-  json j;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    throw Error(file + ":1:1: invalid JSON: the file is empty");
   try {
-    j = json::parse(in);
+    return json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw_json_error(file, text, e.byte, e.what());
   } catch (const json::exception& e) {
-    std::string what = e.what();
-    std::replace(what.begin(), what.end(), '\n', ' ');
-    throw Error(file + ": invalid JSON: " + what);
+    throw_json_error(file, text, 0, e.what());
   }
+}
+
+// A rig's model must be a glTF. When it names another rig, follow the chain to say why
+// that cannot load: a cycle (the chain named) or a rig of a rig.
+[[noreturn]] void reject_rig_model(const fs::path& rig, const fs::path& model) {
+  std::vector<fs::path> chain = {fs::weakly_canonical(rig)};
+  std::string text = rig.string();
+  fs::path next = model;
+  for (int hops = 0; hops < 64; ++hops) {
+    const fs::path canonical = fs::weakly_canonical(next);
+    text += " -> " + next.lexically_normal().string();
+    if (std::find(chain.begin(), chain.end(), canonical) != chain.end())
+      throw Error(rig.string() + ": rig cycle: " + text + " (a rig's \"model\" must be a .gltf or .glb)");
+    chain.push_back(canonical);
+    std::string ext = next.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    std::error_code ec;
+    if (ext != ".json" || !fs::is_regular_file(next, ec)) break;
+    json j;
+    try {
+      j = parse_rig_file(next);
+    } catch (const Error&) {
+      break;
+    }
+    if (!j.is_object() || !j.contains("model") || !j["model"].is_string()) break;
+    next = next.parent_path() / j["model"].get<std::string>();
+  }
+  throw Error(rig.string() + ": model '" + model.string() + "' is a rig, not a .gltf or .glb (rigs do not nest)");
+}
+
+Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
+  const std::string file = path.string();
+  const json j = parse_rig_file(path);
   const Json J{file};
   J.check_keys(j, {"name", "description", "model", "transform", "camera", "cameras",
                    "use_model_cameras", "default_camera", "lights", "replace_lights", "background", "exposure",
@@ -190,6 +240,8 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
                   "; set ZIGZAG_ASSETS or --assets to the folder holding the shared scenes)");
   } else {
     model_path = dir / model;
+    if (fs::path(model).extension() == ".json") reject_rig_model(path, model_path);
+    if (fs::is_directory(model_path, ec)) J.fail("model '" + model_path.string() + "' is a directory, not a glTF file");
     if (!fs::is_regular_file(model_path, ec)) J.fail("model '" + model_path.string() + "' not found");
   }
   const glm::mat4 transform = j.contains("transform") ? parse_transform(J, j["transform"]) : glm::mat4(1.0f);
@@ -275,7 +327,16 @@ Camera auto_camera(const Scene& scene, float yfov) {
   return c;
 }
 
+void require_triangles(const Scene& scene, const std::filesystem::path& path) {
+  if (scene.triangle_count() == 0)
+    throw Error(path.string() + ": no triangles to render" +
+                (scene.dropped_degenerate ? " (" + std::to_string(scene.dropped_degenerate) + " degenerate dropped)" : ""));
+}
+
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw Error(path.string() + ": is a directory, not a scene file");
+  if (!fs::exists(path, ec)) throw Error(path.string() + ": file not found");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".json") return load_json_scene(path, options);

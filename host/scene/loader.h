@@ -22,6 +22,10 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options =
 // front (+Z), slightly right and above; used when neither the rig nor the model has one.
 Camera auto_camera(const Scene& scene, float yfov = 0.8f);
 
+// Throws zz::Error when there is nothing to render (every primitive skipped or none at
+// all): a black frame with exit 0 would hide the problem.
+void require_triangles(const Scene& scene, const std::filesystem::path& path);
+
 // Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs).
 // Appends triangles, materials, textures, lights and cameras (all moved by `transform`);
 // does not finalize materials nor add an auto camera.

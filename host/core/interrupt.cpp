@@ -1,0 +1,55 @@
+#include "core/interrupt.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cstring>
+
+#include "core/atomic_file.h"
+
+namespace zz {
+
+namespace {
+
+std::atomic<bool> g_flag{false};
+std::atomic<int> g_signal{0};
+std::atomic<int> g_cancellable{0};
+
+void handle(int sig) {
+  g_signal.store(sig);
+  if (g_cancellable.load() > 0 && !g_flag.exchange(true)) return;  // the render unwinds
+  // Not cancellable here (or a second signal): clean up and leave now.
+  remove_temporaries_from_signal_handler();
+  const char* msg = interrupt_message(sig);
+  ssize_t ignored = ::write(STDERR_FILENO, msg, std::strlen(msg));
+  ignored = ::write(STDERR_FILENO, "\n", 1);
+  (void)ignored;
+  ::_exit(128 + sig);
+}
+
+}  // namespace
+
+void install_interrupt_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = handle;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+const std::atomic<bool>& interrupt_flag() { return g_flag; }
+
+void throw_if_interrupted() {
+  if (g_flag.load()) throw Interrupted{g_signal.load()};
+}
+
+const char* interrupt_message(int signal) {
+  return signal == SIGTERM ? "zigzag: terminated (SIGTERM); no output was left half-written"
+                           : "zigzag: interrupted (SIGINT); no output was left half-written";
+}
+
+CancellableScope::CancellableScope() { ++g_cancellable; }
+CancellableScope::~CancellableScope() { --g_cancellable; }
+
+}  // namespace zz
