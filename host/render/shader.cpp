@@ -107,7 +107,8 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 }
 
 template <unsigned kEffects>
-Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters) const {
+Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, float4 throughput,
+                         RayCounters& counters) const {
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
   if (active.none()) return zero;
 
@@ -212,6 +213,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
     if (depth < scene_.max_depth) {  // depth = bounces taken so far
       PacketBuilder reflected, refracted;
       glm::vec3 reflect_weight[4], refract_weight[4];
+      alignas(16) float path[4], reflect_path[4] = {}, refract_path[4] = {};
+      throughput.store(path);
+      auto largest = [](const glm::vec3& w) { return std::max(w.r, std::max(w.g, w.b)); };
       bool do_reflect[4] = {false, false, false, false}, do_refract[4] = {false, false, false, false};
       for (int i = 0; i < 4; ++i) {
         if (!shaded[i]) continue;
@@ -234,7 +238,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
           const float c = 1.0f - cos_i, c5 = c * c * c * c * c;
           kr = m.mirror + (glm::vec3(1.0f) - m.mirror) * c5;
         }
-        if (kr.r > 0.0f || kr.g > 0.0f || kr.b > 0.0f) {
+        reflect_path[i] = path[i] * largest(kr);
+        if ((kr.r > 0.0f || kr.g > 0.0f || kr.b > 0.0f) && reflect_path[i] >= kMinThroughput) {
           glm::vec3 r = 2.0f * glm::dot(s.ns, s.wo) * s.ns - s.wo;
           if (glm::dot(r, s.ng) <= 0.0f) r = 2.0f * glm::dot(s.ng, s.wo) * s.ng - s.wo;
           reflected.set(i, offset_ray_origin(s.hit, s.ng), r, kInfinity);
@@ -242,7 +247,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
           do_reflect[i] = true;
         }
         if constexpr ((kEffects & kRefraction) != 0) {
-          if (transmit) {
+          if (transmit) refract_path[i] = path[i] * largest(refract_weight[i]);
+          if (transmit && refract_path[i] >= kMinThroughput) {
             const float sin2_t = eta * eta * (1.0f - cos_i * cos_i);
             const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
             const glm::vec3 t = -eta * s.wo + (eta * cos_i - cos_t) * s.ns;  // Snell, vector form
@@ -256,7 +262,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
       const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, counters);
+        const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1,
+                                              float4::load(reflect_path), counters);
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];
@@ -268,7 +275,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
-          const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, counters);
+          const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1,
+                                                float4::load(refract_path), counters);
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];
