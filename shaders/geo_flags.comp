@@ -8,20 +8,21 @@
 // grazing the view. tests/gpu/flag_reference.h mirrors this rule bit for bit, and
 // host/gpu/geo_flags_cpu.cpp implements it again with SSE.
 //
-// Shaped for lavapipe (8-wide SIMD on the CPU): a group flags TILE x TILE pixels; it
-// loads their ids plus the one-sample apron into shared memory once (each id is read
-// from the attachment once), every invocation keeps one row of its block in registers
-// (S is a specialisation constant, so the row loops unroll), the per-triangle plane
-// (normal, camera-relative offset) is one vec4 computed per frame by triangle_planes.comp,
-// and the flags leave as one uint per 4 pixels.
+// Shaped for lavapipe (8-wide SIMD on the CPU): an invocation flags the 4 pixels of one
+// output word and reads the attachment directly (no copy), each sample row of their
+// blocks once (4S + 2 ids, kept in registers: S is a specialisation constant, so the
+// row loops unroll): (S + 2)(4S + 2)/4 = 27 loads per pixel at S = 4, where a loop per
+// pixel over a copied buffer loaded 66. A shared-memory tile with an apron measured
+// slower on lavapipe (process CPU 557 against 392 ms, room 1024^2 S = 4): its barriers
+// run every group as coroutines. The per-triangle plane (normal,
+// camera-relative offset) is one vec4 per id, computed per frame by triangle_planes.comp.
 #extension GL_GOOGLE_include_directive : require
 #include "visibility_shared.h"
 
 layout(local_size_x = ZZ_FLAG_GROUP_X, local_size_y = ZZ_FLAG_GROUP_Y) in;
 layout(constant_id = 0) const int S = 4;     // supersamples per pixel axis
-layout(constant_id = 1) const int TILE = 8;  // pixels per group side: 8 or 4 (shared memory)
-const int SIDE = TILE * S + 2;               // shared tile side in samples, apron included
-const int WORDS = TILE / ZZ_PIXELS_PER_WORD; // output words per group row
+const int P = ZZ_PIXELS_PER_WORD;             // pixels per invocation: one output word
+const int ROW = P * S + 2;                   // samples per register row, ring included
 
 layout(push_constant) uniform Push { FlagPush p; };
 // The tile's id attachment (ring included), read directly: no copy into a buffer.
@@ -29,8 +30,6 @@ layout(binding = ZZ_BIND_IDS, r32ui) uniform readonly uimage2D ids;
 layout(std430, binding = ZZ_BIND_PLANES) readonly buffer Planes { vec4 planes[]; };
 layout(std430, binding = ZZ_BIND_FLAGS) writeonly buffer Flags { uint words[]; };
 
-shared uint tile_ids[SIDE * SIDE];
-shared uint tile_words[TILE * WORDS];
 
 precise vec3 ray_dir(ivec2 g) {
   precise vec3 d = p.dir00.xyz + float(g.x) * p.du.xyz;
@@ -75,70 +74,64 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
   return far_apart(taa, tba) || far_apart(tbb, tab);
 }
 
-uint shared_id(ivec2 t) { return tile_ids[t.y * SIDE + t.x]; }
+uint id_at(ivec2 u) { return imageLoad(ids, u).x; }
 
-// Flag of the pixel whose block (S x S core plus ring) has its corner at shared-tile
-// sample `c`; `g0` is the frame supersample of shared sample (0, 0). lavapipe runs 8
-// invocations in SIMD and executes both sides of every branch under a mask, so the
-// costly plane tests must not sit in a fixed loop over all pairs: each row first
-// collects the differing pairs into bit masks with cheap compares on ids kept in
-// registers, and only the set bits are visited.
-bool pixel_flag(ivec2 c, ivec2 g0) {
-  uint above[S + 2];
-  for (int i = 0; i <= S + 1; ++i) above[i] = shared_id(c + ivec2(i, 0));
+// Flags of the P pixels whose blocks (S x S core plus ring) start at image sample `c`;
+// `g0` is the frame supersample of image sample (0, 0). lavapipe runs 8 invocations in
+// SIMD and executes both sides of every branch under a mask, so the costly plane tests
+// must not sit in a fixed loop over all pairs: each sample row (loaded once, kept in
+// registers; S is a specialisation constant so these loops unroll) first collects the
+// differing pairs of every pixel into bit masks, and only the set bits are visited.
+uint word_flags(ivec2 c, ivec2 g0, int npix) {
+  uint above[ROW];
+  for (int i = 0; i < ROW; ++i) above[i] = id_at(c + ivec2(i, 0));
+  uint flags = 0u;  // bit k: pixel k flagged
   for (int j = 1; j <= S + 1; ++j) {
-    uint row[S + 2];
-    for (int i = 0; i <= S + 1; ++i) row[i] = shared_id(c + ivec2(i, j));
-    uint h = 0u;  // bit i: horizontal pair (i, i+1) differs in id (core rows only)
-    uint v = 0u;  // bit i: vertical pair (i, j-1)-(i, j) differs in id (core columns only)
-    if (j <= S)
-      for (int i = 0; i <= S; ++i) h |= row[i] != row[i + 1] ? 1u << uint(i) : 0u;
-    for (int i = 1; i <= S; ++i) v |= row[i] != above[i] ? 1u << uint(i) : 0u;
-    while (h != 0u) {
-      int i = findLSB(h);
-      h &= h - 1u;
-      ivec2 a = c + ivec2(i, j), b = a + ivec2(1, 0);
-      if (differs(shared_id(a), a + g0, shared_id(b), b + g0)) return true;
+    uint row[ROW];
+    for (int i = 0; i < ROW; ++i) row[i] = id_at(c + ivec2(i, j));
+    uint h[P], v[P];  // bit i of pixel k: pair at block column i (as in the single-pixel rule)
+    for (int k = 0; k < P; ++k) {
+      h[k] = 0u;
+      v[k] = 0u;
+      if (j <= S)
+        for (int i = 0; i <= S; ++i) h[k] |= row[k * S + i] != row[k * S + i + 1] ? 1u << uint(i) : 0u;
+      for (int i = 1; i <= S; ++i) v[k] |= row[k * S + i] != above[k * S + i] ? 1u << uint(i) : 0u;
     }
-    while (v != 0u) {
-      int i = findLSB(v);
-      v &= v - 1u;
-      ivec2 b = c + ivec2(i, j), a = b - ivec2(0, 1);
-      if (differs(shared_id(a), a + g0, shared_id(b), b + g0)) return true;
+    for (int k = 0; k < npix; ++k) {
+      if ((flags & (1u << uint(k))) != 0u) continue;
+      uint hk = h[k], vk = v[k];
+      ivec2 ck = c + ivec2(k * S, j);
+      while (hk != 0u) {
+        int i = findLSB(hk);
+        hk &= hk - 1u;
+        ivec2 a = ck + ivec2(i, 0), b = a + ivec2(1, 0);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0)) {
+          flags |= 1u << uint(k);
+          break;
+        }
+      }
+      while (vk != 0u && (flags & (1u << uint(k))) == 0u) {
+        int i = findLSB(vk);
+        vk &= vk - 1u;
+        ivec2 b = ck + ivec2(i, 0), a = b - ivec2(0, 1);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0)) flags |= 1u << uint(k);
+      }
     }
-    for (int i = 0; i <= S + 1; ++i) above[i] = row[i];
+    for (int i = 0; i < ROW; ++i) above[i] = row[i];
   }
-  return false;
+  return flags;
 }
 
 void main() {
-  const uint invocations = ZZ_FLAG_GROUP_X * ZZ_FLAG_GROUP_Y;
-  uint lid = gl_LocalInvocationIndex;
-  ivec2 px0 = p.area.xy + ivec2(gl_WorkGroupID.xy) * TILE;  // frame pixel of the group's corner
-  ivec2 area_end = p.area.xy + p.area.zw;
+  ivec2 cell = ivec2(gl_GlobalInvocationID.xy);  // word column, pixel row within the area
+  ivec2 px = p.area.xy + ivec2(cell.x * P, cell.y);
+  int npix = min(P, p.area.x + p.area.z - px.x);
+  if (npix <= 0 || cell.y >= p.area.w) return;
   // Image sample u sits at frame supersample tile.x*S - 1 + u (the ring is u = 0).
-  ivec2 u0 = (px0 - p.tile.xy) * S;
-  ivec2 u_last = (area_end - p.tile.xy) * S + 1;  // last sample the area's pixels read
-  for (uint k = lid; k < uint(SIDE * SIDE); k += invocations) {
-    ivec2 t = ivec2(int(k) % SIDE, int(k) / SIDE);
-    tile_ids[k] = imageLoad(ids, min(u0 + t, u_last)).x;
-  }
-  if (lid < uint(TILE * WORDS)) tile_words[lid] = 0u;
-  barrier();
-
-  ivec2 g0 = px0 * S - ivec2(1);
-  for (uint q = lid; q < uint(TILE * TILE); q += invocations) {
-    ivec2 l = ivec2(int(q) % TILE, int(q) / TILE);
-    ivec2 pixel = px0 + l;
-    if (all(lessThan(pixel, area_end)) && pixel_flag(l * S, g0))
-      atomicOr(tile_words[l.y * WORDS + l.x / ZZ_PIXELS_PER_WORD], 1u << uint(8 * (l.x % ZZ_PIXELS_PER_WORD)));
-  }
-  barrier();
-
-  if (lid < uint(TILE * WORDS)) {
-    ivec2 w = ivec2(int(lid) % WORDS, int(lid) / WORDS);
-    ivec2 first = px0 + ivec2(w.x * ZZ_PIXELS_PER_WORD, w.y);  // the word's first pixel
-    if (all(lessThan(first, area_end)))
-      words[first.y * p.frame.w + first.x / ZZ_PIXELS_PER_WORD] = tile_words[lid];
-  }
+  ivec2 c = (px - p.tile.xy) * S;
+  ivec2 g0 = p.tile.xy * S - ivec2(1);
+  uint f = word_flags(c, g0, npix);
+  uint word = 0u;
+  for (int k = 0; k < P; ++k) word |= (f >> uint(k) & 1u) << uint(8 * k);
+  words[px.y * p.frame.w + px.x / P] = word;
 }

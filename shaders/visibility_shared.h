@@ -13,9 +13,8 @@ using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
 #endif
 
-// Flag compute invocations per group; a group flags TILE x TILE pixels (a specialisation
-// constant, 8 or 4 by the shared-memory limit) and writes ZZ_PIXELS_PER_WORD horizontal
-// pixels as one uint (byte k = pixel 4*word + k), so no 8-bit storage is needed.
+// Flag compute invocations per group; each invocation flags ZZ_PIXELS_PER_WORD horizontal
+// pixels and writes them as one uint (byte k = pixel 4*word + k), so no 8-bit storage is needed.
 #define ZZ_FLAG_GROUP_X 8
 #define ZZ_FLAG_GROUP_Y 8
 #define ZZ_PIXELS_PER_WORD 4

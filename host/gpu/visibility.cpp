@@ -313,7 +313,6 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   frame_s_ = f.s;
   VkDevice d = context_.device();
   const VkPipeline flags_pipeline = flag_pipeline(f.s);
-  const int group_pixels = flag_group_pixels(f.s);
 
   VkDeviceSize flag_bytes = VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t);
   if (flags_.size < flag_bytes) {
@@ -368,8 +367,9 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
       push.tile = glm::ivec4(tile.x, tile.y, tile.w, tile.h);
       push.area = glm::ivec4(part.x, part.y, part.w, part.h);
       vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-      vkCmdDispatch(cmd, uint32_t((part.w + group_pixels - 1) / group_pixels),
-                    uint32_t((part.h + group_pixels - 1) / group_pixels), 1);
+      const uint32_t words = uint32_t((part.w + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
+      vkCmdDispatch(cmd, (words + ZZ_FLAG_GROUP_X - 1) / ZZ_FLAG_GROUP_X,
+                    uint32_t(part.h + ZZ_FLAG_GROUP_Y - 1) / ZZ_FLAG_GROUP_Y, 1);
       if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 3));
     }
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,

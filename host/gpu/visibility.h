@@ -82,9 +82,8 @@ class VisibilityPass {
   Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
   void ensure_targets(uint32_t width, uint32_t height);
   void create_pipelines();  // visibility_pipelines.cpp
-  // The flag pipeline for S (specialised: S and the group's pixel tile), made on first use.
+  // The flag pipeline specialised for S, made on first use.
   VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
-  int flag_group_pixels(int s) const;  // visibility_pipelines.cpp
   // Rasterises `tile` with its own projection; only `area` (pixels inside the tile) and
   // its one-sample ring are cleared and drawn (scissor), the viewport stays the tile's.
   void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile, const Tile& area);

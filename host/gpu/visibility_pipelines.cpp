@@ -1,8 +1,5 @@
 // The visibility pass's pipelines: the id raster (dynamic rendering, reverse-Z), the
 // per-frame triangle planes and the flag compute shader (one per S) with their descriptor set.
-#include <string>
-
-#include "core/error.h"
 #include "gpu/shaders.h"
 #include "gpu/visibility.h"
 
@@ -133,24 +130,12 @@ void VisibilityPass::create_pipelines() {
   vk_check(vkAllocateDescriptorSets(d, &alloc, &flag_set_), "vkAllocateDescriptorSets");
 }
 
-// Pixels per side of a flag group: 8 when its shared id tile fits the device, else 4.
-int VisibilityPass::flag_group_pixels(int s) const {
-  uint32_t limit = context_.properties().limits.maxComputeSharedMemorySize;
-  for (int tile : {8, 4}) {
-    uint64_t side = uint64_t(tile) * s + 2;
-    uint64_t bytes = (side * side + uint64_t(tile) * tile / ZZ_PIXELS_PER_WORD) * sizeof(uint32_t);
-    if (bytes <= limit) return tile;
-  }
-  throw Error("visibility map: --edge-ss " + std::to_string(s) + " needs more compute shared memory than the device's " +
-              std::to_string(limit) + " bytes");
-}
-
 VkPipeline VisibilityPass::flag_pipeline(int s) {
   auto found = flag_pipelines_.find(s);
   if (found != flag_pipelines_.end()) return found->second;
-  const int32_t constants[2] = {s, flag_group_pixels(s)};
-  const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(int32_t)}, {1, sizeof(int32_t), sizeof(int32_t)}};
-  VkSpecializationInfo specialization{2, entries, sizeof(constants), constants};
+  const int32_t constants[1] = {s};
+  const VkSpecializationMapEntry entries[1] = {{0, 0, sizeof(int32_t)}};
+  VkSpecializationInfo specialization{1, entries, sizeof(constants), constants};
   VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;

@@ -43,8 +43,8 @@ TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderS6OddSizeTightThresholds) {
   expect_all_agree(context(), camera, 53, 41, s);
 }
 
-TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderS12SmallGroups) {
-  // S = 12 no longer fits an 8 x 8-pixel group's shared tile in 32 KiB: 4 x 4 groups.
+TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderS12) {
+  // S = 12: register rows of 50 ids, masks up to 13 bits.
   const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
   VisibilitySettings s;
   s.supersample = 12;
