@@ -20,6 +20,7 @@
 #include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/interrupt.h"
+#include "scene/camera_select.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
@@ -45,18 +46,11 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
     for (size_t i = 0; i < scene.cameras.size(); ++i) cameras.push_back(int(i));
     return cameras;
   }
-  int index = -1;
   try {
-    size_t used = 0;
-    index = std::stoi(o.camera, &used);
-    if (used != o.camera.size()) index = -1;
-  } catch (const std::exception&) {
+    return {int(find_camera(scene, o.camera))};
+  } catch (const Error& e) {
+    throw Error(scene_path.string() + ": --camera " + o.camera + ": " + e.what() + " (or use all)");
   }
-  if (index < 0 || index >= int(scene.cameras.size()))
-    throw Error(scene_path.string() + ": --camera " + o.camera + " does not exist (the scene has " +
-                std::to_string(scene.cameras.size()) + " camera(s); use 0.." +
-                std::to_string(scene.cameras.size() - 1) + " or all)");
-  return {index};
 }
 
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
@@ -65,7 +59,6 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   load.quiet = o.quiet;
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
-  require_triangles(scene, scene_path);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
@@ -81,7 +74,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    const RenderSettings settings = make_render_settings(o.render, scene);
+    const RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
     const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
     check_memory(frame_bytes(settings.width, settings.height,
                              settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())),
