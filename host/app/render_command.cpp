@@ -76,9 +76,14 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     const auto t_job = std::chrono::steady_clock::now();
     const RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
     const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
-    check_memory(frame_bytes(settings.width, settings.height,
-                             settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())),
-                 frame.c_str());
+    // The frame's own memory (film, display image, scratch; the visibility raster and
+    // readback) on top of what the process holds now (libraries, Vulkan, scene, BVH).
+    const uint64_t frame_need =
+        frame_bytes(settings.width, settings.height,
+                    settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
+        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+    check_memory(frame_need, frame.c_str());
+    const uint64_t memory_estimate = resident_bytes() + frame_need;
     const OutputKey key{scene_name, std::to_string(camera_index), 0};
     const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
@@ -116,6 +121,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     record.scene = &scene;
     record.shader = &shader;
     record.bvh = &bvh_stats;
+    record.memory_estimate_bytes = memory_estimate;
     record.times = {load_s, bvh_s, write_s,
                     seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0)};
     if (visibility) {

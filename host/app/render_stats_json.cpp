@@ -61,6 +61,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                  {"render", stats.render_seconds},
                  {"write", r.times.write},
                  {"total", r.times.total}};
+  j["memory_estimate_bytes"] = r.memory_estimate_bytes;
   j["edges"] = name_of(kEdgeModes, o.edges);
   if (r.visibility) {
     size_t flagged = 0;

@@ -31,6 +31,7 @@ struct JobRecord {
   const Shader* shader = nullptr;
   const BvhBuildStats* bvh = nullptr;
   StageTimes times;
+  uint64_t memory_estimate_bytes = 0;  // peak resident memory expected for the job
   const VisibilityPass* visibility = nullptr;
   const VisibilityTimings* edge_times = nullptr;
   const GeoMap* geo = nullptr;

@@ -134,21 +134,34 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
 
   // Tiles: full rows when they fit, else bands / columns. Widths are multiples of 4
   // pixels (one flag word each), the image holds the tile plus a one-sample ring.
-  int max_dim = settings.max_tile_dim > 0 ? settings.max_tile_dim
-                                          : int(context_.properties().limits.maxImageDimension2D);
-  int max_px = (max_dim - 2) / f.s;
-  int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
-  if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
-  int64_t row_samples = int64_t(tile_w) * f.s + 2;
-  int64_t max_rows = settings.max_tile_samples / row_samples;  // image rows incl. ring
-  int tile_h = int(std::min<int64_t>({int64_t(height), int64_t(max_px), (max_rows - 2) / f.s}));
-  if (tile_h < 1) throw Error("visibility map: tile memory budget too small");
+  const auto [tile_w, tile_h] = tile_size(width, height, settings);
   for (int y = 0; y < height; y += tile_h)
     for (int x = 0; x < width; x += tile_w)
       f.tiles.push_back({x, y, std::min(tile_w, width - x), std::min(tile_h, height - y)});
   f.image_w = uint32_t(tile_w * f.s + 2);
   f.image_h = uint32_t(tile_h * f.s + 2);
   return f;
+}
+
+std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings) const {
+  const int s = settings.supersample;
+  int max_dim = settings.max_tile_dim > 0 ? settings.max_tile_dim
+                                          : int(context_.properties().limits.maxImageDimension2D);
+  int max_px = (max_dim - 2) / s;
+  int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
+  if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
+  int64_t row_samples = int64_t(tile_w) * s + 2;
+  int64_t max_rows = settings.max_tile_samples / row_samples;  // image rows incl. ring
+  int tile_h = int(std::min<int64_t>({int64_t(height), int64_t(max_px), (max_rows - 2) / s}));
+  if (tile_h < 1) throw Error("visibility map: tile memory budget too small");
+  return {tile_w, tile_h};
+}
+
+uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings) const {
+  const auto [tile_w, tile_h] = tile_size(width, height, settings);
+  const uint64_t samples = uint64_t(tile_w * settings.supersample + 2) * uint64_t(tile_h * settings.supersample + 2);
+  const uint64_t words = uint64_t((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * uint64_t(height);
+  return samples * 8 + words * 4;
 }
 
 void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {

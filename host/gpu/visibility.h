@@ -7,6 +7,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "core/geo_map.h"
@@ -72,7 +73,14 @@ class VisibilityPass {
 
   double upload_seconds() const { return upload_s_; }
 
+  // Device memory run() allocates for a frame (on lavapipe: host memory): the tile's id
+  // and depth attachments (8 bytes per supersample, the tile plan of run()) plus the flag
+  // buffer the map is read back from (one 32-bit word per 4 pixels).
+  uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings) const;
+
  private:
+  // Tile width and height in pixels for a frame (the raster's memory budget).
+  std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings) const;
   static constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
   static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;  // reverse-Z
   struct Tile {

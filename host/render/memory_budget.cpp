@@ -1,6 +1,7 @@
 #include "render/memory_budget.h"
 
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -19,6 +20,13 @@ uint64_t frame_bytes(int width, int height, int threads) {
   const uint64_t display = pixels * 3;           // 8-bit image handed to the writer
   const uint64_t scratch = uint64_t(std::max(threads, 1)) * (4u << 20);  // region buffers per worker
   return film + geo + display + scratch;
+}
+
+uint64_t resident_bytes() {
+  std::ifstream statm("/proc/self/statm");
+  uint64_t size = 0, resident = 0;
+  if (!(statm >> size >> resident)) return 0;
+  return resident * uint64_t(sysconf(_SC_PAGESIZE));
 }
 
 uint64_t available_bytes() {

@@ -10,6 +10,9 @@ namespace zz {
 // display image for writing, per-thread sampler scratch.
 uint64_t frame_bytes(int width, int height, int threads);
 
+// The process's resident memory now (/proc/self/statm); 0 if unknown.
+uint64_t resident_bytes();
+
 // Memory the process may still use: the smaller of MemAvailable (/proc/meminfo),
 // RLIMIT_AS headroom and $ZIGZAG_MEMORY_LIMIT (bytes), if set. 0 if unknown.
 uint64_t available_bytes();
