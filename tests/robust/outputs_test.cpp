@@ -185,8 +185,11 @@ TEST_F(Outputs, NoTrianglesIsAnError) {
 }
 
 TEST_F(Outputs, TraceDepthHasOneRangeAndDeepGlassStaysBounded) {
-  expect_error(render({path("good.json").string(), "--max-depth", "64", "-o", path("x.png").string()}),
-               "--max-depth");
+  // A command-line syntax error: CLI11's exit code (105) and its standard hint line.
+  const auto cli = render({path("good.json").string(), "--max-depth", "64", "-o", path("x.png").string()});
+  EXPECT_TRUE(cli.exited && cli.exit_code != 0 && cli.exit_code != 2) << cli.err;
+  EXPECT_NE(cli.err.find("--max-depth: Value 64 not in range 0 to 16"), std::string::npos) << cli.err;
+  std::printf("[ message ] exit %d: %s", cli.exit_code, cli.err.c_str());
   write("deep.json", R"({"model": "default.gltf", "max_depth": 64})");
   expect_error(render({path("deep.json").string(), "-o", path("x.png").string()}), "max_depth");
   // Fresnel splits double the rays per bounce without the throughput cutoff: 3.4 M rays
