@@ -59,6 +59,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["time_s"] = {{"load", r.times.load},
                  {"bvh", r.times.bvh},
                  {"render", stats.render_seconds},
+                 {"frame", r.times.frame},
                  {"write", r.times.write},
                  {"total", r.times.total}};
   j["edges"] = name_of(kEdgeModes, o.edges);
