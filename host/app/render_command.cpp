@@ -21,6 +21,7 @@
 #include "app/progress.h"
 #include "app/render_stats_json.h"
 #include "core/error.h"
+#include "scene/camera_select.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
@@ -46,18 +47,11 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
     for (size_t i = 0; i < scene.cameras.size(); ++i) cameras.push_back(int(i));
     return cameras;
   }
-  int index = -1;
   try {
-    size_t used = 0;
-    index = std::stoi(o.camera, &used);
-    if (used != o.camera.size()) index = -1;
-  } catch (const std::exception&) {
+    return {int(find_camera(scene, o.camera))};
+  } catch (const Error& e) {
+    throw Error(scene_path.string() + ": --camera " + o.camera + ": " + e.what() + " (or use all)");
   }
-  if (index < 0 || index >= int(scene.cameras.size()))
-    throw Error(scene_path.string() + ": --camera " + o.camera + " does not exist (the scene has " +
-                std::to_string(scene.cameras.size()) + " camera(s); use 0.." +
-                std::to_string(scene.cameras.size() - 1) + " or all)");
-  return {index};
 }
 
 void write_stats(const std::filesystem::path& path, const nlohmann::json& j) {
@@ -91,7 +85,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    const RenderSettings settings = make_render_settings(o.render, scene);
+    const RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
     const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
     check_memory(frame_bytes(settings.width, settings.height,
                              settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())),
