@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <future>
 #include <memory>
 #include <string>
 #include <thread>
@@ -53,7 +55,9 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
   }
 }
 
-void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, VulkanContext* vulkan) {
+// `device` yields the Vulkan context (null: no map wanted); it may still be being created.
+void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
+                const std::function<VulkanContext*()>& device) {
   LoadOptions load;
   load.assets_dir = o.render.assets;
   load.quiet = o.quiet;
@@ -69,6 +73,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   const Bvh bvh = Bvh::build(scene.positions, &bvh_stats);
   const double bvh_s = seconds_since(t);
   const Shader shader(scene, bvh);
+  VulkanContext* vulkan = device();
   std::unique_ptr<VisibilityPass> visibility;
   if (vulkan) visibility = std::make_unique<VisibilityPass>(*vulkan, scene);
 
@@ -87,11 +92,20 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     const OutputKey key{scene_name, std::to_string(camera_index), 0};
     const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
+    // The map is made on its own thread while level 1 traces (render_frame awaits it
+    // before classifying); --edges-serial makes it first. The image is the same.
+    const auto t_frame = std::chrono::steady_clock::now();
     GeoMap geo;
     VisibilityTimings edge_times;
-    if (visibility)
-      geo = visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                            make_visibility_settings(o.render), &edge_times);
+    std::shared_future<GeoMap> pending;
+    if (visibility) {
+      auto make_map = [&, camera_index] {
+        return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                               make_visibility_settings(o.render), &edge_times);
+      };
+      if (o.render.edges_serial) geo = make_map();
+      else pending = std::async(std::launch::async, make_map).share();
+    }
 
     Film film;
     RenderStats stats;
@@ -102,9 +116,15 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     callbacks.cancel = &interrupt_flag();
     {
       CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written
-      render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
+      if (pending.valid()) {
+        render_frame(shader, scene.cameras[size_t(camera_index)], pending, settings, film, stats, callbacks);
+        geo = pending.get();
+      } else {
+        render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
+      }
     }
     throw_if_interrupted();
+    const double frame_s = seconds_since(t_frame);
 
     t = std::chrono::steady_clock::now();
     write_film(output, film, settings.tonemap);
@@ -123,7 +143,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     record.bvh = &bvh_stats;
     record.memory_estimate_bytes = memory_estimate;
     record.times = {load_s, bvh_s, write_s,
-                    seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0)};
+                    seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0), frame_s};
     if (visibility) {
       record.visibility = visibility.get();
       record.edge_times = &edge_times;
@@ -156,22 +176,41 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->callback([o, &exit_code] {
     validate(*o);  // before anything is loaded: a bad invocation costs no render
     preflight_outputs(*o);
+    // Instance and device creation overlap the first scene's load and BVH build; the
+    // first job that needs the device waits for it. Creation errors (no device: the
+    // install hint) end the whole batch as before, even after a job failed to load.
+    std::future<std::unique_ptr<VulkanContext>> creating;
     std::unique_ptr<VulkanContext> vulkan;
+    std::exception_ptr device_error;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
       vo.device_index = o->render.vk_device;
       vo.validate = o->render.vk_validate;
-      vulkan = VulkanContext::create(vo);  // throws with an install hint when there is no device
+      creating = std::async(std::launch::async, [vo] { return VulkanContext::create(vo); });
     }
+    auto device = [&]() -> VulkanContext* {
+      if (device_error) std::rethrow_exception(device_error);
+      if (creating.valid()) {
+        try {
+          vulkan = creating.get();
+        } catch (...) {
+          device_error = std::current_exception();
+          throw;
+        }
+      }
+      return vulkan.get();
+    };
     int failed = 0;
     for (const std::string& scene : o->scenes) {
       try {
-        render_job(*o, scene, vulkan.get());
+        render_job(*o, scene, device);
       } catch (const std::exception& e) {
+        if (device_error) std::rethrow_exception(device_error);
         std::fprintf(stderr, "zigzag: error: %s\n", e.what());
         ++failed;
       }
     }
+    device();  // a batch whose jobs all failed before needing the device still reports it
     if (failed > 0 && o->scenes.size() > 1)
       std::fprintf(stderr, "zigzag: %d of %zu jobs failed\n", failed, o->scenes.size());
     exit_code = failed > 0 ? 1 : 0;

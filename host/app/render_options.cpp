@@ -38,6 +38,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
       ->check(CLI::Range(1e-6f, 100.0f));
   cmd->add_option("--vk-device", o.vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
   cmd->add_flag("--vk-validate", o.vk_validate, "Vulkan validation layers; exit non-zero if they report anything");
+  cmd->add_flag("--edges-serial", o.edges_serial,
+                "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");
   cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::Range(1e-6f, 1e6f));

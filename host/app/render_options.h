@@ -54,6 +54,7 @@ struct RenderOptions {
   float edge_depth = VisibilitySettings{}.depth_rel;
   int vk_device = -1;
   bool vk_validate = false;
+  bool edges_serial = false;  // the map before level 1 instead of alongside it
   int threads = 0;
   std::string assets;
   float exposure = 0.0f;  // 0 = the scene's

@@ -60,6 +60,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["time_s"] = {{"load", r.times.load},
                  {"bvh", r.times.bvh},
                  {"render", stats.render_seconds},
+                 {"frame", r.times.frame},
                  {"write", r.times.write},
                  {"total", r.times.total}};
   j["memory_estimate_bytes"] = r.memory_estimate_bytes;

@@ -17,6 +17,7 @@ namespace zz {
 
 struct StageTimes {
   double load = 0, bvh = 0, write = 0, total = 0;
+  double frame = 0;  // visibility map + render, wall (they overlap unless --edges-serial)
 };
 
 // Everything one job reports; the visibility fields are used when `visibility` is set.

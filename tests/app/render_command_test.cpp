@@ -154,6 +154,18 @@ TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   fs::remove_all(dir);
 }
 
+TEST(RenderCommand, MissingDeviceIsReportedAlsoAfterAFailedLoad) {
+  // The device is created while the first scene loads; a load failure must not hide it.
+  const fs::path dir = temp_dir();
+  const std::string no_vulkan = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json ";
+  const auto r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + (dir / "missing.json").string() +
+                                   " --width 32 --height 32 -q -o " + (dir / "{scene}.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("missing.json"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 TEST(RenderCommand, CameraByNameAndFrameFromItsAspect) {
   const fs::path dir = temp_dir() / "aspect";
   fs::create_directories(dir);

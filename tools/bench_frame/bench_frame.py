@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""Frame benchmark: 1 ray/px, adaptive (visibility map and render split) and the 25-point
-lattice per scene, interleaved (every repetition runs every configuration once, so load
+"""Frame benchmark: 1 ray/px, adaptive and the 25-point lattice per scene, interleaved (every repetition runs every configuration once, so load
 drifts hit all of them alike), medians of --reps runs, through the real `zigzag render`
-path (times from its --stats JSON). Prints the ratios of issue 11: the map's share of the
-adaptive frame, lattice / adaptive, adaptive 2 threads vs 1, and the frame's distance to
-the ray-throughput limit: its rays by type / bench_traversal's 4-ray-packet throughput
-for that type at the same thread count.
+path (times from its --stats JSON). The adaptive frame runs twice: as zigzag renders it
+(the map alongside level 1; frame = wall of both) and with --edges-serial (map, then
+render: the split). Prints the ratios of issue 11: the map's share of the serial adaptive
+frame, lattice / adaptive frame, adaptive 2 threads vs 1, and the frame's distance to the
+ray-throughput limit: its rays by type / bench_traversal's 4-ray-packet throughput for
+that type at the same thread count.
 
 usage: bench_frame.py --build BUILD [--size 1024] [--reps 5] [--threads 2] [--no-traversal] [scene.json ...]
 """
@@ -22,6 +23,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 CONFIGS = {  # name -> (zigzag options, uses the thread count given)
     "1rpp": ["--aa", "none"],
     "adaptive": [],
+    "serial": ["--edges-serial"],
     "adaptive_1t": [],
     "lattice": ["--aa", "uniform", "--spp", "25", "--pattern", "lattice"],
 }
@@ -36,7 +38,7 @@ def render(zigzag, scene, size, threads, options, workdir):
     with open(stats) as f:
         j = json.load(f)
     edges = j["time_s"].get("edges", {}).get("total", 0.0)
-    return {"render": j["time_s"]["render"], "map": edges, "rays": j["rays"]}
+    return {"render": j["time_s"]["render"], "map": edges, "frame": j["time_s"].get("frame", 0.0), "rays": j["rays"]}
 
 
 def traversal_rates(bench, scenes, threads, workdir):
@@ -86,16 +88,16 @@ def main():
         return statistics.median(r[key] for r in runs[(name, config)])
 
     print(f"\nframe benchmark: {a.size}x{a.size}, {a.threads} threads (adaptive_1t: 1), medians of {a.reps}, seconds")
-    head = ("scene", "1 ray/px", "adaptive", "map", "map share", "lattice", "lattice/adapt", "adapt 1t", "2t speed-up")
+    head = ("scene", "1 ray/px", "serial: render", "serial: map", "map share", "adaptive frame",
+            "lattice", "lattice/frame", "frame 1t", "2t speed-up")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for n in names:
-        frame = [r["render"] + r["map"] for r in runs[(n, "adaptive")]]
-        frame1 = [r["render"] + r["map"] for r in runs[(n, "adaptive_1t")]]
-        adaptive, one = statistics.median(frame), statistics.median(frame1)
+        adaptive, one = med(n, "adaptive", "frame"), med(n, "adaptive_1t", "frame")
         lattice = med(n, "lattice", "render")
-        print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'adaptive', 'render'):.3f} | "
-              f"{med(n, 'adaptive', 'map'):.3f} | {100 * statistics.median(r['map'] / (r['render'] + r['map']) for r in runs[(n, 'adaptive')]):.0f} % | "
+        share = statistics.median(r["map"] / (r["render"] + r["map"]) for r in runs[(n, "serial")])
+        print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'serial', 'render'):.3f} | "
+              f"{med(n, 'serial', 'map'):.3f} | {100 * share:.0f} % | {adaptive:.3f} | "
               f"{lattice:.3f} | {lattice / adaptive:.1f}x | {one:.3f} | {one / adaptive:.2f}x |")
     if not rates:
         return
@@ -104,7 +106,7 @@ def main():
     print("| scene | config | primary | shadow | secondary | limit s | render s | render / limit |")
     print("|---|---|---|---|---|---|---|---|")
     for n in names:
-        for config in ("1rpp", "adaptive", "lattice"):
+        for config in ("1rpp", "serial", "lattice"):
             rays = runs[(n, config)][0]["rays"]  # deterministic: the same in every run
             counts = {"primary": rays["primary"], "shadow": rays["shadow"],
                       "secondary": rays["reflection"] + rays["refraction"]}
