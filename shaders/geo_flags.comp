@@ -5,18 +5,31 @@
 // the angle threshold apart; or distances more than the relative threshold apart, where
 // both triangles' planes are intersected exactly with the SAME sample ray, so surfaces
 // that meet along an edge (smooth or coplanar tessellation) compare equal however
-// grazing the view. tests/gpu/flag_reference.h mirrors this rule bit for bit.
+// grazing the view. tests/gpu/flag_reference.h mirrors this rule bit for bit, and
+// host/gpu/geo_flags_cpu.cpp implements it again with SSE.
+//
+// Shaped for lavapipe (8-wide SIMD on the CPU): an invocation flags the 4 pixels of one
+// output word and reads the attachment directly (no copy), each sample row of their
+// blocks once (4S + 2 ids, kept in registers: S is a specialisation constant, so the
+// row loops unroll): (S + 2)(4S + 2)/4 = 27 loads per pixel at S = 4, where a loop per
+// pixel over a copied buffer loaded 66. A shared-memory tile with an apron measured
+// slower on lavapipe (process CPU 557 against 392 ms, room 1024^2 S = 4): its barriers
+// run every group as coroutines. The per-triangle plane (normal,
+// camera-relative offset) is one vec4 per id, computed per frame by triangle_planes.comp.
 #extension GL_GOOGLE_include_directive : require
 #include "visibility_shared.h"
 
 layout(local_size_x = ZZ_FLAG_GROUP_X, local_size_y = ZZ_FLAG_GROUP_Y) in;
+layout(constant_id = 0) const int S = 4;     // supersamples per pixel axis
+const int P = ZZ_PIXELS_PER_WORD;             // pixels per invocation: one output word
+const int ROW = P * S + 2;                   // samples per register row, ring included
 
 layout(push_constant) uniform Push { FlagPush p; };
-// The tile's id image (ring included, rows of tile.z*S + 2 ids), copied into a buffer.
-layout(std430, binding = 0) readonly buffer Ids { uint ids[]; };
-layout(std430, binding = 1) readonly buffer Positions { vec4 positions[]; };
-layout(std430, binding = 2) readonly buffer Normals { vec4 normals[]; };
-layout(std430, binding = 3) writeonly buffer Flags { uint words[]; };
+// The tile's id attachment (ring included), read directly: no copy into a buffer.
+layout(binding = ZZ_BIND_IDS, r32ui) uniform readonly uimage2D ids;
+layout(std430, binding = ZZ_BIND_PLANES) readonly buffer Planes { vec4 planes[]; };
+layout(std430, binding = ZZ_BIND_FLAGS) writeonly buffer Flags { uint words[]; };
+
 
 precise vec3 ray_dir(ivec2 g) {
   precise vec3 d = p.dir00.xyz + float(g.x) * p.du.xyz;
@@ -40,8 +53,9 @@ bool far_apart(float a, float b) {
 bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
   if (ia == ib) return false;
   if (ia == 0u || ib == 0u) return true;
-  vec3 na = normals[ia - 1u].xyz;
-  vec3 nb = normals[ib - 1u].xyz;
+  vec4 pa = planes[ia - 1u];
+  vec4 pb = planes[ib - 1u];
+  vec3 na = pa.xyz, nb = pb.xyz;
   vec3 da = ray_dir(ga);
   vec3 db = ray_dir(gb);
   precise float sa = dot3(na, da);
@@ -50,10 +64,9 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
   precise float c = dot3(na, nb);
   if ((sa < 0.0) != (sb < 0.0)) c = -c;
   if (c < p.limits.x) return true;
-  // Plane n.x = n.v0 hit by ray o + t d at t = n.(v0 - o) / n.d (Moller & Trumbore style,
-  // camera-relative so the subtraction is exact for nearby geometry).
-  precise float ha = dot3(na, positions[3u * (ia - 1u)].xyz - p.origin.xyz);
-  precise float hb = dot3(nb, positions[3u * (ib - 1u)].xyz - p.origin.xyz);
+  // Plane n.x = n.v0 hit by ray o + t d at t = n.(v0 - o) / n.d; h = n.(v0 - o) per frame.
+  precise float ha = pa.w;
+  precise float hb = pb.w;
   precise float taa = ha / sa;
   precise float tba = hb / dot3(nb, da);
   precise float tab = ha / dot3(na, db);
@@ -61,56 +74,64 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
   return far_apart(taa, tba) || far_apart(tbb, tab);
 }
 
-uint id_at(ivec2 uv) { return ids[uv.y * (p.tile.z * p.frame.z + 2) + uv.x]; }
+uint id_at(ivec2 u) { return imageLoad(ids, u).x; }
 
-// Flag of the pixel whose block (S x S core plus ring) has its corner at image sample
-// `base`. lavapipe runs 8 invocations in SIMD and executes both sides of every branch
-// under a mask, so the costly plane tests must not sit in a fixed loop over all pairs:
-// each row first collects the differing pairs into bit masks with cheap compares, and
-// only the set bits are visited (a loop ends once no lane has bits left).
-bool pixel_flag(ivec2 base) {
-  int s = p.frame.z;
-  ivec2 to_global = p.tile.xy * s - ivec2(1);  // image -> frame supersample
-  for (int j = 0; j <= s + 1; ++j) {
-    uint h = 0u;  // bit i: horizontal pair (i, i+1) differs in id
-    uint v = 0u;  // bit i: vertical pair (i, j-1)-(i, j) differs in id
-    uint left = id_at(base + ivec2(0, j));
-    for (int i = 1; i <= s + 1; ++i) {
-      uint id = id_at(base + ivec2(i, j));
-      uint above = id_at(base + ivec2(i, max(j - 1, 0)));
-      h |= id != left ? 1u << uint(i - 1) : 0u;
-      v |= id != above ? 1u << uint(i) : 0u;
-      left = id;
+// Flags of the P pixels whose blocks (S x S core plus ring) start at image sample `c`;
+// `g0` is the frame supersample of image sample (0, 0). lavapipe runs 8 invocations in
+// SIMD and executes both sides of every branch under a mask, so the costly plane tests
+// must not sit in a fixed loop over all pairs: each sample row (loaded once, kept in
+// registers; S is a specialisation constant so these loops unroll) first collects the
+// differing pairs of every pixel into bit masks, and only the set bits are visited.
+uint word_flags(ivec2 c, ivec2 g0, int npix) {
+  uint above[ROW];
+  for (int i = 0; i < ROW; ++i) above[i] = id_at(c + ivec2(i, 0));
+  uint flags = 0u;  // bit k: pixel k flagged
+  for (int j = 1; j <= S + 1; ++j) {
+    uint row[ROW];
+    for (int i = 0; i < ROW; ++i) row[i] = id_at(c + ivec2(i, j));
+    uint h[P], v[P];  // bit i of pixel k: pair at block column i (as in the single-pixel rule)
+    for (int k = 0; k < P; ++k) {
+      h[k] = 0u;
+      v[k] = 0u;
+      if (j <= S)
+        for (int i = 0; i <= S; ++i) h[k] |= row[k * S + i] != row[k * S + i + 1] ? 1u << uint(i) : 0u;
+      for (int i = 1; i <= S; ++i) v[k] |= row[k * S + i] != above[k * S + i] ? 1u << uint(i) : 0u;
     }
-    if (j < 1 || j > s) h = 0u;  // horizontal pairs only in core rows
-    v &= ((1u << uint(s + 1)) - 1u) & ~1u;  // vertical pairs only in core columns 1..S
-    while (h != 0u) {
-      int i = findLSB(h);
-      h &= h - 1u;
-      ivec2 a = base + ivec2(i, j), b = a + ivec2(1, 0);
-      if (differs(id_at(a), a + to_global, id_at(b), b + to_global)) return true;
+    for (int k = 0; k < npix; ++k) {
+      if ((flags & (1u << uint(k))) != 0u) continue;
+      uint hk = h[k], vk = v[k];
+      ivec2 ck = c + ivec2(k * S, j);
+      while (hk != 0u) {
+        int i = findLSB(hk);
+        hk &= hk - 1u;
+        ivec2 a = ck + ivec2(i, 0), b = a + ivec2(1, 0);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0)) {
+          flags |= 1u << uint(k);
+          break;
+        }
+      }
+      while (vk != 0u && (flags & (1u << uint(k))) == 0u) {
+        int i = findLSB(vk);
+        vk &= vk - 1u;
+        ivec2 b = ck + ivec2(i, 0), a = b - ivec2(0, 1);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0)) flags |= 1u << uint(k);
+      }
     }
-    while (v != 0u) {
-      int i = findLSB(v);
-      v &= v - 1u;
-      ivec2 b = base + ivec2(i, j), a = b - ivec2(0, 1);
-      if (differs(id_at(a), a + to_global, id_at(b), b + to_global)) return true;
-    }
+    for (int i = 0; i < ROW; ++i) above[i] = row[i];
   }
-  return false;
+  return flags;
 }
 
 void main() {
-  ivec2 cell = ivec2(gl_GlobalInvocationID.xy);
-  int s = p.frame.z;
-  int npix = min(ZZ_PIXELS_PER_WORD, p.tile.z - cell.x * ZZ_PIXELS_PER_WORD);
-  if (npix <= 0 || cell.y >= p.tile.w) return;
+  ivec2 cell = ivec2(gl_GlobalInvocationID.xy);  // word column, pixel row within the area
+  ivec2 px = p.area.xy + ivec2(cell.x * P, cell.y);
+  int npix = min(P, p.area.x + p.area.z - px.x);
+  if (npix <= 0 || cell.y >= p.area.w) return;
+  // Image sample u sits at frame supersample tile.x*S - 1 + u (the ring is u = 0).
+  ivec2 c = (px - p.tile.xy) * S;
+  ivec2 g0 = p.tile.xy * S - ivec2(1);
+  uint f = word_flags(c, g0, npix);
   uint word = 0u;
-  for (int k = 0; k < npix; ++k) {
-    ivec2 base = ivec2((cell.x * ZZ_PIXELS_PER_WORD + k) * s, cell.y * s);
-    if (pixel_flag(base)) word |= 1u << uint(8 * k);
-  }
-  int row = p.tile.y + cell.y;
-  int col = p.tile.x / ZZ_PIXELS_PER_WORD + cell.x;
-  words[row * p.frame.w + col] = word;
+  for (int k = 0; k < P; ++k) word |= (f >> uint(k) & 1u) << uint(8 * k);
+  words[px.y * p.frame.w + px.x / P] = word;
 }

@@ -13,12 +13,20 @@ using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
 #endif
 
-// Compute threads per group; each thread flags ZZ_PIXELS_PER_WORD horizontal pixels
-// and writes them as one uint (byte k = pixel 4*word + k), so no 8-bit storage is needed.
+// Flag compute invocations per group; each invocation flags ZZ_PIXELS_PER_WORD horizontal
+// pixels and writes them as one uint (byte k = pixel 4*word + k), so no 8-bit storage is needed.
 #define ZZ_FLAG_GROUP_X 8
 #define ZZ_FLAG_GROUP_Y 8
 #define ZZ_PIXELS_PER_WORD 4
 #define ZZ_MAX_SUPERSAMPLE 16
+#define ZZ_PLANE_GROUP 64
+
+// One descriptor set for both compute passes.
+#define ZZ_BIND_IDS 0        // r32ui storage image: the id attachment
+#define ZZ_BIND_POSITIONS 1  // vec4 per vertex
+#define ZZ_BIND_NORMALS 2    // vec4 per triangle: unit geometric normal
+#define ZZ_BIND_PLANES 3     // vec4 per triangle per frame: normal, n.(v0 - origin)
+#define ZZ_BIND_FLAGS 4      // packed flag words
 
 // Vertex stage: clip = clip_from_view * (position - origin, 1). Camera-relative
 // positions keep float precision when the scene sits far from the world origin.
@@ -39,11 +47,19 @@ struct FlagPush {
   ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
   ivec4 frame;   // frame width, height in pixels, S, uints per output row
   vec4 limits;   // cos(normal angle threshold), relative distance threshold, 0, 0
+  ivec4 area;    // frame pixels x0, y0, width, height flagged by this dispatch (x0 % 4 == 0)
+};
+
+// Per-frame triangle planes (triangle_planes.comp).
+struct PlanePush {
+  vec4 origin;      // camera position
+  ivec4 triangles;  // count, 0, 0, 0
 };
 
 #ifdef __cplusplus
 static_assert(sizeof(RasterPush) == 80);
-static_assert(sizeof(FlagPush) == 112);  // within the 128-byte push-constant minimum
+static_assert(sizeof(FlagPush) == 128);  // the 128-byte push-constant minimum
+static_assert(sizeof(PlanePush) <= sizeof(FlagPush));
 }  // namespace zz::gpu
 #endif
 

@@ -45,37 +45,34 @@ struct AdaptiveScratch {
   }
 };
 
-template <SampleSource S>
-void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
-                          AaStats& stats) {
-  const TileRect tile = target.rect;
-  const int W = target.frame_width, H = target.frame_height;
-  if (tile.width() <= 0 || tile.height() <= 0) return;
-  assert(geo.empty() || (geo.width == W && geo.height == H));
-  const bool mitchell = settings.filter == Filter::Mitchell;
-  const int m = mitchell ? kMitchellRadius : 0;
-  const TileRect region{std::max(0, tile.x0 - m), std::max(0, tile.y0 - m), std::min(W, tile.x1 + m),
-                        std::min(H, tile.y1 + m)};
-  const int rw = region.width(), rh = region.height();
-  const int cw = rw + 1, ch = rh + 1;
+// The pixels a tile's sampler covers: the tile grown by the filter's margin (Mitchell
+// reads its neighbours' lattices), clipped to the frame. The visibility map is read
+// there too, so a caller rendering part of a frame needs the map over this rect.
+inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame_height, Filter filter) {
+  const int m = filter == Filter::Mitchell ? kMitchellRadius : 0;
+  return {std::max(0, tile.x0 - m), std::max(0, tile.y0 - m), std::min(frame_width, tile.x1 + m),
+          std::min(frame_height, tile.y1 + m)};
+}
 
-  AdaptiveScratch& scratch = AdaptiveScratch::local();
-  if (scratch.corner_linear.size() < size_t(cw) * ch) {
-    scratch.corner_linear.resize(size_t(cw) * ch);
-    scratch.corner_display.resize(size_t(cw) * ch);
-  }
-  if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
-    scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
-    scratch.refined.resize(size_t(rw) * rh);
-  }
-  float4* corner_lin = scratch.corner_linear.data();
-  float4* corner_disp = scratch.corner_display.data();
-  const float4 eps(settings.eps);
+// Entries of each corner buffer of a tile: the region's (w+1) x (h+1) pixel corners.
+inline size_t corner_count(const TileTarget& target, Filter filter) {
+  const TileRect r = adaptive_region(target.rect, target.frame_width, target.frame_height, filter);
+  return size_t(r.width() + 1) * size_t(r.height() + 1);
+}
+
+// Level 1 of a tile: the corner grid of its region in 2x2 packets into `corner_lin`
+// (linear) and `corner_disp` (tone-mapped), corner_count entries each. Needs no
+// visibility map, so it can run while the map is still being made.
+template <SampleSource S>
+void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, float4* corner_lin,
+                   float4* corner_disp, AaStats& stats) {
+  const TileRect tile = target.rect;
+  if (tile.width() <= 0 || tile.height() <= 0) return;
+  const TileRect region = adaptive_region(tile, target.frame_width, target.frame_height, settings.filter);
+  const int cw = region.width() + 1, ch = region.height() + 1;
   const ToneMap& tonemap = settings.tonemap;
-  const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
   using Clock = std::chrono::steady_clock;
-  auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
-  Clock::time_point t0 = Clock::now();
+  const Clock::time_point t0 = Clock::now();
 
   // ---- level 1: corner grid in 2x2 packets (odd edges repeat a lane, not counted) ----
   uint64_t corner_rays = 0;
@@ -98,8 +95,32 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
   }
   stats.rays[0] += corner_rays;
   stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
-  stats.seconds_corners += seconds_since(t0);
-  t0 = Clock::now();
+  stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Levels 2-3 and the filter of a tile whose corners trace_corners has traced.
+template <SampleSource S>
+void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
+                 const float4* corner_lin, const float4* corner_disp, AaStats& stats) {
+  const TileRect tile = target.rect;
+  const int W = target.frame_width, H = target.frame_height;
+  if (tile.width() <= 0 || tile.height() <= 0) return;
+  assert(geo.empty() || (geo.width == W && geo.height == H));
+  const bool mitchell = settings.filter == Filter::Mitchell;
+  const TileRect region = adaptive_region(tile, W, H, settings.filter);
+  const int rw = region.width(), rh = region.height();
+  const int cw = rw + 1;
+  AdaptiveScratch& scratch = AdaptiveScratch::local();
+  if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
+    scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
+    scratch.refined.resize(size_t(rw) * rh);
+  }
+  const float4 eps(settings.eps);
+  const ToneMap& tonemap = settings.tonemap;
+  const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
+  using Clock = std::chrono::steady_clock;
+  auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
+  Clock::time_point t0 = Clock::now();
 
   // ---- levels 1–3 per pixel of the region ----
   alignas(16) float4 lattice[kLatticePoints];
@@ -222,6 +243,21 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
       target.pixel(x, y) = glm::vec3(v[0], v[1], v[2]);
     }
   stats.seconds_filter += seconds_since(t0);
+}
+
+// One tile, levels 1-3 and the filter, with the per-thread corner buffers.
+template <SampleSource S>
+void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
+                          AaStats& stats) {
+  if (target.rect.width() <= 0 || target.rect.height() <= 0) return;
+  AdaptiveScratch& scratch = AdaptiveScratch::local();
+  const size_t n = corner_count(target, settings.filter);
+  if (scratch.corner_linear.size() < n) {
+    scratch.corner_linear.resize(n);
+    scratch.corner_display.resize(n);
+  }
+  trace_corners(source, target, settings, scratch.corner_linear.data(), scratch.corner_display.data(), stats);
+  refine_tile(source, target, geo, settings, scratch.corner_linear.data(), scratch.corner_display.data(), stats);
 }
 
 }  // namespace zz

@@ -18,7 +18,7 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
                   "Output image; {scene}, {camera}, {frame} (or {frame:04}) are replaced "
                   "(.png = display, .exr = linear HDR)");
   cmd->add_option("--stats", o.stats, "Write JSON stats per job (same placeholders as -o)");
-  cmd->add_option("--camera", o.camera, "Camera index, or 'all'");
+  cmd->add_option("--camera", o.camera, "Camera index or name, or 'all'");
   cmd->add_option("--aov", o.aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
   add_render_options(cmd, o.render);
   cmd->add_option("--region", o.region,

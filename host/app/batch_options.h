@@ -21,7 +21,7 @@ struct BatchOptions {
   std::vector<std::string> scenes;
   std::string output;  // pattern; empty = default_output_pattern()
   std::string stats;   // pattern; empty = none
-  std::string camera = "0";  // an index, or "all"
+  std::string camera = "0";  // an index, a name, or "all"
   std::vector<std::pair<std::string, std::string>> aovs;  // name, file pattern
   bool quiet = false;
   RenderOptions render;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "scene/camera_select.h"
 #include "scene/loader.h"
 
 namespace zz {
@@ -29,14 +30,20 @@ nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& 
   load.quiet = true;
   load.fps = o.fps;
   const Scene scene = load_scene(path, load);
-  nlohmann::json cameras = nlohmann::json::array();
-  for (const Camera& c : scene.cameras) cameras.push_back(c.name);
+  nlohmann::json cameras = nlohmann::json::array(), sizes = nlohmann::json::array();
+  for (const Camera& c : scene.cameras) {
+    cameras.push_back(c.name);
+    const FrameSize size = frame_size(scene, c);  // what `render --camera N` uses
+    sizes.push_back({size.width, size.height});
+  }
+  const FrameSize size = frame_size(scene, scene.cameras.front());
   return {{"path", path.string()},
           {"scene", path.stem().string()},  // what {scene} expands to in output patterns
           {"name", scene.name},
-          {"width", scene.default_width},
-          {"height", scene.default_height},
+          {"width", size.width},  // of camera 0, the default
+          {"height", size.height},
           {"cameras", cameras},
+          {"camera_sizes", sizes},
           {"camera_count", scene.cameras.size()},
           {"animated", scene.animated},
           {"animation_end_s", scene.animation_end},

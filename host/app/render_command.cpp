@@ -20,6 +20,7 @@
 #include "app/progress.h"
 #include "app/render_stats_json.h"
 #include "core/error.h"
+#include "scene/camera_select.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
@@ -45,18 +46,11 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
     for (size_t i = 0; i < scene.cameras.size(); ++i) cameras.push_back(int(i));
     return cameras;
   }
-  int index = -1;
   try {
-    size_t used = 0;
-    index = std::stoi(o.camera, &used);
-    if (used != o.camera.size()) index = -1;
-  } catch (const std::exception&) {
+    return {int(find_camera(scene, o.camera))};
+  } catch (const Error& e) {
+    throw Error(scene_path.string() + ": --camera " + o.camera + ": " + e.what() + " (or use all)");
   }
-  if (index < 0 || index >= int(scene.cameras.size()))
-    throw Error(scene_path.string() + ": --camera " + o.camera + " does not exist (the scene has " +
-                std::to_string(scene.cameras.size()) + " camera(s); use 0.." +
-                std::to_string(scene.cameras.size() - 1) + " or all)");
-  return {index};
 }
 
 // Everything besides the frame size and exposure that decides the image's pixels: the
@@ -106,7 +100,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    RenderSettings settings = make_render_settings(o.render, scene);
+    RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
     if (!o.region.empty()) settings.region = parse_region(o.region);
     const TileRect region = render_region(settings);
     const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +

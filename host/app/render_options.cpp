@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "scene/camera_select.h"
 
 namespace zz {
 
@@ -56,11 +57,12 @@ void validate(const RenderOptions& o) {
                 std::string(name_of(kUniformPatterns, o.pattern)));
 }
 
-RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene) {
+RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, const Camera& camera) {
   validate(o);
   RenderSettings s;
-  s.width = o.width > 0 ? o.width : scene.default_width;
-  s.height = o.height > 0 ? o.height : scene.default_height;
+  const FrameSize size = frame_size(scene, camera, o.width, o.height);
+  s.width = size.width;
+  s.height = size.height;
   if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
     throw Error("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                 " is out of range (1..16384 per side)");

@@ -71,7 +71,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o);
 void validate(const RenderOptions& o);
 
 // Frame settings for a loaded scene (validate() included).
-RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene);
+// The frame size follows `camera`'s aspect ratio where neither the options nor the rig set it.
+RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, const Camera& camera);
 
 VisibilitySettings make_visibility_settings(const RenderOptions& o);
 

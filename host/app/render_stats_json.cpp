@@ -57,6 +57,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                {"shadow", stats.rays.shadow},
                {"reflection", stats.rays.reflection},
                {"refraction", stats.rays.refraction},
+               {"continuation", stats.rays.continuation},
                {"total", stats.rays.total()}};
   j["bvh"] = {{"nodes", r.bvh->node_count},
               {"leaves", r.bvh->leaf_count},

@@ -13,6 +13,7 @@
 #include "accel/bvh.h"
 #include "app/render_options.h"
 #include "core/error.h"
+#include "scene/camera_select.h"
 #include "gpu/visibility.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
@@ -24,7 +25,7 @@ namespace {
 
 struct ViewOptions {
   std::string scene;
-  int camera = 0;
+  std::string camera = "0";  // an index or a name
   RenderOptions render;
   int preview_scale = 4;
   std::string screenshot_dir = ".";
@@ -44,9 +45,12 @@ int view(const ViewOptions& o) {
   load.assets_dir = o.render.assets;
   Scene scene = load_scene(o.scene, load);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
-  if (o.camera < 0 || o.camera >= int(scene.cameras.size()))
-    throw Error(o.scene + ": --camera " + std::to_string(o.camera) + " does not exist (the scene has " +
-                std::to_string(scene.cameras.size()) + " camera(s))");
+  size_t camera = 0;
+  try {
+    camera = find_camera(scene, o.camera);
+  } catch (const Error& e) {
+    throw Error(o.scene + ": --camera " + o.camera + ": " + e.what());
+  }
   const Bvh bvh = Bvh::build(scene.positions);
   const Shader shader(scene, bvh);
   const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -54,7 +58,7 @@ int view(const ViewOptions& o) {
   ViewerOptions v;
   v.name = std::filesystem::path(o.scene).stem().string();
   v.started = started;
-  v.camera = scene.cameras[size_t(o.camera)];
+  v.camera = scene.cameras[camera];
   glm::vec3 lo(INFINITY), hi(-INFINITY);
   for (const glm::vec3& p : scene.positions) {
     lo = glm::min(lo, p);
@@ -64,7 +68,7 @@ int view(const ViewOptions& o) {
     v.scene_centre = 0.5f * (lo + hi);
     v.scene_radius = 0.5f * glm::length(hi - lo);
   }
-  v.settings = make_render_settings(o.render, scene);
+  v.settings = make_render_settings(o.render, scene, scene.cameras[camera]);
   v.tweaks.eps = v.settings.adaptive.eps;
   v.tweaks.mitchell = v.settings.adaptive.filter == Filter::Mitchell;
   v.tweaks.edges = o.render.edges == EdgeMode::Vulkan;
@@ -103,7 +107,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<ViewOptions>();
   CLI::App* cmd = app.add_subcommand("view", "Open a scene in an interactive window (progressive tiles)");
   cmd->add_option("scene", o->scene, "Scene file (.json rig, .gltf, .glb)")->required();
-  cmd->add_option("--camera", o->camera, "Camera index")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--camera", o->camera, "Camera index or name");
   add_render_options(cmd, o->render);
   cmd->add_option("--preview-scale", o->preview_scale, "Coarse preview at 1/N size before each frame (1 = off)")
       ->check(CLI::Range(1, 64));

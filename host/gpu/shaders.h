@@ -16,6 +16,7 @@ struct ShaderCode {
 ShaderCode shader_ids_vert();
 ShaderCode shader_ids_frag();
 ShaderCode shader_geo_flags_comp();
+ShaderCode shader_triangle_planes_comp();
 
 VkShaderModule create_shader_module(VkDevice device, ShaderCode code);
 

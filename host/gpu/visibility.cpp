@@ -84,6 +84,7 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0, local);
   upload(context_, positions_, positions.data(), positions.size() * sizeof(glm::vec4));
   upload(context_, normals_, normals.data(), normals.size() * sizeof(glm::vec4));
+  planes_ = create_buffer(context_, normals.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, local);
   create_pipelines();
   upload_s_ = seconds_since(t0);
 }
@@ -93,7 +94,9 @@ VisibilityPass::~VisibilityPass() {
   vkDeviceWaitIdle(d);
   if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
   if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
-  if (flag_pipeline_) vkDestroyPipeline(d, flag_pipeline_, nullptr);
+  for (auto& [s, pipeline] : flag_pipelines_) vkDestroyPipeline(d, pipeline, nullptr);
+  if (plane_pipeline_) vkDestroyPipeline(d, plane_pipeline_, nullptr);
+  if (flag_module_) vkDestroyShaderModule(d, flag_module_, nullptr);
   if (flag_layout_) vkDestroyPipelineLayout(d, flag_layout_, nullptr);
   if (flag_set_layout_) vkDestroyDescriptorSetLayout(d, flag_set_layout_, nullptr);
   if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
@@ -155,20 +158,21 @@ void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
   height = std::max(height, ids_.height);
   depth_.reset();
   ids_.reset();
+  // The compute pass reads the attachment itself (storage image); TRANSFER_SRC only for
+  // render_ids.
   ids_ = create_image_2d(context_, width, height, kIdFormat,
-                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT |
+                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
                              VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                          VK_IMAGE_ASPECT_COLOR_BIT);
   depth_ = create_image_2d(context_, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
                            VK_IMAGE_ASPECT_DEPTH_BIT);
-  id_buffer_.reset();
-  id_buffer_ = create_buffer(context_, VkDeviceSize(width) * height * sizeof(uint32_t),
-                             VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0,
-                             VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
 }
 
-void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Tile& tile) {
+void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Tile& tile, const Tile& area) {
   uint32_t iw = uint32_t(tile.w * f.s + 2), ih = uint32_t(tile.h * f.s + 2);
+  // The area's samples with their ring, in image coordinates.
+  VkRect2D scissor{{(area.x - tile.x) * f.s, (area.y - tile.y) * f.s},
+                   {uint32_t(area.w * f.s + 2), uint32_t(area.h * f.s + 2)}};
   // Previous users of the targets (last tile's compute read, depth test) must finish;
   // UNDEFINED discards the old contents, which the clear replaces anyway.
   VkImageMemoryBarrier2 to_attach[2] = {{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2},
@@ -210,7 +214,7 @@ void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Ti
   depth.storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
   depth.clearValue.depthStencil.depth = 0.0f;  // reverse-Z: 0 is infinitely far
   VkRenderingInfo rendering{VK_STRUCTURE_TYPE_RENDERING_INFO};
-  rendering.renderArea = {{0, 0}, {iw, ih}};
+  rendering.renderArea = scissor;  // the clears too
   rendering.layerCount = 1;
   rendering.colorAttachmentCount = 1;
   rendering.pColorAttachments = &color;
@@ -235,7 +239,6 @@ void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Ti
     push.clip_from_view[3] = glm::vec4(0.0f, 0.0f, float(f.znear), 0.0f);
     push.origin = glm::vec4(f.origin, 0.0f);
     VkViewport viewport{0.0f, 0.0f, float(iw), float(ih), 0.0f, 1.0f};
-    VkRect2D scissor{{0, 0}, {iw, ih}};
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, raster_pipeline_);
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
@@ -259,13 +262,7 @@ void VisibilityPass::record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuf
   ready.srcQueueFamilyIndex = ready.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
   ready.image = ids_.image;
   ready.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  // The previous tile's compute pass must be done reading `dst` (write-after-read).
-  VkMemoryBarrier2 reuse{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-  reuse.srcStageMask = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-  reuse.dstStageMask = VK_PIPELINE_STAGE_2_COPY_BIT;
   VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-  dep.memoryBarrierCount = 1;
-  dep.pMemoryBarriers = &reuse;
   dep.imageMemoryBarrierCount = 1;
   dep.pImageMemoryBarriers = &ready;
   vkCmdPipelineBarrier2(cmd, &dep);
@@ -275,13 +272,47 @@ void VisibilityPass::record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuf
   vkCmdCopyImageToBuffer(cmd, ids_.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, dst, 1, &region);
 }
 
+void VisibilityPass::bind_descriptors() {
+  VkDescriptorImageInfo image_info{VK_NULL_HANDLE, ids_.view, VK_IMAGE_LAYOUT_GENERAL};
+  VkDescriptorBufferInfo buffer_info[4] = {{positions_.buffer, 0, VK_WHOLE_SIZE},
+                                           {normals_.buffer, 0, VK_WHOLE_SIZE},
+                                           {planes_.buffer, 0, VK_WHOLE_SIZE},
+                                           {flags_.buffer, 0, VK_WHOLE_SIZE}};
+  VkWriteDescriptorSet writes[2] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET},
+                                    {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
+  writes[0].dstSet = flag_set_;
+  writes[0].dstBinding = ZZ_BIND_IDS;
+  writes[0].descriptorCount = 1;
+  writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
+  writes[0].pImageInfo = &image_info;
+  static_assert(ZZ_BIND_NORMALS == ZZ_BIND_POSITIONS + 1 && ZZ_BIND_PLANES == ZZ_BIND_POSITIONS + 2 &&
+                ZZ_BIND_FLAGS == ZZ_BIND_POSITIONS + 3);
+  writes[1].dstSet = flag_set_;
+  writes[1].dstBinding = ZZ_BIND_POSITIONS;
+  writes[1].descriptorCount = 4;
+  writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  writes[1].pBufferInfo = buffer_info;
+  vkUpdateDescriptorSets(context_.device(), 2, writes, 0, nullptr);
+}
+
 GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const VisibilitySettings& settings,
-                           VisibilityTimings* timings) {
+                           VisibilityTimings* timings, const std::optional<TileRect>& region) {
   auto t0 = Clock::now();
   Frame f = plan(camera, width, height, settings);
+  // The pixels to flag, widened to whole flag words (those extra pixels are exact too).
+  TileRect want{0, 0, width, height};
+  if (region) {
+    want = {std::clamp(region->x0, 0, width), std::clamp(region->y0, 0, height), std::clamp(region->x1, 0, width),
+            std::clamp(region->y1, 0, height)};
+    if (want.width() <= 0 || want.height() <= 0) throw Error("visibility map: empty region");
+  }
+  const int area_x0 = want.x0 / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD;
+  const int area_x1 = std::min(width, (want.x1 + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
+  const Tile area{area_x0, want.y0, area_x1 - area_x0, want.height()};
   ensure_targets(f.image_w, f.image_h);
   frame_s_ = f.s;
   VkDevice d = context_.device();
+  const VkPipeline flags_pipeline = flag_pipeline(f.s);
 
   VkDeviceSize flag_bytes = VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t);
   if (flags_.size < flag_bytes) {
@@ -289,7 +320,14 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
     flags_ = create_buffer(context_, flag_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                            VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
   }
-  uint32_t queries = uint32_t(2 * f.tiles.size() + 1);
+  // The tiles' parts inside the area; tile edges are multiples of 4 pixels (but the last).
+  std::vector<std::pair<Tile, Tile>> work;  // tile, area within it
+  for (const Tile& tile : f.tiles) {
+    int x0 = std::max(tile.x, area.x), x1 = std::min(tile.x + tile.w, area.x + area.w);
+    int y0 = std::max(tile.y, area.y), y1 = std::min(tile.y + tile.h, area.y + area.h);
+    if (x0 < x1 && y0 < y1) work.push_back({tile, Tile{x0, y0, x1 - x0, y1 - y0}});
+  }
+  uint32_t queries = uint32_t(2 * work.size() + 2);
   bool timed = context_.timestamps();
   if (timed && query_capacity_ < queries) {
     if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
@@ -300,42 +338,39 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
     vk_check(vkCreateQueryPool(d, &info, nullptr, &queries_), "vkCreateQueryPool");
     query_capacity_ = queries;
   }
-
-  VkDescriptorBufferInfo buffer_info[4] = {{id_buffer_.buffer, 0, VK_WHOLE_SIZE},
-                                           {positions_.buffer, 0, VK_WHOLE_SIZE},
-                                           {normals_.buffer, 0, VK_WHOLE_SIZE},
-                                           {flags_.buffer, 0, VK_WHOLE_SIZE}};
-  VkWriteDescriptorSet writes[1] = {{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET}};
-  writes[0].dstSet = flag_set_;
-  writes[0].dstBinding = 0;
-  writes[0].descriptorCount = 4;
-  writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-  writes[0].pBufferInfo = buffer_info;
-  vkUpdateDescriptorSets(d, 1, writes, 0, nullptr);
+  bind_descriptors();
 
   context_.run_commands([&](VkCommandBuffer cmd) {
     if (timed) {
       vkCmdResetQueryPool(cmd, queries_, 0, queries);
       vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 0);
     }
-    for (size_t k = 0; k < f.tiles.size(); ++k) {
-      const Tile& tile = f.tiles[k];
-      record_raster(cmd, f, tile);
-      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 1));
-
-      record_id_copy(cmd, tile, id_buffer_.buffer);
-      memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_layout_, 0, 1, &flag_set_, 0, nullptr);
+    if (triangles_ > 0) {
+      gpu::PlanePush planes{f.flag.origin, glm::ivec4(int(triangles_), 0, 0, 0)};
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, plane_pipeline_);
+      vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(planes), &planes);
+      vkCmdDispatch(cmd, uint32_t((triangles_ + ZZ_PLANE_GROUP - 1) / ZZ_PLANE_GROUP), 1, 1);
+      memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
-
+    }
+    if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 1);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flags_pipeline);
+    for (size_t k = 0; k < work.size(); ++k) {
+      const auto& [tile, part] = work[k];
+      record_raster(cmd, f, tile, part);
+      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 2));
+      // The attachment stays in GENERAL: the flag pass reads it as a storage image.
+      memory_barrier(cmd, VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT, VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
+                     VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
       gpu::FlagPush push = f.flag;
       push.tile = glm::ivec4(tile.x, tile.y, tile.w, tile.h);
-      uint32_t words = uint32_t((tile.w + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
-      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_pipeline_);
-      vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_layout_, 0, 1, &flag_set_, 0, nullptr);
+      push.area = glm::ivec4(part.x, part.y, part.w, part.h);
       vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+      const uint32_t words = uint32_t((part.w + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
       vkCmdDispatch(cmd, (words + ZZ_FLAG_GROUP_X - 1) / ZZ_FLAG_GROUP_X,
-                    uint32_t(tile.h + ZZ_FLAG_GROUP_Y - 1) / ZZ_FLAG_GROUP_Y, 1);
-      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 2));
+                    uint32_t(part.h + ZZ_FLAG_GROUP_Y - 1) / ZZ_FLAG_GROUP_Y, 1);
+      if (timed) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, uint32_t(2 * k + 3));
     }
     memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                    VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);
@@ -346,26 +381,27 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   GeoMap map;
   map.width = width;
   map.height = height;
-  map.flags.resize(size_t(width) * height);
+  map.flags.assign(size_t(width) * height, 0);
   // Byte k of word w is pixel 4w + k (little-endian), so each row is a plain copy.
   const auto* bytes = static_cast<const uint8_t*>(flags_.mapped);
   size_t row_bytes = size_t(f.words_per_row) * sizeof(uint32_t);
-  for (int y = 0; y < height; ++y)
-    std::memcpy(&map.flags[size_t(y) * width], bytes + y * row_bytes, size_t(width));
+  for (int y = want.y0; y < want.y1; ++y)
+    std::memcpy(&map.flags[size_t(y) * width + want.x0], bytes + y * row_bytes + want.x0, size_t(want.width()));
 
   if (timings) {
     *timings = VisibilityTimings{};
     timings->upload_s = upload_s_;
-    timings->tiles = int(f.tiles.size());
+    timings->tiles = int(work.size());
     if (timed) {
       std::vector<uint64_t> ts(queries);
       vk_check(vkGetQueryPoolResults(d, queries_, 0, queries, ts.size() * sizeof(uint64_t), ts.data(),
                                      sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
                "vkGetQueryPoolResults");
       double period = context_.properties().limits.timestampPeriod * 1e-9;
-      for (size_t k = 0; k < f.tiles.size(); ++k) {
-        timings->raster_s += double(ts[2 * k + 1] - ts[2 * k]) * period;
-        timings->compute_s += double(ts[2 * k + 2] - ts[2 * k + 1]) * period;
+      timings->compute_s += double(ts[1] - ts[0]) * period;
+      for (size_t k = 0; k < work.size(); ++k) {
+        timings->raster_s += double(ts[2 * k + 2] - ts[2 * k + 1]) * period;
+        timings->compute_s += double(ts[2 * k + 3] - ts[2 * k + 2]) * period;
       }
     }
     timings->readback_s = seconds_since(t_read);
@@ -391,7 +427,7 @@ std::vector<uint32_t> VisibilityPass::render_ids(const Camera& camera, int width
     // The whole tile image, ring included; neighbouring tiles' rings overlap and agree.
     uint32_t cw = uint32_t(tile.w * f.s + 2), ch = uint32_t(tile.h * f.s + 2);
     context_.run_commands([&](VkCommandBuffer cmd) {
-      record_raster(cmd, f, tile);
+      record_raster(cmd, f, tile, tile);
       record_id_copy(cmd, tile, id_readback_.buffer);
       memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_HOST_BIT, VK_ACCESS_2_HOST_READ_BIT);

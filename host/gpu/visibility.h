@@ -4,10 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/geo_map.h"
+#include "core/tile.h"
 #include "gpu/device.h"
 #include "gpu/resources.h"
 #include "scene/camera.h"
@@ -20,8 +23,8 @@ struct VisibilitySettings {
   int supersample = 4;            // S per axis: 4 normal, 6 high quality
   float normal_angle_deg = 25.0f; // camera-facing geometric normals further apart flag
   float depth_rel = 0.02f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
-  // Budget for one tile, in supersamples (12 bytes each: id image, depth, the id copy
-  // the compute pass reads); larger frames are split into bands / tiles.
+  // Budget for one tile, in supersamples (8 bytes each: the id attachment, which the
+  // compute pass reads directly, and depth); larger frames are split into bands / tiles.
   int64_t max_tile_samples = int64_t(32) << 20;
   // Largest tile image side in supersamples, ring included; 0 = maxImageDimension2D.
   int max_tile_dim = 0;
@@ -30,7 +33,7 @@ struct VisibilitySettings {
 struct VisibilityTimings {
   double upload_s = 0;    // one-off scene upload at construction
   double raster_s = 0;    // GPU time (timestamps) of all tiles' raster passes
-  double compute_s = 0;   // GPU time of all tiles' id copies + flag dispatches
+  double compute_s = 0;   // GPU time of the per-frame triangle planes + all flag dispatches
   double readback_s = 0;  // host time to unpack the flags into the GeoMap
   double total_s = 0;     // host wall time of run()
   int tiles = 0;
@@ -52,8 +55,13 @@ class VisibilityPass {
   VisibilityPass(const VisibilityPass&) = delete;
   VisibilityPass& operator=(const VisibilityPass&) = delete;
 
+  // The frame's map. With `region` (pixels, clamped to the frame) only those pixels are
+  // flagged, the rest of the map is 0: the same tiles, projection and viewport as the
+  // whole frame, the raster limited by the scissor, so the flags inside are bit for bit
+  // those of the full map. A caller rendering a sub-rectangle passes the pixels its
+  // sampler reads (adaptive_geo_reads in aa/adaptive_sampler.h).
   GeoMap run(const Camera& camera, int width, int height, const VisibilitySettings& settings = {},
-             VisibilityTimings* timings = nullptr);
+             VisibilityTimings* timings = nullptr, const std::optional<TileRect>& region = std::nullopt);
 
   // The raw supersampled id image with its one-sample ring, (width*S + 2) x (height*S + 2)
   // row-major: entry [(gy + 1) * (width*S + 2) + gx + 1] is the triangle index + 1
@@ -74,9 +82,14 @@ class VisibilityPass {
   Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
   void ensure_targets(uint32_t width, uint32_t height);
   void create_pipelines();  // visibility_pipelines.cpp
-  void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile);
+  // The flag pipeline specialised for S, made on first use.
+  VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
+  // Rasterises `tile` with its own projection; only `area` (pixels inside the tile) and
+  // its one-sample ring are cleared and drawn (scissor), the viewport stays the tile's.
+  void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile, const Tile& area);
   // Copies the tile's id image (ring included, rows tightly packed) into `dst`.
   void record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuffer dst);
+  void bind_descriptors();
 
   VulkanContext& context_;
   size_t triangles_ = 0;
@@ -84,17 +97,19 @@ class VisibilityPass {
   double upload_s_ = 0;
   Buffer positions_;  // vec4 per vertex: vertex input and compute SSBO
   Buffer normals_;    // vec4 per triangle: unit geometric normal
+  Buffer planes_;     // vec4 per triangle: normal, n.(v0 - camera), rewritten per frame
   Buffer flags_;      // packed flag words of the last frame (host-visible)
-  Buffer id_buffer_;    // the tile's ids as the compute pass reads them
   Buffer id_readback_;  // render_ids' host copy
   int frame_s_ = 4;
-  Image ids_;         // R32_UINT colour target, reused by all tiles
+  Image ids_;         // R32_UINT colour target and storage image, reused by all tiles and frames
   Image depth_;       // D32_SFLOAT, reverse-Z
   VkPipelineLayout raster_layout_ = VK_NULL_HANDLE;
   VkPipeline raster_pipeline_ = VK_NULL_HANDLE;
+  VkShaderModule flag_module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout flag_set_layout_ = VK_NULL_HANDLE;
-  VkPipelineLayout flag_layout_ = VK_NULL_HANDLE;
-  VkPipeline flag_pipeline_ = VK_NULL_HANDLE;
+  VkPipelineLayout flag_layout_ = VK_NULL_HANDLE;  // both compute passes
+  VkPipeline plane_pipeline_ = VK_NULL_HANDLE;
+  std::map<int, VkPipeline> flag_pipelines_;  // by S
   VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
   VkDescriptorSet flag_set_ = VK_NULL_HANDLE;
   VkQueryPool queries_ = VK_NULL_HANDLE;

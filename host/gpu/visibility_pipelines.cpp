@@ -1,5 +1,5 @@
-// The visibility pass's two pipelines: the id raster (dynamic rendering, reverse-Z) and
-// the flag compute shader with its descriptor set.
+// The visibility pass's pipelines: the id raster (dynamic rendering, reverse-Z), the
+// per-frame triangle planes and the flag compute shader (one per S) with their descriptor set.
 #include "gpu/shaders.h"
 #include "gpu/visibility.h"
 
@@ -9,14 +9,15 @@ void VisibilityPass::create_pipelines() {
   VkDevice d = context_.device();
   VkShaderModule vert = create_shader_module(d, shader_ids_vert());
   VkShaderModule frag = create_shader_module(d, shader_ids_frag());
-  VkShaderModule comp = create_shader_module(d, shader_geo_flags_comp());
+  VkShaderModule planes = create_shader_module(d, shader_triangle_planes_comp());
   struct Modules {
     VkDevice d;
     VkShaderModule m[3];
     ~Modules() {
       for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
     }
-  } modules{d, {vert, frag, comp}};
+  } modules{d, {vert, frag, planes}};
+  flag_module_ = create_shader_module(d, shader_geo_flags_comp());  // specialised per S later
 
   // Raster: positions in, triangle id out, reverse-Z depth (GREATER, clear 0).
   VkPushConstantRange raster_push{VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(gpu::RasterPush)};
@@ -87,14 +88,16 @@ void VisibilityPass::create_pipelines() {
   vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &raster_pipeline_),
            "vkCreateGraphicsPipelines");
 
-  // Compute: ids (storage image), positions, normals, packed flags.
-  VkDescriptorSetLayoutBinding bindings[4] = {
-      {0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {2, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {3, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
+  // Compute: ids (storage image), positions, normals, planes, packed flags; one set and
+  // one layout for the planes pass and the flag pass.
+  VkDescriptorSetLayoutBinding bindings[5] = {
+      {ZZ_BIND_IDS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {ZZ_BIND_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {ZZ_BIND_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {ZZ_BIND_PLANES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {ZZ_BIND_FLAGS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};
   VkDescriptorSetLayoutCreateInfo set_layout{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-  set_layout.bindingCount = 4;
+  set_layout.bindingCount = 5;
   set_layout.pBindings = bindings;
   vk_check(vkCreateDescriptorSetLayout(d, &set_layout, nullptr, &flag_set_layout_),
            "vkCreateDescriptorSetLayout");
@@ -108,16 +111,16 @@ void VisibilityPass::create_pipelines() {
   VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
-  compute.stage.module = comp;
+  compute.stage.module = planes;
   compute.stage.pName = "main";
   compute.layout = flag_layout_;
-  vk_check(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &compute, nullptr, &flag_pipeline_),
+  vk_check(vkCreateComputePipelines(d, VK_NULL_HANDLE, 1, &compute, nullptr, &plane_pipeline_),
            "vkCreateComputePipelines");
 
-  VkDescriptorPoolSize sizes[1] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
+  VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1}, {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 4}};
   VkDescriptorPoolCreateInfo pool{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
   pool.maxSets = 1;
-  pool.poolSizeCount = 1;
+  pool.poolSizeCount = 2;
   pool.pPoolSizes = sizes;
   vk_check(vkCreateDescriptorPool(d, &pool, nullptr, &descriptor_pool_), "vkCreateDescriptorPool");
   VkDescriptorSetAllocateInfo alloc{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
@@ -125,6 +128,26 @@ void VisibilityPass::create_pipelines() {
   alloc.descriptorSetCount = 1;
   alloc.pSetLayouts = &flag_set_layout_;
   vk_check(vkAllocateDescriptorSets(d, &alloc, &flag_set_), "vkAllocateDescriptorSets");
+}
+
+VkPipeline VisibilityPass::flag_pipeline(int s) {
+  auto found = flag_pipelines_.find(s);
+  if (found != flag_pipelines_.end()) return found->second;
+  const int32_t constants[1] = {s};
+  const VkSpecializationMapEntry entries[1] = {{0, 0, sizeof(int32_t)}};
+  VkSpecializationInfo specialization{1, entries, sizeof(constants), constants};
+  VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
+  compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  compute.stage.module = flag_module_;
+  compute.stage.pName = "main";
+  compute.stage.pSpecializationInfo = &specialization;
+  compute.layout = flag_layout_;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  vk_check(vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &compute, nullptr, &pipeline),
+           "vkCreateComputePipelines");
+  flag_pipelines_[s] = pipeline;
+  return pipeline;
 }
 
 }  // namespace zz

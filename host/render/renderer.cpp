@@ -37,12 +37,24 @@ TileRect render_region(const RenderSettings& settings) {
   return r;
 }
 
-void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
-                  Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
-  const auto start = std::chrono::steady_clock::now();
+namespace {
+
+void check_geo_size(const GeoMap& geo, const RenderSettings& settings) {
   if (!geo.empty() && (geo.width != settings.width || geo.height != settings.height))
     throw Error("visibility map is " + std::to_string(geo.width) + "x" + std::to_string(geo.height) +
                 " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
+}
+
+// Corner grids traced ahead while the map is pending: at most this many bytes (the first
+// tiles in order; 64² tiles take 135 kB each, so a 1024² frame fits whole).
+constexpr size_t kCornerStashBytes = size_t(64) << 20;
+
+// `geo` is the map when `pending` is null; else the map is `pending->get()`, awaited
+// after level 1 of the first tiles.
+void render(const Shader& shader, const Camera& camera, const GeoMap* ready, const std::shared_future<GeoMap>* pending,
+            const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
+  const auto start = std::chrono::steady_clock::now();
+  if (ready) check_geo_size(*ready, settings);
   const TileRect region = render_region(settings);
   if (film.window() != region || film.frame_width != settings.width || film.frame_height != settings.height)
     film = Film(settings.width, settings.height, region);
@@ -59,31 +71,64 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
   AdaptiveSettings adaptive = settings.adaptive;
   adaptive.tonemap = settings.tonemap;  // colours are compared as they will be displayed
 
+  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
+  tbb::task_arena arena(threads);
+  auto for_tiles = [&](size_t count, auto&& body) {
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) body(i);
+      });
+    });
+  };
+  auto cancelled = [&] { return callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed); };
+
+  // Map pending: level 1 (which needs no map) of the first tiles overlaps it. Corners are
+  // pure functions of their positions, so the image is the same as in one pass.
+  std::vector<std::vector<float4>> stash;  // per stashed tile: linear then display corners
+  if (pending && settings.aa == AaMode::Adaptive) {
+    size_t bytes = 0;
+    for (const TileRect& t : tiles) {
+      const size_t n = corner_count(film.target(t), adaptive.filter);
+      if (bytes + 2 * n * sizeof(float4) > kCornerStashBytes) break;
+      bytes += 2 * n * sizeof(float4);
+      stash.emplace_back(2 * n);
+    }
+    for_tiles(stash.size(), [&](size_t index) {
+      if (cancelled()) return;
+      const ScopedFlushDenormals flush_denormals;
+      SceneSource source(shader, rays);
+      float4* corners = stash[index].data();
+      trace_corners(source, film.target(tiles[index]), adaptive, corners, corners + stash[index].size() / 2,
+                    results[index].aa);
+      results[index].rays = source.counters;
+    });
+  }
+  const GeoMap& geo = ready ? *ready : pending->get();
+  if (!ready) check_geo_size(geo, settings);
+
   auto render_tile = [&](size_t index) {
-    if (callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed)) return;
+    if (cancelled()) return;
     const ScopedFlushDenormals flush_denormals;  // MXCSR is per thread: set it in every task
     const TileTarget target = film.target(tiles[index]);
     SceneSource source(shader, rays);
     TileResult& result = results[index];
-    if (settings.aa == AaMode::Adaptive) {
+    if (settings.aa == AaMode::Adaptive && index < stash.size()) {
+      const float4* corners = stash[index].data();
+      refine_tile(source, target, geo, adaptive, corners, corners + stash[index].size() / 2, result.aa);
+      std::vector<float4>().swap(stash[index]);
+    } else if (settings.aa == AaMode::Adaptive) {
       render_tile_adaptive(source, target, geo, adaptive, result.aa);
     } else {
       UniformStats uniform_stats;
       render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats);
       result.samples = uniform_stats.samples;
     }
-    result.rays = source.counters;
+    result.rays += source.counters;
     result.done = true;
     if (callbacks.tile_done) callbacks.tile_done(tiles[index], result.rays);
   };
 
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  tbb::task_arena arena(threads);
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, tiles.size(), 1), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) render_tile(i);
-    });
-  });
+  for_tiles(tiles.size(), render_tile);
 
   stats = {};
   for (const TileResult& r : results) {
@@ -94,6 +139,18 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
   }
   stats.tiles = int(tiles.size());
   stats.render_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
+                  Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
+  render(shader, camera, &geo, nullptr, settings, film, stats, callbacks);
+}
+
+void render_frame(const Shader& shader, const Camera& camera, const std::shared_future<GeoMap>& geo,
+                  const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
+  render(shader, camera, nullptr, &geo, settings, film, stats, callbacks);
 }
 
 }  // namespace zz

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <future>
 
 #include "aa/aa_stats.h"
 #include "aa/adaptive_settings.h"
@@ -59,5 +60,12 @@ TileRect render_region(const RenderSettings& settings);
 
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});
+
+// The same frame with the visibility map still being made (e.g. by the Vulkan pass on
+// another thread): level 1 of the first tiles (up to 64 MB of corners) is traced while
+// it is pending, the map is awaited before the first classification. Bit-identical to
+// the overload above; an exception from the map's producer is rethrown here.
+void render_frame(const Shader& shader, const Camera& camera, const std::shared_future<GeoMap>& geo,
+                  const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});
 
 }  // namespace zz

@@ -23,10 +23,92 @@ struct SurfacePoint {
   glm::vec3 ns;        // shading normal facing the incoming ray, same hemisphere as ng
   glm::vec3 wo;        // unit direction back towards the ray origin
   glm::vec3 albedo;    // diffuse reflectance (texture applied)
+  glm::vec3 dir;       // the ray's direction as traced (not normalised)
   bool front = true;   // the ray hit the side the triangle's winding normal points to
   float distance = 0;  // length of the ray segment to the hit
+  float alpha = 1;     // coverage: 1 opaque, 0 cut out, between = BLEND weight
   const WhittedMaterial* material = nullptr;
+  WhittedMaterial local;  // the material at this point when its inputs vary per hit
 };
+
+// Where a lane's ray hit; lanes are rewritten when a ray continues past a cut-out.
+struct LaneHits {
+  float t[4], u[4], v[4];
+  int prim[4];
+  explicit LaneHits(const HitPacket4& h) {
+    for (int i = 0; i < 4; ++i) t[i] = h.t[i], u[i] = h.u[i], v[i] = h.v[i], prim[i] = h.prim[i];
+  }
+  void take(const HitPacket4& h, int i) { t[i] = h.t[i], u[i] = h.u[i], v[i] = h.v[i], prim[i] = h.prim[i]; }
+};
+
+// Texture coordinates at barycentrics (u, v) of triangle t3 / 3, both sets.
+struct Texcoords {
+  glm::vec2 uv0, uv1;
+  Texcoords(const Scene& scene, size_t t3, float u, float v) {
+    const float w = 1.0f - u - v;
+    uv0 = w * scene.uvs[t3] + u * scene.uvs[t3 + 1] + v * scene.uvs[t3 + 2];
+    uv1 = scene.uvs1.empty() ? uv0 : w * scene.uvs1[t3] + u * scene.uvs1[t3 + 1] + v * scene.uvs1[t3 + 2];
+  }
+  glm::vec4 sample(const Scene& scene, const TextureRef& ref) const {
+    return scene.textures[size_t(ref.index)].sample(ref.apply(ref.texcoord == 1 ? uv1 : uv0));
+  }
+};
+
+// glTF coverage at a point: 1 opaque; MASK gives 0 or 1 by the cutoff; BLEND the alpha.
+float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
+  if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
+  float a = m.base_alpha;
+  if (m.base_color_texture.used()) a *= tc.sample(scene, m.base_color_texture).a;
+  if (m.alpha_mode == AlphaMode::Mask) return a >= m.alpha_cutoff ? 1.0f : 0.0f;
+  return std::clamp(a, 0.0f, 1.0f);
+}
+
+// The Whitted material at a point: the material's own, or (textured metallic, roughness,
+// transmission, or a base texture that tints mirror or glass) evaluated into `local`.
+// `albedo` receives the diffuse reflectance with the base texture applied.
+template <bool kTextured>
+const WhittedMaterial& material_at(const Scene& scene, uint32_t index, const Texcoords* tc, WhittedMaterial& local,
+                                   glm::vec3& albedo) {
+  const WhittedMaterial& w = scene.whitted[index];
+  albedo = w.diffuse;
+  if constexpr (kTextured) {
+    const Material& m = scene.materials[index];
+    glm::vec4 base(1.0f);
+    if (m.base_color_texture.used()) base = tc->sample(scene, m.base_color_texture);
+    if (m.varies_per_hit()) {
+      PbrSample p{m.base_color * glm::vec3(base), m.metallic, m.roughness, m.transmission};
+      if (m.metallic_roughness_texture.used()) {  // glTF: G = roughness, B = metallic
+        const glm::vec4 mr = tc->sample(scene, m.metallic_roughness_texture);
+        p.roughness *= mr.g;
+        p.metallic *= mr.b;
+      }
+      if (m.transmission_texture.used()) p.transmission *= tc->sample(scene, m.transmission_texture).r;
+      local = w;
+      whitted_surface(local, p);
+      albedo = local.diffuse;
+      return local;
+    }
+    albedo *= glm::vec3(base);
+  }
+  return w;
+}
+
+// The tangent-space normal map's normal, in world space (glTF: n = 2 * texel - 1, x and y
+// scaled by normalTexture.scale; +X along the tangent, +Y along w * cross(N, T)).
+glm::vec3 mapped_normal(const Scene& scene, const Material& m, size_t t3, float u, float v, const Texcoords& tc,
+                        glm::vec3 n) {
+  const float w = 1.0f - u - v;
+  const glm::vec4 t4 = w * scene.tangents[t3] + u * scene.tangents[t3 + 1] + v * scene.tangents[t3 + 2];
+  glm::vec3 t = glm::vec3(t4) - n * glm::dot(n, glm::vec3(t4));
+  const float len = glm::length(t);
+  if (!(len > 1e-12f) || !std::isfinite(len)) return n;  // no frame (no UVs): unmapped
+  t /= len;
+  const glm::vec3 b = glm::cross(n, t) * (t4.w < 0.0f ? -1.0f : 1.0f);
+  const glm::vec3 texel = glm::vec3(tc.sample(scene, m.normal_texture)) * 2.0f - 1.0f;
+  const glm::vec3 mapped = t * (texel.x * m.normal_scale) + b * (texel.y * m.normal_scale) + n * texel.z;
+  const float mapped_len = glm::length(mapped);
+  return mapped_len > 1e-12f && std::isfinite(mapped_len) ? mapped / mapped_len : n;
+}
 
 // Fills a packet lane by lane, then loads it once. Unused lanes stay harmless
 // (zero origin, +z direction, tmax 0) and are masked off anyway.
@@ -79,6 +161,75 @@ bool light_towards(const Light& light, glm::vec3 p, glm::vec3& to_light, float& 
   return falloff > 0.0f;
 }
 
+// Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss.
+constexpr int kMaxSeeThroughLayers = 16;
+// Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
+constexpr int kMaxBlendLayers = 8;
+
+// The light arriving along each lane of a shadow packet through see-through surfaces:
+// alpha cut-outs and BLEND surfaces pass (1 - alpha) of it, transmissive non-metal
+// surfaces transmission x base colour at each crossing, and the path inside a volume
+// exp(-sigma_a d) (Beer's law). The shadow ray is not bent. A lane that hits anything
+// opaque, or more than kMaxSeeThroughLayers surfaces, gets zero.
+template <bool kTextured, bool kSeeThrough, bool kGlass>
+void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light, PacketBuilder& rays, int lanes,
+                          glm::vec3 through[4], RayCounters& counters) {
+  for (int i = 0; i < 4; ++i) through[i] = glm::vec3((lanes >> i) & 1 ? 1.0f : 0.0f);
+  for (int layer = 0; layer <= kMaxSeeThroughLayers && lanes != 0; ++layer) {
+    counters.shadow += uint64_t(std::popcount(unsigned(lanes)));
+    HitPacket4 packet_hits;
+    bvh.intersect4(rays.packet(), mask4(lanes & 1, lanes & 2, lanes & 4, lanes & 8), packet_hits);
+    const LaneHits hits(packet_hits);
+    int next = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!((lanes >> i) & 1) || hits.prim[i] < 0) continue;  // reached the light
+      if (layer == kMaxSeeThroughLayers) {
+        through[i] = glm::vec3(0.0f);
+        continue;
+      }
+      const size_t t3 = size_t(hits.prim[i]) * 3;
+      const uint32_t index = scene.material_of[size_t(hits.prim[i])];
+      const Material& m = scene.materials[index];
+      const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+      const glm::vec3 dir(rays.d[0][i], rays.d[1][i], rays.d[2][i]);
+      const Texcoords tc(scene, t3, hits.u[i], hits.v[i]);
+      const float alpha = kSeeThrough ? coverage(scene, m, tc) : 1.0f;
+      glm::vec3 tint(0.0f);
+      bool exits_volume = false;
+      if constexpr (kGlass) {
+        WhittedMaterial local;
+        glm::vec3 albedo;
+        const WhittedMaterial& w = material_at<kTextured>(scene, index, &tc, local, albedo);
+        tint = w.transmission;
+        const glm::vec3 ng = glm::cross(p1 - p0, p2 - p0);
+        exits_volume = w.transmits() && glm::dot(ng, dir) > 0.0f;  // hit from inside
+      }
+      glm::vec3 f = glm::vec3(1.0f - alpha) + alpha * tint;
+      if constexpr (kGlass) {
+        if (exits_volume) {
+          const glm::vec3 sigma = scene.whitted[index].absorption;
+          const float d = hits.t[i] * glm::length(dir);
+          f *= glm::exp(-sigma * d);
+        }
+      }
+      through[i] *= f;
+      if (!(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f)) {
+        through[i] = glm::vec3(0.0f);
+        continue;
+      }
+      // Continue from just behind the surface, towards the same light.
+      const SurfacePosition hit = interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]);
+      glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+      if (glm::dot(n, dir) < 0.0f) n = -n;
+      const glm::vec3 origin = offset_ray_origin(hit, n);
+      if (light.type == Light::Type::Directional) rays.set(i, origin, dir, kInfinity);
+      else rays.set(i, origin, light.position - origin, 1.0f);
+      next |= 1 << i;
+    }
+    lanes = next;
+  }
+}
+
 }  // namespace
 
 float fresnel_dielectric(float cos_i, float eta) {
@@ -97,6 +248,7 @@ Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), e
   if (effects_.reflection) bits |= kReflection;
   if (effects_.refraction) bits |= kRefraction;
   if (effects_.textures) bits |= kTextures;
+  if (effects_.alpha_mask || effects_.alpha_blend) bits |= kAlpha;
   kernel_ = pick_kernel(bits, std::make_integer_sequence<unsigned, kAllEffects + 1>{});
 }
 
@@ -107,17 +259,55 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 }
 
 template <unsigned kEffects>
-Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters) const {
+Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers,
+                         RayCounters& counters) const {
+  constexpr bool kTextured = (kEffects & kTextures) != 0;
+  constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
   if (active.none()) return zero;
 
-  HitPacket4 hits;
-  bvh_.intersect4(rays, active, hits);
+  HitPacket4 packet_hits;
+  bvh_.intersect4(rays, active, packet_hits);
+  LaneHits hits(packet_hits);
+  const int active_bits = active.bits();
+  float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // distance travelled through cut-outs
+
+  // Alpha: a ray that hits a cut-out texel (MASK below the cutoff, BLEND alpha 0)
+  // continues behind it, in one packet per layer.
+  if constexpr (kSeeThrough) {
+    for (int layer = 0;; ++layer) {
+      PacketBuilder behind;
+      int again = 0;
+      for (int i = 0; i < 4; ++i) {
+        if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
+        const size_t t3 = size_t(hits.prim[i]) * 3;
+        const Material& m = scene_.materials[scene_.material_of[size_t(hits.prim[i])]];
+        if (!m.see_through() || coverage(scene_, m, Texcoords(scene_, t3, hits.u[i], hits.v[i])) > 0.0f) continue;
+        if (layer == kMaxSeeThroughLayers) {  // bounded: beyond it the ray escapes
+          hits.prim[i] = -1;
+          continue;
+        }
+        const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
+        const glm::vec3 &p0 = scene_.positions[t3], &p1 = scene_.positions[t3 + 1], &p2 = scene_.positions[t3 + 2];
+        glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        if (glm::dot(n, dir) < 0.0f) n = -n;
+        const glm::vec3 origin = offset_ray_origin(interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]), n);
+        skipped[i] += hits.t[i] * glm::length(dir);
+        behind.set(i, origin, dir, kInfinity);
+        again |= 1 << i;
+      }
+      if (again == 0) break;
+      counters.continuation += uint64_t(std::popcount(unsigned(again)));
+      HitPacket4 next;
+      bvh_.intersect4(behind.packet(), mask4(again & 1, again & 2, again & 4, again & 8), next);
+      for (int i = 0; i < 4; ++i)
+        if ((again >> i) & 1) hits.take(next, i);
+    }
+  }
 
   alignas(16) float out[3][4] = {};
   SurfacePoint sp[4];
   bool shaded[4] = {false, false, false, false};
-  const int active_bits = active.bits();
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1)) continue;
     const int prim = hits.prim[i];
@@ -133,32 +323,34 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
     const glm::vec3 &p0 = scene_.positions[t3], &p1 = scene_.positions[t3 + 1], &p2 = scene_.positions[t3 + 2];
     SurfacePoint& s = sp[i];
     s.hit = interpolate_hit(p0, p1, p2, u, v);
+    s.dir = dir;
     const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
     const float dir_len = glm::length(dir);
     s.wo = -dir / dir_len;
-    s.distance = hits.t[i] * dir_len;
+    s.distance = skipped[i] + hits.t[i] * dir_len;
     s.front = glm::dot(ng, s.wo) >= 0.0f;
     s.ng = s.front ? ng : -ng;
     glm::vec3 ns = w * scene_.normals[t3] + u * scene_.normals[t3 + 1] + v * scene_.normals[t3 + 2];
     const float ns_len = glm::length(ns);
     ns = ns_len > 0.0f && std::isfinite(ns_len) ? ns / ns_len : ng;
+    const uint32_t mat_index = scene_.material_of[prim];
+    glm::vec3 emission = scene_.whitted[mat_index].emission;
+    if constexpr (kTextured) {
+      const Material& gltf = scene_.materials[mat_index];
+      const Texcoords tc(scene_, t3, u, v);
+      s.material = &material_at<true>(scene_, mat_index, &tc, s.local, s.albedo);
+      if (gltf.emissive_texture.used() && emission != glm::vec3(0.0f))
+        emission *= glm::vec3(tc.sample(scene_, gltf.emissive_texture));
+      if (gltf.normal_texture.used() && !scene_.tangents.empty())
+        ns = mapped_normal(scene_, gltf, t3, u, v, tc, ns);
+      if constexpr (kSeeThrough) s.alpha = coverage(scene_, gltf, tc);
+    } else {
+      s.material = &material_at<false>(scene_, mat_index, nullptr, s.local, s.albedo);
+      if constexpr (kSeeThrough) s.alpha = coverage(scene_, scene_.materials[mat_index], Texcoords(scene_, t3, u, v));
+    }
     if (!s.front) ns = -ns;
     // A shading normal pointing away from the viewer would shade a lit side black.
     s.ns = glm::dot(ns, s.wo) > 0.0f ? ns : s.ng;
-    const uint32_t mat_index = scene_.material_of[prim];
-    s.material = &scene_.whitted[mat_index];
-    s.albedo = s.material->diffuse;
-    glm::vec3 emission = s.material->emission;
-    if constexpr ((kEffects & kTextures) != 0) {
-      const Material& gltf = scene_.materials[mat_index];
-      if (gltf.base_color_texture >= 0 || gltf.emissive_texture >= 0) {
-        const glm::vec2 uv = w * scene_.uvs[t3] + u * scene_.uvs[t3 + 1] + v * scene_.uvs[t3 + 2];
-        if (gltf.base_color_texture >= 0)
-          s.albedo *= glm::vec3(scene_.textures[size_t(gltf.base_color_texture)].sample(uv));
-        if (gltf.emissive_texture >= 0 && emission != glm::vec3(0.0f))
-          emission *= glm::vec3(scene_.textures[size_t(gltf.emissive_texture)].sample(uv));
-      }
-    }
     out[0][i] = emission.r;
     out[1][i] = emission.g;
     out[2][i] = emission.b;
@@ -196,13 +388,25 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
       }
       const mask4 lanes(want[0], want[1], want[2], want[3]);
       if (lanes.none()) continue;
-      counters.shadow += uint64_t(count_lanes(lanes));
-      const int blocked = bvh_.occluded4(shadow.packet(), lanes).bits();
-      for (int i = 0; i < 4; ++i) {
-        if (!want[i] || ((blocked >> i) & 1)) continue;
-        out[0][i] += contribution[i].r;
-        out[1][i] += contribution[i].g;
-        out[2][i] += contribution[i].b;
+      if constexpr ((kEffects & (kAlpha | kRefraction)) != 0) {
+        glm::vec3 through[4];
+        shadow_transmittance<kTextured, kSeeThrough, (kEffects & kRefraction) != 0>(
+            scene_, bvh_, light, shadow, lanes.bits(), through, counters);
+        for (int i = 0; i < 4; ++i) {
+          if (!want[i]) continue;
+          out[0][i] += contribution[i].r * through[i].r;
+          out[1][i] += contribution[i].g * through[i].g;
+          out[2][i] += contribution[i].b * through[i].b;
+        }
+      } else {
+        counters.shadow += uint64_t(count_lanes(lanes));
+        const int blocked = bvh_.occluded4(shadow.packet(), lanes).bits();
+        for (int i = 0; i < 4; ++i) {
+          if (!want[i] || ((blocked >> i) & 1)) continue;
+          out[0][i] += contribution[i].r;
+          out[1][i] += contribution[i].g;
+          out[2][i] += contribution[i].b;
+        }
       }
     }
   }
@@ -256,7 +460,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
       const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, counters);
+        const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers, counters);
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];
@@ -268,7 +472,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
-          const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, counters);
+          const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers, counters);
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];
@@ -287,6 +491,30 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, RayCou
         if (!shaded[i] || sp[i].front) continue;
         const glm::vec3 sigma = sp[i].material->absorption;
         for (int c = 0; c < 3; ++c) out[c][i] *= std::exp(-sigma[c] * sp[i].distance);
+      }
+    }
+  }
+
+  // BLEND: this surface's colour over what a continuation ray sees behind it,
+  // out = alpha * surface + (1 - alpha) * behind (glTF's "over" with straight alpha).
+  if constexpr (kSeeThrough) {
+    PacketBuilder behind;
+    int blend = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!shaded[i] || !(sp[i].alpha < 1.0f) || blend_layers >= kMaxBlendLayers) continue;
+      behind.set(i, offset_ray_origin(sp[i].hit, -sp[i].ng), sp[i].dir, kInfinity);
+      blend |= 1 << i;
+    }
+    if (blend != 0) {
+      counters.continuation += uint64_t(std::popcount(unsigned(blend)));
+      const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
+                                           blend_layers + 1, counters);
+      for (int i = 0; i < 4; ++i) {
+        if (!((blend >> i) & 1)) continue;
+        const float a = sp[i].alpha;
+        out[0][i] = a * out[0][i] + (1.0f - a) * c.r[i];
+        out[1][i] = a * out[1][i] + (1.0f - a) * c.g[i];
+        out[2][i] = a * out[2][i] + (1.0f - a) * c.b[i];
       }
     }
   }

@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <map>
 #include <optional>
+#include <tuple>
 
 #include "core/error.h"
 #include "scene/gltf_accessor.h"
@@ -49,6 +50,50 @@ glm::vec3 vec3_of(const std::vector<double>& v, glm::vec3 fallback) {
 }
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// Per-vertex tangents (xyz, w = bitangent sign) from the UV gradients of the triangles
+// around each vertex (Lengyel 2001, "Computing Tangent Space Basis Vectors"), in the
+// mesh's own frame. Not MikkTSpace: the frame is the area-weighted average over a vertex's
+// triangles, so normal maps baked with MikkTSpace match only where the UV layout is smooth.
+// glTF's v axis points down the image while normal maps' +Y points up it, hence the bitangent
+// is -dP/dv: w = +1 when cross(N, T) is opposite to dP/dv.
+std::vector<float> uv_gradient_tangents(const std::vector<float>& pos, const std::vector<float>& nrm,
+                                        const std::vector<float>& uv, const std::vector<uint32_t>& tri) {
+  const size_t vertices = pos.size() / 3;
+  std::vector<float> out(vertices * 4, 0.0f);
+  if (uv.empty()) return out;
+  std::vector<glm::vec3> dpdu(vertices, glm::vec3(0.0f)), dpdv(vertices, glm::vec3(0.0f));
+  std::vector<glm::vec3> face(vertices, glm::vec3(0.0f));  // the normal when the mesh has none
+  auto p = [&](uint32_t i) { return glm::vec3(pos[i * 3], pos[i * 3 + 1], pos[i * 3 + 2]); };
+  auto t = [&](uint32_t i) { return glm::vec2(uv[i * 2], uv[i * 2 + 1]); };
+  for (size_t k = 0; k + 2 < tri.size(); k += 3) {
+    const uint32_t a = tri[k], b = tri[k + 1], c = tri[k + 2];
+    const glm::vec3 e1 = p(b) - p(a), e2 = p(c) - p(a);
+    const glm::vec2 d1 = t(b) - t(a), d2 = t(c) - t(a);
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    if (!(std::abs(det) > 1e-20f)) continue;
+    // Solve e1 = d1.x T + d1.y B, e2 = d2.x T + d2.y B; weighting by |det| keeps the sum
+    // area-weighted and the orientation independent of the UV winding.
+    const float sign = det > 0.0f ? 1.0f : -1.0f;
+    const glm::vec3 tu = (e1 * d2.y - e2 * d1.y) * sign, tv = (e2 * d1.x - e1 * d2.x) * sign;
+    for (uint32_t v : {a, b, c}) {
+      face[v] += glm::cross(e1, e2);
+      dpdu[v] += tu;
+      dpdv[v] += tv;
+    }
+  }
+  for (size_t v = 0; v < vertices; ++v) {
+    glm::vec3 n = nrm.empty() ? face[v] : glm::vec3(nrm[v * 3], nrm[v * 3 + 1], nrm[v * 3 + 2]);
+    if (glm::length(n) > 0.0f) n = glm::normalize(n);
+    glm::vec3 tv = dpdu[v] - n * glm::dot(n, dpdu[v]);
+    const float len = glm::length(tv);
+    if (!(len > 0.0f) || !std::isfinite(len)) continue;
+    tv /= len;
+    const float w = glm::length(n) > 0.0f && glm::dot(glm::cross(n, tv), dpdv[v]) > 0.0f ? -1.0f : 1.0f;
+    out[v * 4] = tv.x, out[v * 4 + 1] = tv.y, out[v * 4 + 2] = tv.z, out[v * 4 + 3] = w;
+  }
+  return out;
+}
+
 struct Loader {
   const tinygltf::Model& model;
   Scene& scene;
@@ -56,28 +101,41 @@ struct Loader {
   std::string file;  // for messages
   uint32_t material_base = 0;
   int default_material = -1;
-  std::map<std::pair<int, bool>, int> texture_of_image;  // (image, srgb) -> scene texture
+  // (image, srgb, wrap s, wrap t, filter) -> scene texture
+  std::map<std::tuple<int, bool, TextureWrap, TextureWrap, TextureFilter>, int> texture_of_image;
+  bool uses_texcoord1 = false;  // some texture slot reads TEXCOORD_1
   Animation animation;  // sampled at options.time for every animated node
 
   void warn(const std::string& msg) const {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
   }
 
-  // Scene texture for glTF texture `index`, decoded once per colour space; -1 if unusable.
+  // Scene texture for glTF texture `index` with its sampler, decoded once per colour
+  // space and sampler; -1 if unusable.
   int texture(int index, bool srgb) {
     if (index < 0 || size_t(index) >= model.textures.size()) {
       if (index >= 0) warn("texture " + std::to_string(index) + " out of range, ignored");
       return -1;
     }
-    const int source = model.textures[size_t(index)].source;
+    const tinygltf::Texture& g = model.textures[size_t(index)];
+    const int source = g.source;
     if (source < 0 || size_t(source) >= model.images.size()) {
       warn("texture " + std::to_string(index) + " has no usable image source, ignored");
       return -1;
     }
-    auto key = std::make_pair(source, srgb);
+    SamplerState sampler;
+    if (g.sampler >= 0 && size_t(g.sampler) < model.samplers.size()) {
+      const tinygltf::Sampler& gs = model.samplers[size_t(g.sampler)];
+      sampler = {wrap_of(gs.wrapS), wrap_of(gs.wrapT),
+                 gs.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? TextureFilter::Nearest : TextureFilter::Linear};
+    }
+    auto key = std::make_tuple(source, srgb, sampler.wrap_s, sampler.wrap_t, sampler.filter);
     if (auto it = texture_of_image.find(key); it != texture_of_image.end()) return it->second;
     int result = -1;
     if (std::optional<Texture> t = decode(source, srgb)) {
+      t->wrap_s = sampler.wrap_s;
+      t->wrap_t = sampler.wrap_t;
+      t->filter = sampler.filter;
       scene.textures.push_back(std::move(*t));
       result = int(scene.textures.size() - 1);
     }
@@ -85,16 +143,67 @@ struct Loader {
     return result;
   }
 
-  // Mean of each channel of a linear texture (glTF texture `index`), or nullopt.
-  std::optional<glm::vec4> texture_mean(int index) {
-    if (index < 0 || size_t(index) >= model.textures.size()) return std::nullopt;
-    const int source = model.textures[size_t(index)].source;
-    if (source < 0 || size_t(source) >= model.images.size()) return std::nullopt;
-    std::optional<Texture> t = decode(source, false);
-    if (!t) return std::nullopt;
-    glm::dvec4 sum(0.0);
-    for (const glm::vec4& c : t->texels) sum += glm::dvec4(c);
-    return glm::vec4(sum / double(t->texels.size()));
+  struct SamplerState {
+    TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
+    TextureFilter filter = TextureFilter::Linear;
+  };
+  static TextureWrap wrap_of(int gl) {
+    if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
+    if (gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+    return TextureWrap::Repeat;
+  }
+
+  // A material's texture slot: texture, TEXCOORD set and KHR_texture_transform.
+  TextureRef texture_ref(int index, int texcoord, const tinygltf::ExtensionMap& extensions, bool srgb) {
+    TextureRef ref;
+    if (index < 0) return ref;
+    ref.index = texture(index, srgb);
+    ref.texcoord = texcoord;
+    if (const auto* e = extension(extensions, "KHR_texture_transform")) {
+      ref.transform = texture_transform(*e);
+      ref.transformed = ref.transform != glm::mat3(1.0f);
+      if (const tinygltf::Value* t = member(*e, "texCoord"); t && t->IsNumber()) ref.texcoord = t->GetNumberAsInt();
+    }
+    if (ref.texcoord != 0 && ref.texcoord != 1) {
+      warn("TEXCOORD_" + std::to_string(ref.texcoord) + " is not supported (0 and 1 are), TEXCOORD_0 used");
+      ref.texcoord = 0;
+    }
+    if (ref.used() && ref.texcoord == 1) uses_texcoord1 = true;
+    return ref;
+  }
+  // The same from an extension's JSON textureInfo object (e.g. transmissionTexture).
+  TextureRef texture_ref(const tinygltf::Value* info, bool srgb) {
+    const tinygltf::Value* index = info ? member(*info, "index") : nullptr;
+    if (!index || !index->IsNumber()) return {};
+    const tinygltf::Value* texcoord = member(*info, "texCoord");
+    tinygltf::ExtensionMap extensions;
+    if (const tinygltf::Value* e = member(*info, "extensions"); e && e->IsObject())
+      for (const std::string& key : e->Keys()) extensions[key] = e->Get(key);
+    return texture_ref(index->GetNumberAsInt(), texcoord && texcoord->IsNumber() ? texcoord->GetNumberAsInt() : 0,
+                       extensions, srgb);
+  }
+
+  // KHR_texture_transform: uv' = T * R * S * uv with R = [[cos, sin], [-sin, cos]].
+  static glm::mat3 texture_transform(const tinygltf::Value& e) {
+    const tinygltf::Value* o = member(e, "offset");
+    const tinygltf::Value* s = member(e, "scale");
+    glm::vec2 offset(0.0f), scale(1.0f);
+    if (o && o->ArrayLen() >= 2 && o->Get(0).IsNumber() && o->Get(1).IsNumber())
+      offset = {float(o->Get(0).GetNumberAsDouble()), float(o->Get(1).GetNumberAsDouble())};
+    if (s && s->ArrayLen() >= 2 && s->Get(0).IsNumber() && s->Get(1).IsNumber())
+      scale = {float(s->Get(0).GetNumberAsDouble()), float(s->Get(1).GetNumberAsDouble())};
+    const float r = number(&e, "rotation", 0.0f);
+    glm::mat3 T(1.0f), R(1.0f), S(1.0f);
+    T[2] = glm::vec3(offset, 1.0f);
+    R[0] = glm::vec3(std::cos(r), -std::sin(r), 0.0f);
+    R[1] = glm::vec3(std::sin(r), std::cos(r), 0.0f);
+    S[0][0] = scale.x;
+    S[1][1] = scale.y;
+    const glm::mat3 m = T * R * S;
+    for (int c = 0; c < 3; ++c)
+      for (int r2 = 0; r2 < 3; ++r2)
+        if (!std::isfinite(m[c][r2])) return glm::mat3(1.0f);
+    return m;
   }
 
   std::optional<Texture> decode(int source, bool srgb) const {
@@ -113,29 +222,27 @@ struct Loader {
       const auto& pbr = g.pbrMetallicRoughness;
       if (pbr.baseColorFactor.size() >= 3) m.base_color = vec3_of(pbr.baseColorFactor, m.base_color);
       else m.base_color = glm::vec3(1.0f);  // glTF default factor
-      m.base_color_texture = texture(pbr.baseColorTexture.index, true);
-      // Metallic/roughness textures are not sampled per hit: the Whitted model takes one
-      // mirror and one highlight coefficient per material. The factors are scaled by the
-      // texture's mean (B = metallic, G = roughness) so that a textured material with the
-      // default factors 1 is not mistaken for a rough pure metal (black diffuse).
+      m.base_alpha = pbr.baseColorFactor.size() >= 4 ? float(pbr.baseColorFactor[3]) : 1.0f;
+      m.base_color_texture = texture_ref(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+                                         pbr.baseColorTexture.extensions, true);
       m.metallic = float(pbr.metallicFactor);
       m.roughness = float(pbr.roughnessFactor);
-      if (auto mean = texture_mean(pbr.metallicRoughnessTexture.index)) {
-        m.metallic *= mean->b;
-        m.roughness *= mean->g;
-      }
+      m.metallic_roughness_texture =
+          texture_ref(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+                      pbr.metallicRoughnessTexture.extensions, false);
+      m.normal_texture = texture_ref(g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.extensions, false);
+      m.normal_scale = float(g.normalTexture.scale);
+      if (g.alphaMode == "MASK") m.alpha_mode = AlphaMode::Mask;
+      else if (g.alphaMode == "BLEND") m.alpha_mode = AlphaMode::Blend;
+      m.alpha_cutoff = float(g.alphaCutoff);
       m.emissive = vec3_of(g.emissiveFactor, glm::vec3(0.0f));
       if (const auto* e = extension(g.extensions, "KHR_materials_emissive_strength"))
         m.emissive *= number(e, "emissiveStrength", 1.0f);
-      m.emissive_texture = texture(g.emissiveTexture.index, true);
-      if (const auto* e = extension(g.extensions, "KHR_materials_transmission"))
-      {
-        // transmissionTexture (R channel) enters by its mean, like metallic/roughness.
+      m.emissive_texture = texture_ref(g.emissiveTexture.index, g.emissiveTexture.texCoord,
+                                       g.emissiveTexture.extensions, true);
+      if (const auto* e = extension(g.extensions, "KHR_materials_transmission")) {
         m.transmission = number(e, "transmissionFactor", 0.0f);
-        const tinygltf::Value* t = member(*e, "transmissionTexture");
-        const tinygltf::Value* ti = t ? member(*t, "index") : nullptr;
-        if (ti && ti->IsNumber())
-          if (auto mean = texture_mean(ti->GetNumberAsInt())) m.transmission *= mean->r;
+        m.transmission_texture = texture_ref(member(*e, "transmissionTexture"), false);
       }
       if (const auto* e = extension(g.extensions, "KHR_materials_ior")) m.ior = number(e, "ior", 1.5f);
       if (const auto* e = extension(g.extensions, "KHR_materials_volume")) {
@@ -145,36 +252,11 @@ struct Loader {
       }
       m.double_sided = g.doubleSided;
       if (!finite(m.base_color) || !finite(m.emissive) || !std::isfinite(m.metallic) ||
-          !std::isfinite(m.roughness) || !std::isfinite(m.transmission))
+          !std::isfinite(m.roughness) || !std::isfinite(m.transmission) || !std::isfinite(m.base_alpha) ||
+          !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale))
         throw Error(file + ": material '" + g.name + "' has non-finite parameters");
       scene.materials.push_back(std::move(m));
     }
-  }
-
-  // KHR_texture_transform on the base colour texture, baked into the triangle UVs
-  // (one transform per material; the emissive texture shares it).
-  glm::mat3 uv_transform(int material) const {
-    glm::mat3 t(1.0f);
-    if (material < 0 || size_t(material) >= model.materials.size()) return t;
-    const auto& info = model.materials[size_t(material)].pbrMetallicRoughness.baseColorTexture;
-    const auto* e = extension(info.extensions, "KHR_texture_transform");
-    if (!e) return t;
-    const tinygltf::Value* o = member(*e, "offset");
-    const tinygltf::Value* s = member(*e, "scale");
-    glm::vec2 offset(0.0f), scale(1.0f);
-    if (o && o->ArrayLen() >= 2 && o->Get(0).IsNumber() && o->Get(1).IsNumber())
-      offset = {float(o->Get(0).GetNumberAsDouble()), float(o->Get(1).GetNumberAsDouble())};
-    if (s && s->ArrayLen() >= 2 && s->Get(0).IsNumber() && s->Get(1).IsNumber())
-      scale = {float(s->Get(0).GetNumberAsDouble()), float(s->Get(1).GetNumberAsDouble())};
-    const float r = number(e, "rotation", 0.0f);
-    // Extension spec: uv' = T * R * S * uv with R = [[cos, sin], [-sin, cos]].
-    glm::mat3 T(1.0f), R(1.0f), S(1.0f);
-    T[2] = glm::vec3(offset, 1.0f);
-    R[0] = glm::vec3(std::cos(r), -std::sin(r), 0.0f);
-    R[1] = glm::vec3(std::sin(r), std::cos(r), 0.0f);
-    S[0][0] = scale.x;
-    S[1][1] = scale.y;
-    return T * R * S;
   }
 
   uint32_t material_index(int gltf_material) {
@@ -218,18 +300,26 @@ struct Loader {
         continue;
       }
       std::vector<float> pos = gltf::read_floats(model, attr("POSITION"), 3, where + " POSITION");
-      std::vector<float> nrm, uv;
-      if (attr("NORMAL") >= 0) nrm = gltf::read_floats(model, attr("NORMAL"), 3, where + " NORMAL");
-      if (attr("TEXCOORD_0") >= 0) uv = gltf::read_floats(model, attr("TEXCOORD_0"), 2, where + " TEXCOORD_0");
+      const uint32_t material = material_index(prim.material);
+      const bool normal_mapped = scene.materials[material].normal_texture.used();
       const size_t vertices = pos.size() / 3;
+      // Optional per-vertex attribute with `components` floats: empty when absent.
+      auto optional_attribute = [&](const char* name, int components) {
+        std::vector<float> out;
+        if (attr(name) < 0) return out;
+        out = gltf::read_floats(model, attr(name), components, where + " " + name);
+        for (float f : out)
+          if (!std::isfinite(f)) throw Error(where + ": NaN/Inf in " + name);
+        if (out.size() != vertices * size_t(components))
+          throw Error(where + ": " + name + " count differs from POSITION");
+        return out;
+      };
       for (float f : pos)
         if (!std::isfinite(f)) throw Error(where + ": NaN/Inf in POSITION");
-      for (float f : nrm)
-        if (!std::isfinite(f)) throw Error(where + ": NaN/Inf in NORMAL");
-      for (float f : uv)
-        if (!std::isfinite(f)) throw Error(where + ": NaN/Inf in TEXCOORD_0");
-      if (!nrm.empty() && nrm.size() != pos.size()) throw Error(where + ": NORMAL count differs from POSITION");
-      if (!uv.empty() && uv.size() / 2 != vertices) throw Error(where + ": TEXCOORD_0 count differs from POSITION");
+      const std::vector<float> nrm = optional_attribute("NORMAL", 3);
+      const std::vector<float> uv = optional_attribute("TEXCOORD_0", 2);
+      const std::vector<float> uv1 = uses_texcoord1 ? optional_attribute("TEXCOORD_1", 2) : std::vector<float>{};
+      const std::vector<float> tangent = normal_mapped ? optional_attribute("TANGENT", 4) : std::vector<float>{};
 
       std::vector<uint32_t> index;
       if (prim.indices >= 0) {
@@ -252,8 +342,11 @@ struct Loader {
         }
       }
 
-      const uint32_t material = material_index(prim.material);
-      const glm::mat3 uvt = uv_transform(prim.material);
+      // Normal maps need a tangent frame: the file's, else one from the UV gradients.
+      const std::vector<float> tangents = !normal_mapped || !tangent.empty() ? tangent
+                                          : uv_gradient_tangents(pos, nrm, uv, tri);
+      if (normal_mapped) scene.tangents.resize(scene.positions.size(), glm::vec4(0.0f));
+      if (uses_texcoord1) scene.uvs1.resize(scene.positions.size(), glm::vec2(0.0f));
       for (size_t t = 0; t + 2 < tri.size(); t += 3) {
         uint32_t v[3] = {tri[t], tri[t + 1], tri[t + 2]};
         if (flip) std::swap(v[1], v[2]);
@@ -282,9 +375,22 @@ struct Loader {
             if (len > 1e-20f && std::isfinite(len)) n = tn / len;
           }
           scene.normals.push_back(n);
-          glm::vec2 t2(0.0f);
-          if (!uv.empty()) t2 = glm::vec2(uvt * glm::vec3(uv[size_t(v[k]) * 2], uv[size_t(v[k]) * 2 + 1], 1.0f));
-          scene.uvs.push_back(t2);
+          auto uv_at = [&](const std::vector<float>& set) {
+            return set.empty() ? glm::vec2(0.0f) : glm::vec2(set[size_t(v[k]) * 2], set[size_t(v[k]) * 2 + 1]);
+          };
+          scene.uvs.push_back(uv_at(uv));
+          if (uses_texcoord1) scene.uvs1.push_back(uv_at(uv1));
+          if (normal_mapped) {
+            const float* q = tangents.empty() ? nullptr : &tangents[size_t(v[k]) * 4];
+            glm::vec3 tw = q ? linear * glm::vec3(q[0], q[1], q[2]) : glm::vec3(0.0f);
+            tw -= n * glm::dot(n, tw);  // orthogonal to the (transformed) shading normal
+            const float len = glm::length(tw);
+            // A mirroring transform flips the bitangent relative to cross(N, T).
+            const float sign = (q && q[3] < 0.0f ? -1.0f : 1.0f) * (flip ? -1.0f : 1.0f);
+            scene.tangents.push_back(len > 1e-20f && std::isfinite(len) ? glm::vec4(tw / len, sign) : glm::vec4(0.0f));
+          } else if (!scene.tangents.empty()) {
+            scene.tangents.push_back(glm::vec4(0.0f));
+          }
         }
         scene.material_of.push_back(material);
       }
@@ -453,7 +559,7 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
     std::replace(warning.begin(), warning.end(), '\n', ' ');
     std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());
   }
-  Loader loader{model, scene, options, file, 0, -1, {}, {}};
+  Loader loader{model, scene, options, file, 0, -1, {}, false, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
   scene.animated = scene.animated || !loader.animation.empty();

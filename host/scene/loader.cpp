@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <initializer_list>
@@ -278,8 +279,8 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
     if (!(scene.exposure > 0.0f)) J.fail("exposure must be positive");
   }
   if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", kMinTraceDepth, kMaxTraceDepth);
-  if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, 16384);
-  if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, 16384);
+  if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, 16384), scene.width_given = true;
+  if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, 16384), scene.height_given = true;
 
   if (j.contains("materials_override")) {
     const json& o = j["materials_override"];
@@ -294,11 +295,33 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
       if (!found) J.fail("materials_override: no material named '" + it.key() + "'");
     }
   }
+  require_triangles(scene, file);
   scene.finalize_materials();
   return scene;
 }
 
 }  // namespace
+
+void require_triangles(const Scene& scene, const std::string& file) {
+  if (scene.triangle_count() == 0)
+    throw Error(file + ": no triangles to render (the scene has no triangle meshes, or only degenerate ones)");
+}
+
+std::vector<Light> default_lights(const Camera& camera) {
+  // Directional, so they light a model of any size the same: a headlight along the view
+  // and a key light from above, right and in front of the model (towards the camera).
+  Light headlight;
+  headlight.type = Light::Type::Directional;
+  headlight.name = "default headlight";
+  headlight.direction = camera.forward;
+  headlight.intensity = glm::vec3(1.0f);
+  Light key;
+  key.type = Light::Type::Directional;
+  key.name = "default key";
+  key.direction = -glm::normalize(0.5f * camera.right + 1.0f * camera.up - 0.6f * camera.forward);
+  key.intensity = glm::vec3(2.0f);
+  return {headlight, key};
+}
 
 Camera auto_camera(const Scene& scene, float yfov) {
   if (scene.positions.empty()) return Camera{};
@@ -336,7 +359,16 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) 
   const FrameClock clock(options, 0.0, std::nullopt);
   load_gltf_into(scene, path, glm::mat4(1.0f), clock.posed(options));
   clock.apply(scene);
+  require_triangles(scene, path.string());
   if (scene.cameras.empty()) scene.cameras.push_back(auto_camera(scene));
+  if (scene.lights.empty()) {
+    scene.lights = default_lights(scene.cameras[0]);
+    if (!options.quiet)
+      std::fprintf(stderr,
+                   "warning: %s: no lights in the file; using a default headlight and key light "
+                   "(add lights with a scene rig, see scenes/README.md)\n",
+                   path.string().c_str());
+  }
   scene.finalize_materials();
   return scene;
 }

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "scene/scene.h"
 
@@ -33,6 +34,15 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options =
 // A camera that frames the bounding sphere of the scene's triangles, looking from the
 // front (+Z), slightly right and above; used when neither the rig nor the model has one.
 Camera auto_camera(const Scene& scene, float yfov = 0.8f);
+
+// The lights a glTF loaded directly gets when it has none (with a warning): a directional
+// headlight along the camera's view (1 lux) and a directional key light from above, right
+// and in front of the model (2 lux). A rig's lights are its own: a rig never gets these.
+std::vector<Light> default_lights(const Camera& camera);
+
+// Throws a zz::Error naming `file` when the scene has no triangles (a black image is not
+// a result).
+void require_triangles(const Scene& scene, const std::string& file);
 
 // Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs), with
 // animated nodes posed at options.time (seconds; unset = 0).

@@ -6,11 +6,12 @@
 namespace zz {
 
 // The Whitted interpretation of a glTF material (the one place it is defined):
-// - F0 = mix(0.04, base, metallic): the normal-incidence reflectance of the glTF BRDF.
+// - F0 = mix(F0_ior, base, metallic): the normal-incidence reflectance of the glTF BRDF
+//   (F0_ior = ((ior - 1) / (ior + 1))^2, 0.04 for the default ior 1.5).
 // - Mirror reflection only for near-mirror surfaces: weight s = 1 - roughness / 0.2,
 //   clamped to [0,1] (a rough surface has no coherent reflection to trace). Metals reflect
-//   F0 * s; dielectrics reflect with Schlick's Fresnel from F0 = 0.04 (or from the IOR),
-//   applied per ray at shading time.
+//   F0 * s; dielectrics reflect with Schlick's Fresnel from F0_ior, applied per ray at
+//   shading time.
 // - Diffuse = base * (1 - metallic) * (1 - transmission): energy that is neither mirrored
 //   by metal nor transmitted.
 // - Highlight: Phong exponent from the GGX alpha = roughness^2, n = 2/alpha^2 - 2
@@ -18,15 +19,14 @@ namespace zz {
 // - Transmission = base * transmission * (1 - metallic), bent with the IOR; the surface
 //   then also mirrors with the dielectric Fresnel, whatever its roughness.
 // - Volume: sigma_a = -ln(attenuation_color) / attenuation_distance (glTF spec).
-WhittedMaterial whitted_from_gltf(const Material& m) {
-  WhittedMaterial w;
-  const float metallic = std::clamp(m.metallic, 0.0f, 1.0f);
-  const float roughness = std::clamp(m.roughness, 0.0f, 1.0f);
-  const float transmission = std::clamp(m.transmission, 0.0f, 1.0f) * (1.0f - metallic);
-  const glm::vec3 base = glm::clamp(m.base_color, glm::vec3(0.0f), glm::vec3(1.0f));
-  const float ior = std::isfinite(m.ior) && m.ior >= 1.0f ? m.ior : 1.5f;
-  const float f0_dielectric_scalar = ((ior - 1.0f) / (ior + 1.0f)) * ((ior - 1.0f) / (ior + 1.0f));
-  const glm::vec3 f0 = glm::mix(glm::vec3(f0_dielectric_scalar), base, metallic);
+void whitted_surface(WhittedMaterial& w, const PbrSample& p) {
+  const float metallic = std::clamp(p.metallic, 0.0f, 1.0f);
+  const float roughness = std::clamp(p.roughness, 0.0f, 1.0f);
+  const float transmission = std::clamp(p.transmission, 0.0f, 1.0f) * (1.0f - metallic);
+  const glm::vec3 base = glm::clamp(p.base_color, glm::vec3(0.0f), glm::vec3(1.0f));
+  const float ior = w.ior;
+  const float f0_dielectric = ((ior - 1.0f) / (ior + 1.0f)) * ((ior - 1.0f) / (ior + 1.0f));
+  const glm::vec3 f0 = glm::mix(glm::vec3(f0_dielectric), base, metallic);
 
   const float smooth = std::clamp(1.0f - roughness / kMirrorRoughnessLimit, 0.0f, 1.0f);
   w.diffuse = base * (1.0f - metallic) * (1.0f - transmission);
@@ -34,19 +34,26 @@ WhittedMaterial whitted_from_gltf(const Material& m) {
   const float alpha = std::max(roughness * roughness, 1e-3f);
   w.shininess = std::clamp(2.0f / (alpha * alpha) - 2.0f, 1.0f, 10000.0f);
 
+  w.transmission = glm::vec3(0.0f);
+  w.mirror = glm::vec3(0.0f);
+  w.fresnel_mirror = false;
   if (transmission > 0.0f) {
     w.transmission = base * transmission;
-    w.ior = ior;
-    w.mirror = glm::vec3(f0_dielectric_scalar);
+    w.mirror = glm::vec3(f0_dielectric);
     w.fresnel_mirror = true;
   } else if (metallic > 0.0f && smooth > 0.0f) {
     w.mirror = f0 * smooth * metallic;
-    w.fresnel_mirror = false;
-    if (metallic < 1.0f) w.mirror += glm::vec3(f0_dielectric_scalar * smooth * (1.0f - metallic));
+    if (metallic < 1.0f) w.mirror += glm::vec3(f0_dielectric * smooth * (1.0f - metallic));
   } else if (smooth > 0.0f) {
-    w.mirror = glm::vec3(f0_dielectric_scalar * smooth);
+    w.mirror = glm::vec3(f0_dielectric * smooth);
     w.fresnel_mirror = true;
   }
+}
+
+WhittedMaterial whitted_from_gltf(const Material& m) {
+  WhittedMaterial w;
+  w.ior = std::isfinite(m.ior) && m.ior >= 1.0f ? m.ior : 1.5f;
+  whitted_surface(w, {m.base_color, m.metallic, m.roughness, m.transmission});
   if (std::isfinite(m.attenuation_distance) && m.attenuation_distance > 0.0f) {
     glm::vec3 c = glm::clamp(m.attenuation_color, glm::vec3(1e-6f), glm::vec3(1.0f));
     w.absorption = -glm::log(c) / m.attenuation_distance;

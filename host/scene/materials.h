@@ -1,30 +1,61 @@
 // Materials: the glTF PBR parameters as loaded, and their Whitted interpretation.
 // The mapping from glTF metallic/roughness to Whitted coefficients lives only in
-// whitted_from_gltf() (materials.cpp), documented there.
+// whitted_surface() / whitted_from_gltf() (materials.cpp), documented there.
 #pragma once
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <limits>
 #include <string>
 
 namespace zz {
 
+// One texture slot of a material (glTF textureInfo): which texture, which TEXCOORD set,
+// and the KHR_texture_transform applied to that set's coordinates.
+struct TextureRef {
+  int index = -1;             // into Scene::textures; -1 = no texture
+  int texcoord = 0;           // TEXCOORD_<n>; 0 or 1
+  glm::mat3 transform{1.0f};  // uv' = transform * (uv, 1)
+  bool transformed = false;   // transform is not the identity
+
+  bool used() const { return index >= 0; }
+  glm::vec2 apply(glm::vec2 uv) const { return transformed ? glm::vec2(transform * glm::vec3(uv, 1.0f)) : uv; }
+};
+
+enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
+
 // glTF 2.0 metallic-roughness material + the extensions we read.
 struct Material {
   std::string name;
   glm::vec3 base_color{0.8f};
-  int base_color_texture = -1;  // index into Scene::textures, sampled at TEXCOORD_0
+  float base_alpha = 1.0f;             // baseColorFactor[3]
+  TextureRef base_color_texture;       // sRGB; alpha in A
   float metallic = 0.0f;
   float roughness = 1.0f;
+  TextureRef metallic_roughness_texture;  // linear; G = roughness, B = metallic
   glm::vec3 emissive{0.0f};
-  int emissive_texture = -1;
-  float transmission = 0.0f;  // KHR_materials_transmission
-  float ior = 1.5f;           // KHR_materials_ior
+  TextureRef emissive_texture;
+  TextureRef normal_texture;           // linear tangent-space normal, +Y = image up
+  float normal_scale = 1.0f;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;
+  float transmission = 0.0f;           // KHR_materials_transmission
+  TextureRef transmission_texture;     // linear; R = transmission
+  float ior = 1.5f;                    // KHR_materials_ior
   // KHR_materials_volume: Beer-Lambert attenuation inside the closed surface.
   glm::vec3 attenuation_color{1.0f};
   float attenuation_distance = std::numeric_limits<float>::infinity();
   bool double_sided = false;
+
+  // The Whitted coefficients depend on the hit point (textured metallic, roughness or
+  // transmission, or a base colour texture that tints a mirror or the glass), not only
+  // the diffuse albedo.
+  bool varies_per_hit() const {
+    return metallic_roughness_texture.used() || transmission_texture.used() ||
+           (base_color_texture.used() && (metallic > 0.0f || transmission > 0.0f));
+  }
+  bool see_through() const { return alpha_mode != AlphaMode::Opaque; }
 };
 
 // What the Whitted shader uses. All colours linear RGB.
@@ -48,6 +79,20 @@ struct WhittedMaterial {
 // Roughness at and above which a surface is treated as not a mirror.
 inline constexpr float kMirrorRoughnessLimit = 0.2f;
 
+// The glTF inputs at one surface point: factors times texture values.
+struct PbrSample {
+  glm::vec3 base_color;
+  float metallic;
+  float roughness;
+  float transmission;
+};
+
+// Sets the surface terms of `w` (diffuse, specular, shininess, mirror, transmission) from
+// one point's inputs; ior, absorption and emission are left as they are. Cheap (no
+// transcendental functions): the shader calls it per hit for materials that vary.
+void whitted_surface(WhittedMaterial& w, const PbrSample& p);
+
+// The whole Whitted material from the glTF factors alone.
 WhittedMaterial whitted_from_gltf(const Material& m);
 
 }  // namespace zz

@@ -1,5 +1,7 @@
 #include "scene/scene.h"
 
+#include <algorithm>
+
 namespace zz {
 
 std::vector<std::string> EffectSet::names() const {
@@ -10,6 +12,11 @@ std::vector<std::string> EffectSet::names() const {
   if (absorption) out.push_back("absorption");
   if (textures) out.push_back("textures");
   if (emission) out.push_back("emission");
+  if (material_textures) out.push_back("material_textures");
+  if (normal_maps) out.push_back("normal_maps");
+  if (alpha_mask) out.push_back("alpha_mask");
+  if (alpha_blend) out.push_back("alpha_blend");
+  if (shadow_transmission) out.push_back("shadow_transmission");
   return out;
 }
 
@@ -32,15 +39,35 @@ EffectSet Scene::effects() const {
     if (!used[i]) continue;
     const Material& m = materials[i];
     WhittedMaterial w = i < whitted.size() ? whitted[i] : whitted_from_gltf(m);
+    auto valid = [&](const TextureRef& t) { return t.index >= 0 && size_t(t.index) < textures.size(); };
+    if (valid(m.metallic_roughness_texture)) {
+      // Textures only scale the factors down: the smoothest and most metallic texel decides
+      // whether any hit on this material can mirror.
+      float min_roughness = 1.0f, max_metallic = 0.0f;
+      for (const glm::vec4& t : textures[size_t(m.metallic_roughness_texture.index)].texels) {
+        min_roughness = std::min(min_roughness, t.g);
+        max_metallic = std::max(max_metallic, t.b);
+      }
+      WhittedMaterial best = w;
+      whitted_surface(best, {m.base_color, m.metallic * max_metallic, m.roughness * min_roughness, m.transmission});
+      e.reflection |= best.reflects();
+      e.material_textures = true;
+    }
+    e.material_textures |= valid(m.transmission_texture) && m.transmission > 0.0f;
     e.reflection |= w.reflects();
     e.refraction |= w.transmits();
     e.absorption |= w.transmits() && (w.absorption.x > 0.0f || w.absorption.y > 0.0f ||
                                       w.absorption.z > 0.0f);
-    auto valid = [&](int t) { return t >= 0 && size_t(t) < textures.size(); };
-    e.textures |= valid(m.base_color_texture) || valid(m.emissive_texture);
+    e.textures |= valid(m.base_color_texture) || valid(m.emissive_texture) ||
+                  valid(m.metallic_roughness_texture) || valid(m.transmission_texture);
+    e.normal_maps |= valid(m.normal_texture) && tangents.size() == positions.size();
+    e.textures |= e.normal_maps;
+    e.alpha_mask |= m.alpha_mode == AlphaMode::Mask;
+    e.alpha_blend |= m.alpha_mode == AlphaMode::Blend;
     // glTF emission = emissiveFactor * texture, so a zero factor emits nothing.
     e.emission |= w.emission.x > 0.0f || w.emission.y > 0.0f || w.emission.z > 0.0f;
   }
+  e.shadow_transmission = e.shadows && e.refraction;
   return e;
 }
 

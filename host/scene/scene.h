@@ -25,6 +25,11 @@ struct EffectSet {
   bool absorption = false;   // any transmissive material with volume attenuation
   bool textures = false;     // any sampled texture
   bool emission = false;     // any emissive material
+  bool material_textures = false;    // metallic/roughness/transmission sampled per hit
+  bool normal_maps = false;          // any normal texture
+  bool alpha_mask = false;           // any alphaMode MASK material
+  bool alpha_blend = false;          // any alphaMode BLEND material
+  bool shadow_transmission = false;  // lights and glass: shadow rays pass transmissive surfaces
 
   std::vector<std::string> names() const;  // e.g. {"shadows", "reflection"}
 };
@@ -39,7 +44,11 @@ struct Scene {
   // Triangle t has vertices positions[3t .. 3t+2] (world space).
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;     // shading normals, 3 per triangle (world space, unit)
-  std::vector<glm::vec2> uvs;         // 3 per triangle (zero when the mesh has none)
+  std::vector<glm::vec2> uvs;         // TEXCOORD_0, 3 per triangle (zero when the mesh has none)
+  std::vector<glm::vec2> uvs1;        // TEXCOORD_1, 3 per triangle; empty when no mesh has one
+  // Tangent frame for normal maps, 3 per triangle: xyz world-space unit tangent (along +u),
+  // w = bitangent sign (B = w * cross(N, T)); empty when no material has a normal texture.
+  std::vector<glm::vec4> tangents;
   std::vector<uint32_t> material_of;  // 1 per triangle, index into materials
 
   std::vector<Material> materials;
@@ -53,6 +62,8 @@ struct Scene {
   int max_depth = 2;  // trace depth: reflection/refraction bounces along a path (0 = none)
   int default_width = 512;
   int default_height = 512;
+  bool width_given = false;   // the rig set "width" (else it follows the camera's aspect)
+  bool height_given = false;  // the rig set "height"
 
   // Animation: glTF node animations, posed at `time` when loaded (scene/animation.h).
   bool animated = false;

@@ -1,23 +1,58 @@
 #include "scene/texture.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace zz {
 
+namespace {
+
+// Reduces a coordinate to one period of its wrap mode before the conversion to texels, so
+// a large uv (1e20) cannot overflow the conversion to long.
+float reduce(float u, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::Repeat: return u - std::floor(u);
+    case TextureWrap::MirroredRepeat: return u - 2.0f * std::floor(0.5f * u);  // [0, 2)
+    case TextureWrap::ClampToEdge: return std::clamp(u, -1.0f, 2.0f);
+  }
+  return u;
+}
+
+// Texel index i wrapped into [0, n) (OpenGL 4.6 §8.14.2 wrap functions).
+int wrap_index(long i, int n, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::Repeat: {
+      long m = i % n;
+      return int(m < 0 ? m + n : m);
+    }
+    case TextureWrap::MirroredRepeat: {
+      long period = 2L * n, m = i % period;
+      if (m < 0) m += period;
+      return int(m < n ? m : period - 1 - m);
+    }
+    case TextureWrap::ClampToEdge: return int(std::clamp<long>(i, 0, n - 1));
+  }
+  return 0;
+}
+
+}  // namespace
+
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0 || texels.size() < size_t(width) * size_t(height)) return glm::vec4(1.0f);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texels[0];
-  // Texel centres at (i + 0.5) / width; REPEAT wrapping. Reduce to [0, 1] first: a large
-  // uv (1e20) would overflow the conversion to long and lose the fraction in x.
-  const float u = uv.x - std::floor(uv.x), v = uv.y - std::floor(uv.y);
-  float x = u * float(width) - 0.5f;
-  float y = v * float(height) - 0.5f;
-  float fx = std::floor(x), fy = std::floor(y);
-  float tx = x - fx, ty = y - fy;
-  auto wrap = [](long i, int n) { long m = i % n; return int(m < 0 ? m + n : m); };
-  long ix = long(fx), iy = long(fy);
-  int x0 = wrap(ix, width), x1 = wrap(ix + 1, width);
-  int y0 = wrap(iy, height), y1 = wrap(iy + 1, height);
+  const float u = reduce(uv.x, wrap_s), v = reduce(uv.y, wrap_t);
+  if (filter == TextureFilter::Nearest) {
+    const int x = wrap_index(long(std::floor(u * float(width))), width, wrap_s);
+    const int y = wrap_index(long(std::floor(v * float(height))), height, wrap_t);
+    return texels[size_t(y) * size_t(width) + size_t(x)];
+  }
+  // Texel centres at (i + 0.5) / width.
+  const float x = u * float(width) - 0.5f, y = v * float(height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const float tx = x - fx, ty = y - fy;
+  const long ix = long(fx), iy = long(fy);
+  const int x0 = wrap_index(ix, width, wrap_s), x1 = wrap_index(ix + 1, width, wrap_s);
+  const int y0 = wrap_index(iy, height, wrap_t), y1 = wrap_index(iy + 1, height, wrap_t);
   const glm::vec4& a = texels[size_t(y0) * width + x0];
   const glm::vec4& b = texels[size_t(y0) * width + x1];
   const glm::vec4& c = texels[size_t(y1) * width + x0];

@@ -154,5 +154,32 @@ TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   fs::remove_all(dir);
 }
 
+TEST(RenderCommand, CameraByNameAndFrameFromItsAspect) {
+  const fs::path dir = temp_dir() / "aspect";
+  fs::create_directories(dir);
+  const nlohmann::json rig = {
+      {"model", test::source_path("scenes/default.gltf")},
+      {"cameras", {{{"name", "wide"}, {"eye", {0, 2, 8}}, {"target", {0, 1, 0}}, {"aspect", 2.0}},
+                   {{"name", "tall"}, {"eye", {0, 2, 8}}, {"target", {0, 1, 0}}, {"aspect", 0.5}}}}};
+  std::ofstream(dir / "rig.json") << rig.dump();
+  const std::string render = test::zigzag_binary() + " render " + (dir / "rig.json").string() + " --aa none --edges off -q ";
+  auto size_of = [&](const fs::path& png) {
+    int w = 0, h = 0;
+    read_rgb_float(png, w, h);
+    return std::make_pair(w, h);
+  };
+  auto r = test::run_command(render + "--camera tall -o " + (dir / "tall.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(size_of(dir / "tall.png"), std::make_pair(256, 512));
+  r = test::run_command(render + "--camera wide --width 100 -o " + (dir / "wide.png").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(size_of(dir / "wide.png"), std::make_pair(100, 50));
+  r = test::run_command(render + "--camera nope -o " + (dir / "nope.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("no camera named 'nope' (cameras: 0 'wide', 1 'tall')"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "nope.png"));
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace zz

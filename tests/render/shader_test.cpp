@@ -185,7 +185,7 @@ TEST(Shader, EmissiveTextureModulatesTheEmissiveFactor) {
   black.texels = {glm::vec4(0.0f, 0.25f, 0.0f, 1.0f)};
   s.textures.push_back(black);
   s.materials[0].emissive = glm::vec3(1.0f);
-  s.materials[0].emissive_texture = 0;
+  s.materials[0].emissive_texture.index = 0;
   s.finalize_materials();
   const glm::vec3 l = centre_radiance(s);
   EXPECT_EQ(l, glm::vec3(0.0f, 0.25f, 0.0f));

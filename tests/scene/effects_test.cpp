@@ -56,7 +56,7 @@ TEST(EffectSet, FollowsLightsAndUsedMaterials) {
   lamp.emissive = glm::vec3(2.0f);
   EXPECT_EQ(scene_with({lamp}, {0}).effects().names(), Names{"emission"});
   Material textured;
-  textured.base_color_texture = 0;
+  textured.base_color_texture.index = 0;
   Scene t = scene_with({textured}, {0});
   EXPECT_TRUE(t.effects().names().empty());  // index without a texture behind it
   t.textures.push_back(Texture{1, 1, {glm::vec4(1)}});
@@ -66,8 +66,8 @@ TEST(EffectSet, FollowsLightsAndUsedMaterials) {
 TEST(EffectSet, ProjectScenes) {
   const std::pair<const char*, Names> cases[] = {
       {"room.json", {"shadows", "reflection"}},
-      {"glass.json", {"shadows", "reflection", "refraction", "absorption"}},
-      {"default.json", {"shadows", "reflection", "refraction"}}};
+      {"glass.json", {"shadows", "reflection", "refraction", "absorption", "shadow_transmission"}},
+      {"default.json", {"shadows", "reflection", "refraction", "shadow_transmission"}}};
   for (const auto& [file, names] : cases)
     EXPECT_EQ(load_scene(std::filesystem::path(ZZ_SOURCE_DIR) / "scenes" / file, LoadOptions{{}, true}).effects().names(),
               names)

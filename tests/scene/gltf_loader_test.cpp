@@ -323,7 +323,10 @@ TEST(GltfLoader, AutoCameraFramesTheBoundsWhenTheFileHasNone) {
   EXPECT_EQ(s.background, glm::vec3(0.0f));
   EXPECT_EQ(s.max_depth, 2);
   EXPECT_EQ(s.exposure, 1.0f);
-  EXPECT_TRUE(s.lights.empty());
+  // No lights in the file: the documented default pair, headlight along the view.
+  ASSERT_EQ(s.lights.size(), 2u);
+  EXPECT_EQ(s.lights[0].type, Light::Type::Directional);
+  expect_vec(s.lights[0].direction, c.forward, 1e-6f);
 }
 
 TEST(GltfLoader, MaterialsAndExtensions) {
@@ -419,7 +422,7 @@ TEST(SharedScenes, LoadWhenPresent) {
   Scene car = load_scene(root / "toycar/glTF/ToyCar.gltf", kQuiet);
   EXPECT_EQ(car.cameras.size(), 8u);
   EXPECT_EQ(car.cameras[0].name, "Camera001");
-  EXPECT_TRUE(car.lights.empty());
+  EXPECT_EQ(car.lights.size(), 2u);  // none in the file: the default headlight and key light
   Scene lamp = load_scene(root / "lightspunctuallamp/glTF/LightsPunctualLamp.gltf", kQuiet);
   EXPECT_EQ(lamp.lights.size(), 5u);
   EXPECT_EQ(lamp.cameras.size(), 1u);  // auto camera

@@ -71,7 +71,7 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0, {0, 0, 1, 0, 0, 1})}});
   Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
   ASSERT_EQ(s.textures.size(), 1u);
-  ASSERT_EQ(s.materials[0].base_color_texture, 0);
+  ASSERT_EQ(s.materials[0].base_color_texture.index, 0);
   const Texture& t = s.textures[0];
   ASSERT_EQ(t.width, 2);
   ASSERT_EQ(t.height, 1);
@@ -100,7 +100,7 @@ TEST(Texture, SixteenBitGreyAlphaImagesExpandToRgba) {
   b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
   b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
   Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
-  ASSERT_EQ(s.materials[0].emissive_texture, 0);
+  ASSERT_EQ(s.materials[0].emissive_texture.index, 0);
   const glm::vec4 t = s.textures[0].texels[0];
   const float g = std::pow((32768 / 65535.0f + 0.055f) / 1.055f, 2.4f);
   expect_rgba(t, {g, g, g, 16384 / 65535.0f}, 1e-4f);
@@ -115,7 +115,7 @@ TEST(Texture, MissingImageIsIgnoredNotFatal) {
   b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
   b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
   Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
-  EXPECT_EQ(s.materials[0].base_color_texture, -1);
+  EXPECT_EQ(s.materials[0].base_color_texture.index, -1);
   EXPECT_TRUE(s.textures.empty());
 }
 

@@ -2,6 +2,8 @@
 // 2048^2 frames on the room, glass and car scenes (generated stand-ins when a scene does
 // not load). Manual time = host wall time of VisibilityPass::run; the counters split it
 // into GPU raster / compute (timestamps) and host readback. Compare LP_NUM_THREADS=1/2.
+// The `.../sse` lines time the same rule on the host (gpu/geo_flags_cpu.h, one thread)
+// over the same ids: the baseline the compute pass is measured against.
 // Usage: bench_visibility [benchmark flags] [scene.json ...]
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
@@ -14,6 +16,7 @@
 
 #include "bench_scenes.h"
 #include "gpu/device.h"
+#include "gpu/geo_flags_cpu.h"
 #include "gpu/visibility.h"
 
 using namespace zz;
@@ -61,6 +64,26 @@ void run(benchmark::State& state, VisibilityPass* pass, const Scene* scene, int 
   state.counters["triangles"] = double(scene->triangle_count());
 }
 
+// The host SSE rule on the frame's ids (rendered once, outside the timing).
+void run_sse(benchmark::State& state, VisibilityPass* pass, const Scene* scene, int size, int ss) {
+  VisibilitySettings settings;
+  settings.supersample = ss;
+  const Camera& camera = scene->cameras.front();
+  const std::vector<uint32_t> ids = pass->render_ids(camera, size, size, settings);
+  const gpu::FlagPush push = make_flag_push(camera, size, size, settings);
+  const std::vector<glm::vec4> planes =
+      triangle_planes(scene->positions, geometric_normals(*scene), glm::vec3(push.origin));
+  double cpu0 = process_cpu_s();
+  size_t n = 0;
+  for (auto _ : state) {
+    GeoMap map = geo_flags_cpu(ids, planes, push);
+    n = 0;
+    for (uint8_t f : map.flags) n += f != 0;
+  }
+  state.counters["process_cpu_ms"] = 1e3 * (process_cpu_s() - cpu0) / double(state.iterations());
+  state.counters["geo_fraction"] = double(n) / (double(size) * size);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -94,6 +117,11 @@ int main(int argc, char** argv) {
             ->UseManualTime()
             ->Unit(benchmark::kMillisecond)
             ->Iterations(size >= 2048 ? 2 : 4);
+    for (int ss : {4, 6})
+      benchmark::RegisterBenchmark((name + "/S" + std::to_string(ss) + "/1024/sse").c_str(), run_sse,
+                                   g_passes.back().get(), g_scenes.back().get(), 1024, ss)
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(4);
   }
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -36,6 +36,8 @@ void check_invariants(const Scene& s) {
   const size_t n = s.triangle_count();
   if (s.positions.size() != 3 * n || s.normals.size() != 3 * n || s.uvs.size() != 3 * n)
     bug("per-vertex arrays do not hold 3 entries per triangle");
+  if ((!s.uvs1.empty() && s.uvs1.size() != 3 * n) || (!s.tangents.empty() && s.tangents.size() != 3 * n))
+    bug("optional per-vertex arrays (TEXCOORD_1, tangents) do not hold 3 entries per triangle");
   if (s.whitted.size() != s.materials.size()) bug("whitted materials not finalized");
   for (uint32_t m : s.material_of)
     if (m >= s.materials.size()) bug("material index out of range");
@@ -44,8 +46,9 @@ void check_invariants(const Scene& s) {
   for (const glm::vec3& nv : s.normals)
     if (!finite3(nv)) bug("non-finite normal");
   for (const Material& m : s.materials) {
-    if (m.base_color_texture >= int(s.textures.size()) || m.emissive_texture >= int(s.textures.size()))
-      bug("texture index out of range");
+    for (const TextureRef* r : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture,
+                                &m.normal_texture, &m.transmission_texture})
+      if (r->index >= int(s.textures.size()) || r->texcoord < 0 || r->texcoord > 1) bug("texture slot out of range");
   }
   for (const Texture& t : s.textures)
     if (t.width <= 0 || t.height <= 0 || t.texels.size() != size_t(t.width) * size_t(t.height))

@@ -1,0 +1,139 @@
+#include "gpu/geo_flags_cpu.h"
+
+#include <smmintrin.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+float dot3(glm::vec3 a, glm::vec3 b) {
+  float r = a.x * b.x + a.y * b.y;
+  return r + a.z * b.z;
+}
+
+// One row of pair bits, 64 pairs per word.
+struct BitRows {
+  int words_per_row = 0;
+  std::vector<uint64_t> bits;
+  BitRows(int rows, int pairs) : words_per_row((pairs + 63) / 64 + 1), bits(size_t(rows) * words_per_row, 0) {}
+  uint64_t* row(int r) { return &bits[size_t(r) * words_per_row]; }
+  static void set(uint64_t* row, int i) { row[i >> 6] |= uint64_t(1) << (i & 63); }
+  // Bits [start, start + n) of a row (n <= 32); the spare last word keeps i + 1 in range.
+  static uint64_t window(const uint64_t* row, int start, int n) {
+    int w = start >> 6, b = start & 63;
+    uint64_t lo = row[w] >> b;
+    uint64_t hi = b ? row[w + 1] << (64 - b) : 0;
+    return (lo | hi) & ((uint64_t(1) << n) - 1);
+  }
+};
+
+struct Rule {
+  const std::vector<glm::vec4>& planes;
+  const gpu::FlagPush& p;
+
+  glm::vec3 ray_dir(int gx, int gy) const {
+    glm::vec3 d = glm::vec3(p.dir00) + float(gx) * glm::vec3(p.du);
+    return d + float(gy) * glm::vec3(p.dv);
+  }
+  bool far_apart(float a, float b) const {
+    float diff = std::fabs(a - b);
+    float lim = p.limits.y * std::min(a, b);
+    return !(diff <= lim);
+  }
+  // Ids known to differ.
+  bool differs(uint32_t ia, int gxa, int gya, uint32_t ib, int gxb, int gyb) const {
+    if (ia == 0 || ib == 0) return true;
+    const glm::vec4 pa = planes[ia - 1], pb = planes[ib - 1];
+    const glm::vec3 na(pa), nb(pb);
+    const glm::vec3 da = ray_dir(gxa, gya), db = ray_dir(gxb, gyb);
+    const float sa = dot3(na, da), sb = dot3(nb, db);
+    float c = dot3(na, nb);
+    if ((sa < 0.0f) != (sb < 0.0f)) c = -c;
+    if (c < p.limits.x) return true;
+    const float taa = pa.w / sa, tba = pb.w / dot3(nb, da), tab = pa.w / dot3(na, db), tbb = pb.w / sb;
+    return far_apart(taa, tba) || far_apart(tbb, tab);
+  }
+};
+
+// Bit k of the result: a[k] != b[k], for 4 ids at once.
+inline int differ4(const uint32_t* a, const uint32_t* b) {
+  const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(a));
+  const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(b));
+  return ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(x, y))) & 0xF;
+}
+
+}  // namespace
+
+std::vector<glm::vec4> triangle_planes(const std::vector<glm::vec3>& positions,
+                                       const std::vector<glm::vec4>& normals, glm::vec3 origin) {
+  std::vector<glm::vec4> planes(normals.size());
+  for (size_t t = 0; t < normals.size(); ++t) {
+    const glm::vec3 n(normals[t]);
+    planes[t] = glm::vec4(n, dot3(n, positions[3 * t] - origin));
+  }
+  return planes;
+}
+
+GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::vec4>& planes,
+                     const gpu::FlagPush& p) {
+  const int W = p.frame.x, H = p.frame.y, S = p.frame.z;
+  const int gw = W * S, gh = H * S, stride = gw + 2;
+  if (ids.size() != size_t(stride) * (gh + 2)) throw Error("geo_flags_cpu: id image size does not match the frame");
+  const Rule rule{planes, p};
+
+  // Horizontal pairs in core rows gy = iy - 1 in [0, gh): pair ix = (ix, ix + 1), ix in [0, gw].
+  BitRows horizontal(gh, gw + 1);
+  for (int gy = 0; gy < gh; ++gy) {
+    const uint32_t* row = &ids[size_t(gy + 1) * stride];
+    uint64_t* bits = horizontal.row(gy);
+    auto visit = [&](int ix) {
+      if (rule.differs(row[ix], ix - 1, gy, row[ix + 1], ix, gy)) BitRows::set(bits, ix);
+    };
+    int ix = 0;
+    for (; ix + 4 < stride; ix += 4)
+      for (int m = differ4(row + ix, row + ix + 1); m; m &= m - 1) visit(ix + __builtin_ctz(m));
+    for (; ix <= gw; ++ix)
+      if (row[ix] != row[ix + 1]) visit(ix);
+  }
+  // Vertical pairs (iy, iy + 1) for iy in [0, gh], core columns gx = ix - 1 in [0, gw).
+  BitRows vertical(gh + 1, gw);
+  for (int iy = 0; iy <= gh; ++iy) {
+    const uint32_t* a = &ids[size_t(iy) * stride + 1];
+    const uint32_t* b = a + stride;
+    uint64_t* bits = vertical.row(iy);
+    auto visit = [&](int gx) {
+      if (rule.differs(a[gx], gx, iy - 1, b[gx], gx, iy)) BitRows::set(bits, gx);
+    };
+    int gx = 0;
+    for (; gx + 4 <= gw; gx += 4)
+      for (int m = differ4(a + gx, b + gx); m; m &= m - 1) visit(gx + __builtin_ctz(m));
+    for (; gx < gw; ++gx)
+      if (a[gx] != b[gx]) visit(gx);
+  }
+
+  // Pixel (x, y): horizontal pairs ix in [xS, xS + S] of rows yS..yS+S-1, vertical pairs
+  // gx in [xS, xS + S) of rows iy = yS..yS+S.
+  GeoMap map;
+  map.width = W;
+  map.height = H;
+  map.flags.assign(size_t(W) * H, 0);
+  std::vector<uint64_t> h_or(horizontal.words_per_row), v_or(vertical.words_per_row);
+  for (int y = 0; y < H; ++y) {
+    std::fill(h_or.begin(), h_or.end(), 0);
+    std::fill(v_or.begin(), v_or.end(), 0);
+    for (int j = 0; j < S; ++j)
+      for (size_t w = 0; w < h_or.size(); ++w) h_or[w] |= horizontal.row(y * S + j)[w];
+    for (int j = 0; j <= S; ++j)
+      for (size_t w = 0; w < v_or.size(); ++w) v_or[w] |= vertical.row(y * S + j)[w];
+    for (int x = 0; x < W; ++x)
+      map.flags[size_t(y) * W + x] =
+          (BitRows::window(h_or.data(), x * S, S + 1) | BitRows::window(v_or.data(), x * S, S)) != 0;
+  }
+  return map;
+}
+
+}  // namespace zz

@@ -1,0 +1,74 @@
+// A region-limited visibility map has, inside the region, exactly the full map's flags
+// (same tiles, projection and viewport; only the scissor changes) and zero outside.
+#include <gtest/gtest.h>
+
+#include "gpu/visibility.h"
+#include "gpu_fixture.h"
+#include "test_busy_scene.h"
+
+namespace zz::test {
+namespace {
+
+using VisibilityRegionTest = GpuTest;
+
+void expect_crop(const GeoMap& full, const GeoMap& part, const TileRect& r, size_t min_flags = 5) {
+  ASSERT_EQ(part.width, full.width);
+  ASSERT_EQ(part.height, full.height);
+  size_t inside = 0, wrong = 0, outside_set = 0;
+  for (int y = 0; y < full.height; ++y)
+    for (int x = 0; x < full.width; ++x) {
+      const bool in = x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1;
+      if (in) {
+        inside += full.at(x, y);
+        wrong += full.at(x, y) != part.at(x, y);
+      } else {
+        outside_set += part.at(x, y);
+      }
+    }
+  EXPECT_EQ(wrong, 0u) << "region " << r.x0 << "," << r.y0 << " - " << r.x1 << "," << r.y1;
+  EXPECT_EQ(outside_set, 0u);
+  EXPECT_GE(inside, min_flags) << "a region without flags proves nothing";
+}
+
+TEST_F(VisibilityRegionTest, RegionEqualsCropOfTheFullMap) {
+  const Scene scene = busy_scene();
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  const TileRect regions[] = {{0, 0, 101, 67}, {13, 7, 58, 40}, {31, 21, 34, 23}, {64, 0, 101, 67}, {5, 40, 97, 66}};
+  for (int ss : {4, 6}) {
+    VisibilitySettings whole;
+    whole.supersample = ss;
+    VisibilitySettings tiles = whole;
+    tiles.max_tile_dim = 12 * ss + 2;  // 12 x 12-pixel tiles: regions cross tile edges
+    for (const VisibilitySettings& s : {whole, tiles}) {
+      const GeoMap full = pass.run(camera, 101, 67, s);
+      ASSERT_GT(flagged(full), 100u);
+      for (const TileRect& r : regions) {
+        VisibilityTimings t;
+        const GeoMap part = pass.run(camera, 101, 67, s, &t, r);
+        expect_crop(full, part, r, r.width() * r.height() < 100 ? 0 : 5);
+        if (s.max_tile_dim == 0) {
+          EXPECT_EQ(t.tiles, 1);
+        }
+      }
+      // One flagged pixel alone (odd x: not the first pixel of a flag word).
+      size_t first = 0;
+      while (first < full.flags.size() && !(full.flags[first] && first % 2)) ++first;
+      ASSERT_LT(first, full.flags.size());
+      const int x = int(first % 101), y = int(first / 101);
+      expect_crop(full, pass.run(camera, 101, 67, s, nullptr, TileRect{x, y, x + 1, y + 1}), {x, y, x + 1, y + 1}, 1);
+    }
+  }
+}
+
+TEST_F(VisibilityRegionTest, RegionIsClampedAndAnEmptyOneIsAnError) {
+  const Scene scene = busy_scene();
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  const GeoMap full = pass.run(camera, 64, 48, {});
+  expect_crop(full, pass.run(camera, 64, 48, {}, nullptr, TileRect{-10, -10, 30, 20}), {0, 0, 30, 20});
+  EXPECT_THROW(pass.run(camera, 64, 48, {}, nullptr, TileRect{70, 0, 80, 10}), Error);
+}
+
+}  // namespace
+}  // namespace zz::test
