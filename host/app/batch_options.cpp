@@ -1,5 +1,6 @@
 #include "app/batch_options.h"
 
+#include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
@@ -20,7 +21,26 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_option("--camera", o.camera, "Camera index or name, or 'all'");
   cmd->add_option("--aov", o.aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
   add_render_options(cmd, o.render);
+  cmd->add_option("--region", o.region,
+                  "Render only pixels X0,Y0,X1,Y1 (half-open): an EXR keeps the frame as display window, a PNG "
+                  "is region-sized; parts merge with `zigzag merge`");
+  CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
+                                                           "first frame of the scene's range)")
+                           ->check(CLI::Range(0, 100000000));
+  CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(CLI::Range(0.0, 1e7));
+  frame->excludes(time);
+  cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
+      ->check(CLI::Range(1e-3, 1000.0));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress or summary on stderr");
+}
+
+TileRect parse_region(const std::string& text) {
+  TileRect r;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%d,%d,%d,%d%c", &r.x0, &r.y0, &r.x1, &r.y1, &tail) != 4)
+    throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+  if (r.empty()) throw Error("--region " + text + ": the region is empty (need X0 < X1 and Y0 < Y1)");
+  return r;
 }
 
 std::vector<OutputPattern> output_patterns(const BatchOptions& o) {
@@ -48,6 +68,7 @@ std::vector<OutputKey> known_jobs(const BatchOptions& o) {
 
 void validate(const BatchOptions& o) {
   validate(o.render);
+  if (!o.region.empty()) (void)parse_region(o.region);
   for (const auto& [name, file] : o.aovs) {
     if (name != "rays" && name != "levels" && name != "geo")
       throw Error("--aov " + name + ": unknown AOV (valid: rays, levels, geo)");

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -24,12 +25,20 @@ struct BatchOptions {
   std::vector<std::pair<std::string, std::string>> aovs;  // name, file pattern
   bool quiet = false;
   RenderOptions render;
+  std::string region;         // "X0,Y0,X1,Y1"; empty = the whole frame
+  std::optional<int> frame;   // --frame N (time = N / fps)
+  std::optional<double> time; // --time T seconds
+  double fps = 0.0;           // --fps; 0 = the rig's, else 24
 
   bool all_cameras() const { return camera == "all"; }
   std::string output_pattern() const;
 };
 
 void add_batch_options(CLI::App* cmd, BatchOptions& o);
+
+// "X0,Y0,X1,Y1" -> a non-empty rect; throws zz::Error. Whether it lies inside the frame
+// is checked once the frame size is known (render_region).
+TileRect parse_region(const std::string& text);
 
 // Everything that can be checked before a scene is loaded: option combinations, AOV
 // names, placeholders, and that no two jobs write the same file. Throws zz::Error.

@@ -4,15 +4,18 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <functional>
 #include <future>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "aa/adaptive_sampler.h"
 #include "accel/bvh.h"
 #include "app/batch_options.h"
 #include "app/commands.h"
@@ -55,12 +58,31 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
   }
 }
 
+// Everything besides the frame size and exposure that decides the image's pixels: the
+// parts of one frame carry the same value, and `zigzag merge` refuses to mix others.
+std::string image_settings(const BatchOptions& o, const Scene& scene) {
+  const RenderOptions& r = o.render;
+  nlohmann::json j = {{"aa", name_of(kAaModes, r.aa)}, {"max_depth", scene.max_depth}, {"time", scene.time}};
+  if (r.aa == AaMode::Adaptive)
+    j["adaptive"] = {{"eps", r.adaptive.eps},
+                     {"tables", r.adaptive.tables->name},
+                     {"geo_policy", name_of(kGeoPolicies, r.adaptive.geo_policy)},
+                     {"filter", name_of(kFilters, r.adaptive.filter)},
+                     {"edges", name_of(kEdgeModes, r.edges)}};
+  if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}};
+  if (r.aa == AaMode::Uniform) j["uniform"] = {{"spp", r.spp}, {"pattern", name_of(kUniformPatterns, r.pattern)}};
+  return j.dump();
+}
+
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
                 const std::function<VulkanContext*()>& device) {
   LoadOptions load;
   load.assets_dir = o.render.assets;
   load.quiet = o.quiet;
+  load.frame = o.frame;
+  load.time = o.time;
+  load.fps = o.fps;
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
@@ -79,17 +101,24 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    const RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
-    const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
-    // The frame's own memory (film, display image, scratch; the visibility raster and
-    // readback) on top of what the process holds now (libraries, Vulkan, scene, BVH).
+    RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
+    if (!o.region.empty()) settings.region = parse_region(o.region);
+    const TileRect region = render_region(settings);
+    const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +
+                                                     std::to_string(settings.height) + " frame"
+                                               : "a " + std::to_string(region.width()) + "x" +
+                                                     std::to_string(region.height()) + " region";
+    // The film's own memory (region-sized; display image, scratch) and the visibility
+    // raster and readback (full-frame tiles, a full-size map) on top of what the process
+    // holds now (libraries, Vulkan, scene, BVH).
     const uint64_t frame_need =
-        frame_bytes(settings.width, settings.height,
+        frame_bytes(region.width(), region.height(),
                     settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
         (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
-    check_memory(frame_need, frame.c_str());
+    check_memory(frame_need, what.c_str());
     const uint64_t memory_estimate = resident_bytes() + frame_need;
-    const OutputKey key{scene_name, std::to_string(camera_index), 0};
+    const int frame = scene.frame >= 0 ? scene.frame : int(std::lround(scene.time * scene.fps));
+    const OutputKey key{scene_name, std::to_string(camera_index), frame};
     const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
     // The map is made on its own thread while level 1 traces (render_frame awaits it
@@ -98,10 +127,14 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     GeoMap geo;
     VisibilityTimings edge_times;
     std::shared_future<GeoMap> pending;
+    const bool film_is_region = !o.region.empty();
     if (visibility) {
       auto make_map = [&, camera_index] {
+        // A region's sampler reads the map over the region grown by its filter margin.
+        std::optional<TileRect> map_region;
+        if (film_is_region) map_region = adaptive_region(region, settings.width, settings.height, o.render.adaptive.filter);
         return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                               make_visibility_settings(o.render), &edge_times);
+                               make_visibility_settings(o.render), &edge_times, map_region);
       };
       if (o.render.edges_serial) geo = make_map();
       else pending = std::async(std::launch::async, make_map).share();
@@ -109,7 +142,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
 
     Film film;
     RenderStats stats;
-    Progress progress(int(make_tiles(settings.width, settings.height, settings.tile_size).size()),
+    Progress progress(int(make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
     callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.tile_done(rays.total()); };
@@ -127,9 +160,12 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     const double frame_s = seconds_since(t_frame);
 
     t = std::chrono::steady_clock::now();
-    write_film(output, film, settings.tonemap);
+    write_film(output, film, settings.tonemap,
+               {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}});
     const double write_s = seconds_since(t);
-    for (const auto& [name, file] : o.aovs) write_aov(name, expand_output_pattern(file, key, "--aov"), film, geo);
+    const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
+    for (const auto& [name, file] : o.aovs)
+      write_aov(name, expand_output_pattern(file, key, "--aov"), film, film.is_region() ? region_geo : geo);
 
     JobRecord record;
     record.scene_name = scene_name;
@@ -142,6 +178,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     record.shader = &shader;
     record.bvh = &bvh_stats;
     record.memory_estimate_bytes = memory_estimate;
+    record.region = region;
     record.times = {load_s, bvh_s, write_s,
                     seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0), frame_s};
     if (visibility) {
@@ -155,11 +192,14 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     if (!o.quiet) {
       std::string effects;
       for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
-      const double pixels = double(settings.width) * settings.height;
+      const double pixels = double(region.width()) * region.height();
+      const std::string where = (film.is_region() ? " region " + o.region : std::string()) +
+                                (scene.animated ? " frame " + std::to_string(frame) : std::string());
       std::fprintf(stderr,
-                   "%s cam %d: %dx%d aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
+                   "%s cam %d: %dx%d%s aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
                    "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
-                   scene_name.c_str(), camera_index, settings.width, settings.height, name_of(kAaModes, o.render.aa),
+                   scene_name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
+                   name_of(kAaModes, o.render.aa),
                    j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
                    stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
                    load_s, bvh_s, output.string().c_str());

@@ -8,13 +8,20 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   const RenderOptions& o = *r.options;
   const RenderSettings& settings = *r.settings;
   const RenderStats& stats = *r.stats;
-  const double pixels = double(settings.width) * settings.height;
+  const TileRect& region = r.region;
+  const double pixels = double(region.width()) * region.height();
   nlohmann::json j;
   j["scene"] = r.scene_name;
   j["camera"] = r.camera;
   j["output"] = r.output;
   j["width"] = settings.width;
   j["height"] = settings.height;
+  j["region"] = {region.x0, region.y0, region.x1, region.y1};
+  j["pixels"] = int64_t(region.width()) * region.height();
+  j["animated"] = r.scene->animated;
+  j["frame"] = r.scene->frame;  // -1 when rendered at a --time
+  j["scene_time_s"] = r.scene->time;
+  j["fps"] = r.scene->fps;
   j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
   j["aa"] = name_of(kAaModes, o.aa);
   if (o.aa == AaMode::Uniform) {
@@ -67,7 +74,8 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["edges"] = name_of(kEdgeModes, o.edges);
   if (r.visibility) {
     size_t flagged = 0;
-    for (uint8_t f : r.geo->flags) flagged += f != 0;
+    for (int y = region.y0; y < region.y1; ++y)
+      for (int x = region.x0; x < region.x1; ++x) flagged += r.geo->at(x, y);
     j["time_s"]["edges"] = {{"upload", r.visibility->upload_seconds()},
                             {"raster", r.edge_times->raster_s},
                             {"compute", r.edge_times->compute_s},

@@ -37,6 +37,7 @@ struct JobRecord {
   const VisibilityTimings* edge_times = nullptr;
   const GeoMap* geo = nullptr;
   std::string vulkan_device;
+  TileRect region;  // the pixels rendered (the whole frame unless --region)
 };
 
 nlohmann::json render_stats_json(const JobRecord& r);

@@ -13,6 +13,8 @@ namespace zz {
 
 namespace {
 
+constexpr const char* kAttributePrefix = "zigzag:";
+
 // The first line of a library message: OpenImageIO's can run to several sentences.
 std::string first_line(std::string s) {
   const size_t nl = s.find('\n');
@@ -21,14 +23,12 @@ std::string first_line(std::string s) {
 }
 
 // Writes through a temporary renamed over `path` (core/atomic_file.h).
-void write_pixels(const std::filesystem::path& path, int width, int height, int channels, OIIO::TypeDesc type,
-                  const void* data) {
-  if (width < 1 || height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
+void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const void* data) {
+  if (spec.width < 1 || spec.height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     auto out = OIIO::ImageOutput::create(temporary.string());
     if (!out) throw Error("cannot write " + path.string() + ": " + first_line(OIIO::geterror()));
-    OIIO::ImageSpec spec(width, height, channels, type);
-    if (!out->open(temporary.string(), spec) || !out->write_image(type, data) || !out->close())
+    if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data) || !out->close())
       throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
   });
 }
@@ -73,14 +73,24 @@ std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {
 }
 
 void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
-  write_pixels(path, width, height, 3, OIIO::TypeDesc::UINT8, rgb.data());
+  write_pixels(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
 }
 
-void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap) {
+void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
+                const FilmAttributes& attributes) {
   if (is_hdr_extension(path)) {
+    OIIO::ImageSpec spec(film.width, film.height, 3, OIIO::TypeDesc::FLOAT);
+    spec.x = film.x0;
+    spec.y = film.y0;
+    spec.full_x = 0;
+    spec.full_y = 0;
+    spec.full_width = film.frame_width;
+    spec.full_height = film.frame_height;
+    spec.attribute(std::string(kAttributePrefix) + "exposure", tonemap.exposure);
+    for (const auto& [key, value] : attributes) spec.attribute(std::string(kAttributePrefix) + key, value);
     // OpenImageIO copies the bytes: a glm::vec3 is three packed floats.
     static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
-    write_pixels(path, film.width, film.height, 3, OIIO::TypeDesc::FLOAT, static_cast<const void*>(film.radiance.data()));
+    write_pixels(path, spec, static_cast<const void*>(film.radiance.data()));
   } else {
     write_rgb8(path, film.width, film.height, display_bytes(film, tonemap));
   }
@@ -96,6 +106,33 @@ std::vector<float> read_rgb_float(const std::filesystem::path& path, int& width,
   if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, rgb.data()))
     throw Error("cannot read " + path.string() + ": " + in->geterror());
   return rgb;
+}
+
+FilmFile read_film(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  auto in = OIIO::ImageInput::open(file);
+  if (!in) throw Error("cannot read " + file + ": " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.nchannels < 3) throw Error(file + ": not an RGB image");
+  if (spec.depth > 1) throw Error(file + ": volume images are not films");
+  const float exposure = spec.get_float_attribute(std::string(kAttributePrefix) + "exposure", -1.0f);
+  if (!(exposure > 0.0f) || !std::isfinite(exposure))
+    throw Error(file + ": no zigzag:exposure attribute (not an EXR written by zigzag render)");
+  if (spec.width <= 0 || spec.height <= 0 || spec.full_width <= 0 || spec.full_height <= 0 || spec.full_x != 0 ||
+      spec.full_y != 0 || spec.x < 0 || spec.y < 0 || int64_t(spec.x) + spec.width > spec.full_width ||
+      int64_t(spec.y) + spec.height > spec.full_height)
+    throw Error(file + ": data window is not inside a display window starting at 0,0");
+  FilmFile f;
+  f.film = Film(spec.full_width, spec.full_height, TileRect{spec.x, spec.y, spec.x + spec.width, spec.y + spec.height});
+  f.tonemap.exposure = exposure;
+  for (const OIIO::ParamValue& p : spec.extra_attribs) {
+    const std::string name = p.name().string();
+    if (name.rfind(kAttributePrefix, 0) != 0 || p.type() != OIIO::TypeDesc::STRING) continue;
+    f.attributes[name.substr(std::strlen(kAttributePrefix))] = p.get_string();
+  }
+  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, f.film.radiance.data()))
+    throw Error("cannot read " + file + ": " + in->geterror());
+  return f;
 }
 
 }  // namespace zz

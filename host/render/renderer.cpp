@@ -26,6 +26,17 @@ struct TileResult {
 
 }  // namespace
 
+TileRect render_region(const RenderSettings& settings) {
+  const TileRect frame{0, 0, settings.width, settings.height};
+  const TileRect& r = settings.region;
+  if (r == TileRect{}) return frame;
+  if (r.empty() || intersect(r, frame) != r)
+    throw Error("region " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+                std::to_string(r.y1) + " must be a non-empty X0,Y0,X1,Y1 (half-open) inside the " +
+                std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame");
+  return r;
+}
+
 namespace {
 
 void check_geo_size(const GeoMap& geo, const RenderSettings& settings) {
@@ -44,9 +55,11 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
             const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
   if (ready) check_geo_size(*ready, settings);
-  if (film.width != settings.width || film.height != settings.height) film = Film(settings.width, settings.height);
+  const TileRect region = render_region(settings);
+  if (film.window() != region || film.frame_width != settings.width || film.frame_height != settings.height)
+    film = Film(settings.width, settings.height, region);
   const CameraRays rays(camera, settings.width, settings.height);
-  std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
+  std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, region, settings.tile_size);
   if (settings.centre_out) tiles = centre_out(std::move(tiles), settings.width, settings.height);
   std::vector<TileResult> results(tiles.size());
 

@@ -15,6 +15,7 @@
 
 #include "core/error.h"
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_image.h"
 #include "scene/loader.h"
 
@@ -103,6 +104,7 @@ struct Loader {
   // (image, srgb, wrap s, wrap t, filter) -> scene texture
   std::map<std::tuple<int, bool, TextureWrap, TextureWrap, TextureFilter>, int> texture_of_image;
   bool uses_texcoord1 = false;  // some texture slot reads TEXCOORD_1
+  Animation animation;  // sampled at options.time for every animated node
 
   void warn(const std::string& msg) const {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
@@ -426,7 +428,9 @@ struct Loader {
       throw Error(file + ": node hierarchy instances more than " + std::to_string(kMaxNodeInstances) +
                   " nodes (exponential instancing)");
     const tinygltf::Node& node = model.nodes[size_t(node_index)];
-    const glm::mat4 world = parent * local_matrix(node);
+    const glm::mat4 world = parent * (animation.animates(node_index)
+                                          ? animation.pose(node_index, gltf::rest_pose(node), float(options.time.value_or(0.0))).matrix()
+                                          : local_matrix(node));
     for (int i = 0; i < 16; ++i)
       if (!std::isfinite(glm::value_ptr(world)[i]))
         throw Error(file + ": node '" + node.name + "' has a non-finite transform");
@@ -556,8 +560,11 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
     std::replace(warning.begin(), warning.end(), '\n', ' ');
     std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());
   }
-  Loader loader{model, scene, options, file, 0, -1, {}};
+  Loader loader{model, scene, options, file, 0, -1, {}, false, {}};
   loader.load_materials();
+  loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
+  scene.animated = scene.animated || !loader.animation.empty();
+  scene.animation_end = std::max(scene.animation_end, loader.animation.end_time());
   loader.load_nodes(transform);
 }
 

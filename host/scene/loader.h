@@ -3,7 +3,9 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "scene/scene.h"
@@ -11,11 +13,21 @@
 namespace zz {
 
 struct LoadOptions {
+  LoadOptions() = default;
+  LoadOptions(std::filesystem::path assets, bool quiet_) : assets_dir(std::move(assets)), quiet(quiet_) {}
+
   // Where third-party models referenced as "assets:NAME/..." are found; empty means
   // $ZIGZAG_ASSETS, else ../shared/scenes next to the project checkout.
   std::filesystem::path assets_dir;
   bool quiet = false;  // no warnings on stderr
+  // When to load an animated scene: `time` seconds, else `frame` / fps, else the first
+  // frame of the scene's range. fps: this if > 0, else the rig's "fps", else 24.
+  std::optional<double> time;
+  std::optional<int> frame;
+  double fps = 0.0;
 };
+
+inline constexpr double kDefaultFps = 24.0;
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 
@@ -32,7 +44,8 @@ std::vector<Light> default_lights(const Camera& camera);
 // a result).
 void require_triangles(const Scene& scene, const std::string& file);
 
-// Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs).
+// Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs), with
+// animated nodes posed at options.time (seconds; unset = 0).
 // Appends triangles, materials, textures, lights and cameras (all moved by `transform`);
 // does not finalize materials nor add an auto camera.
 void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::mat4& transform,
