@@ -19,11 +19,13 @@ class ClusterError(RuntimeError):
 
 
 @contextlib.contextmanager
-def local_cluster(workers: int, allowed_failures: int):
+def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = True):
+    """workers single-job workers here; processes=False puts them in this process as threads
+    (the benchmark's simulated clusters of many workers that only wait on subprocesses)."""
     from distributed import Client, LocalCluster
     with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address="127.0.0.1:0",
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
+                               protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                worker_dashboard_address="127.0.0.1:0",
                                resources=RENDER_RESOURCE, silence_logs=logging.CRITICAL)
         try:

@@ -140,7 +140,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
     if spec.get("region"):
         cmd += ["--region", ",".join(str(v) for v in spec["region"])]
     cmd += list(spec.get("args", ()))
-    start = time.monotonic()
+    start, started_at = time.monotonic(), time.time()
     try:
         code, err = run_child(cmd, timeout=spec.get("timeout"), cancelled=cancelled)
         if code != 0:
@@ -155,6 +155,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
     finally:
         _remove(tmp, tmp_stats)
     result.update(key=spec["key"], seconds=time.monotonic() - start, stats=stats,
+                  started_at=started_at, finished_at=time.time(),
                   worker=f"{socket.gethostname()}:{os.getpid()}")
     return result
 

@@ -10,6 +10,7 @@ import time
 from dataclasses import dataclass, field
 
 import cloudpickle
+from distributed import wait
 
 from . import job, tasks
 from .cluster import RENDER_RESOURCE
@@ -215,7 +216,12 @@ class Runner:
                 running = self._running(client, pending)
                 progress.update(done=done, failed=failed, running=running)
                 if pending:
-                    time.sleep(POLL_S)
+                    # Wakes as soon as any job ends; the timeout only refreshes the progress line.
+                    try:
+                        wait([fut for fut, *_ in pending.values()], timeout=POLL_S,
+                             return_when="FIRST_COMPLETED")
+                    except TimeoutError:
+                        pass
         except BaseException:
             client.cancel([fut for fut, *_ in pending.values()])  # tasks kill their renderers
             raise
