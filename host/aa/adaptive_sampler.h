@@ -157,7 +157,7 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
       if (!own) continue;
       stats.pixels += 1;
       stats.geo_pixels += g;
-      const size_t fi = size_t(y) * W + x;
+      const size_t fi = target.index(x, y);
       if (!mitchell) {
         alignas(16) float v[4];
         value.store(v);
@@ -219,7 +219,7 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
       // Negative lobes: clamp the output, never the weights (§8).
       alignas(16) float v[4];
       max(((acc0 + acc1) + (acc2 + acc3)) / float4(wsum), float4(0.0f)).store(v);
-      target.radiance[size_t(y) * W + x] = glm::vec3(v[0], v[1], v[2]);
+      target.pixel(x, y) = glm::vec3(v[0], v[1], v[2]);
     }
   stats.seconds_filter += seconds_since(t0);
 }

@@ -153,9 +153,9 @@ void render_tile_uniform(S& source, const TileTarget& target, const UniformSetti
       target.pixel(r.x0 + x, r.y0 + y) = pixels[y * w + x];
       if (target.rays) {
         const int per_pixel = settings.pattern == UniformPattern::Center ? 1 : settings.spp;
-        target.rays[size_t(r.y0 + y) * target.frame_width + r.x0 + x] = uint8_t(per_pixel > 255 ? 255 : per_pixel);
+        target.rays[target.index(r.x0 + x, r.y0 + y)] = uint8_t(per_pixel > 255 ? 255 : per_pixel);
       }
-      if (target.level) target.level[size_t(r.y0 + y) * target.frame_width + r.x0 + x] = 1;
+      if (target.level) target.level[target.index(r.x0 + x, r.y0 + y)] = 1;
     }
 }
 

@@ -9,5 +9,6 @@ namespace zz {
 void add_render_command(CLI::App& app, int& exit_code);
 void add_view_command(CLI::App& app, int& exit_code);
 void add_analytic_command(CLI::App& app);
+void add_merge_command(CLI::App& app);
 
 }  // namespace zz

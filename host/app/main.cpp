@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   zz::add_render_command(app, exit_code);
   zz::add_view_command(app, exit_code);
   zz::add_analytic_command(app);
+  zz::add_merge_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

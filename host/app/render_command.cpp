@@ -37,6 +37,7 @@ struct BatchOptions {
   std::string stats;
   std::string camera = "0";
   std::vector<std::pair<std::string, std::string>> aovs;
+  std::string region;  // X0,Y0,X1,Y1 or empty
   bool quiet = false;
   RenderOptions render;
 };
@@ -52,6 +53,29 @@ std::string replace_all(std::string s, const std::string& from, const std::strin
 
 std::string expand_pattern(const std::string& pattern, const std::string& scene, const std::string& camera) {
   return replace_all(replace_all(pattern, "{scene}", scene), "{camera}", camera);
+}
+
+// "X0,Y0,X1,Y1" -> rect (checked against the frame later, by render_region).
+TileRect parse_region(const std::string& text) {
+  TileRect r;
+  char tail = 0;
+  if (std::sscanf(text.c_str(), "%d,%d,%d,%d%c", &r.x0, &r.y0, &r.x1, &r.y1, &tail) != 4)
+    throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+  if (r.empty()) throw Error("--region " + text + ": the region is empty (need X0 < X1 and Y0 < Y1)");
+  return r;
+}
+
+// Everything besides the frame size and exposure that decides the image's pixels: parts
+// of one frame carry the same value and `zigzag merge` refuses to mix others.
+std::string image_settings(const BatchOptions& o, const Scene& scene) {
+  const RenderOptions& r = o.render;
+  nlohmann::json j = {{"aa", r.aa}, {"max_depth", scene.max_depth}};
+  if (r.aa == "adaptive")
+    j["adaptive"] = {{"eps", r.eps}, {"tables", r.tables}, {"geo_policy", r.geo_policy}, {"filter", r.filter},
+                     {"edges", r.edges}};
+  if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}};
+  if (r.aa == "uniform") j["uniform"] = {{"spp", r.spp}, {"pattern", r.pattern}};
+  return j.dump();
 }
 
 bool wants_geo_map(const BatchOptions& o) {
@@ -126,10 +150,18 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
 
   for (int camera_index : cameras) {
     const auto t_job = std::chrono::steady_clock::now();
-    const RenderSettings settings = make_render_settings(o.render, scene);
-    const std::string frame = "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame";
-    check_memory(frame_bytes(settings.width, settings.height,
-                             settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())),
+    RenderSettings settings = make_render_settings(o.render, scene);
+    if (!o.region.empty()) settings.region = parse_region(o.region);
+    const TileRect region = render_region(settings);
+    const std::string frame = o.region.empty()
+                                  ? "a " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame"
+                                  : "a " + std::to_string(region.width()) + "x" + std::to_string(region.height()) +
+                                        " region";
+    // A region's film is region-sized, but the visibility map still covers the frame.
+    const uint64_t full_geo_map = visibility ? uint64_t(settings.width) * uint64_t(settings.height) : 0;
+    check_memory(frame_bytes(region.width(), region.height(),
+                             settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
+                     full_geo_map,
                  frame.c_str());
     const std::string camera_name = std::to_string(camera_index);
     const std::string default_output = o.camera == "all" ? "{scene}_{camera}.png" : "{scene}.png";
@@ -143,19 +175,21 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
 
     Film film;
     RenderStats stats;
-    Progress progress(int(make_tiles(settings.width, settings.height, settings.tile_size).size()),
+    Progress progress(int(make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
     callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.tile_done(rays.total()); };
     render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
 
     t = std::chrono::steady_clock::now();
-    write_film(output, film, settings.tonemap);
+    write_film(output, film, settings.tonemap,
+               {{"scene", scene_name}, {"camera", camera_name}, {"settings", image_settings(o, scene)}});
     const double write_s = seconds_since(t);
-    const double pixels = double(settings.width) * settings.height;
+    const double pixels = double(region.width()) * region.height();
     const double rays_per_pixel = double(stats.rays.primary) / pixels;
+    const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
     for (const auto& [name, file] : o.aovs)
-      write_aov(name, expand_pattern(file, scene_name, camera_name), film, geo);
+      write_aov(name, expand_pattern(file, scene_name, camera_name), film, film.is_region() ? region_geo : geo);
 
     nlohmann::json j;
     j["scene"] = scene_name;
@@ -163,6 +197,8 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     j["output"] = output.string();
     j["width"] = settings.width;
     j["height"] = settings.height;
+    j["region"] = {region.x0, region.y0, region.x1, region.y1};
+    j["pixels"] = region.width() * int64_t(region.height());
     j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
     j["aa"] = o.render.aa;
     if (o.render.aa == "uniform") {
@@ -210,7 +246,8 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
     j["edges"] = o.render.edges;
     if (visibility) {
       size_t flagged = 0;
-      for (uint8_t f : geo.flags) flagged += f != 0;
+      for (int y = region.y0; y < region.y1; ++y)
+        for (int x = region.x0; x < region.x1; ++x) flagged += geo.at(x, y);
       j["time_s"]["edges"] = {{"upload", visibility->upload_seconds()},
                               {"raster", edge_times.raster_s},
                               {"compute", edge_times.compute_s},
@@ -232,9 +269,10 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
       std::string effects;
       for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
       std::fprintf(stderr,
-                   "%s cam %d: %dx%d aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
+                   "%s cam %d: %dx%d%s aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
                    "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
-                   scene_name.c_str(), camera_index, settings.width, settings.height, o.render.aa.c_str(), rays_per_pixel,
+                   scene_name.c_str(), camera_index, settings.width, settings.height,
+                   film.is_region() ? (" region " + o.region).c_str() : "", o.render.aa.c_str(), rays_per_pixel,
                    double(stats.rays.total()) / pixels, effects.c_str(), stats.render_seconds,
                    j["mrays_per_s"].get<double>(), edges_s, load_s, bvh_s, output.string().c_str());
     }
@@ -252,6 +290,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--stats", o->stats, "Write JSON stats per job ({scene}/{camera} patterns allowed)");
   cmd->add_option("--camera", o->camera, "Camera index, or 'all'");
   cmd->add_option("--aov", o->aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
+  cmd->add_option("--region", o->region,
+                  "Render only pixels X0,Y0,X1,Y1 (half-open): an EXR keeps the frame as display window, a PNG "
+                  "is region-sized; parts merge with `zigzag merge`");
   add_render_options(cmd, o->render);
   cmd->add_flag("-q,--quiet", o->quiet, "No progress or summary on stderr");
   cmd->callback([o, &exit_code] {

@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/tile.h"
+
 namespace zz {
 
 struct GeoMap {
@@ -15,5 +17,14 @@ struct GeoMap {
   bool empty() const { return flags.empty(); }
   bool at(int x, int y) const { return !empty() && flags[size_t(y) * width + x] != 0; }
 };
+
+// The flags of `rect` (inside the map) as a map of its own; empty stays empty.
+inline GeoMap crop(const GeoMap& geo, const TileRect& rect) {
+  if (geo.empty()) return {};
+  GeoMap out{rect.width(), rect.height(), std::vector<uint8_t>(size_t(rect.width()) * rect.height())};
+  for (int y = rect.y0; y < rect.y1; ++y)
+    for (int x = rect.x0; x < rect.x1; ++x) out.flags[size_t(y - rect.y0) * out.width + (x - rect.x0)] = geo.flags[size_t(y) * geo.width + x];
+  return out;
+}
 
 }  // namespace zz

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "core/tonemap.h"
@@ -12,8 +14,27 @@ namespace zz {
 
 bool is_hdr_extension(const std::filesystem::path& path);
 
-// Throws zz::Error naming the file when it cannot be written.
-void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap);
+// Strings stored in an EXR as "zigzag:KEY" attributes: what `zigzag merge` compares to
+// refuse parts of different renders.
+using FilmAttributes = std::map<std::string, std::string>;
+
+// Throws zz::Error naming the file when it cannot be written. HDR formats get float32
+// radiance; an EXR of a region keeps the frame as its display window with the region as
+// its data window, plus the tone map's exposure ("zigzag:exposure", float) and
+// `attributes`, so the parts of a frame merge into exactly the full render. Display
+// formats (PNG, ...) hold the film's own pixels: a region's PNG is region-sized.
+void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
+                const FilmAttributes& attributes = {});
+
+// An EXR written by write_film, read back: radiance with its windows, the exposure and
+// the "zigzag:" attributes (keys without the prefix). Throws zz::Error naming the file
+// when it is unreadable, not RGB, or lacks the exposure.
+struct FilmFile {
+  Film film;
+  ToneMap tonemap;
+  FilmAttributes attributes;
+};
+FilmFile read_film(const std::filesystem::path& path);
 
 // Display image as 8-bit RGB bytes (the same bytes a PNG would hold).
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap);

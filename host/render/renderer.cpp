@@ -26,15 +26,28 @@ struct TileResult {
 
 }  // namespace
 
+TileRect render_region(const RenderSettings& settings) {
+  const TileRect frame{0, 0, settings.width, settings.height};
+  const TileRect& r = settings.region;
+  if (r == TileRect{}) return frame;
+  if (r.empty() || intersect(r, frame) != r)
+    throw Error("region " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+                std::to_string(r.y1) + " must be a non-empty X0,Y0,X1,Y1 (half-open) inside the " +
+                std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame");
+  return r;
+}
+
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
   if (!geo.empty() && (geo.width != settings.width || geo.height != settings.height))
     throw Error("visibility map is " + std::to_string(geo.width) + "x" + std::to_string(geo.height) +
                 " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
-  if (film.width != settings.width || film.height != settings.height) film = Film(settings.width, settings.height);
+  const TileRect region = render_region(settings);
+  if (film.window() != region || film.frame_width != settings.width || film.frame_height != settings.height)
+    film = Film(settings.width, settings.height, region);
   const CameraRays rays(camera, settings.width, settings.height);
-  std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
+  std::vector<TileRect> tiles = make_tiles(settings.width, settings.height, region, settings.tile_size);
   if (settings.centre_out) tiles = centre_out(std::move(tiles), settings.width, settings.height);
   std::vector<TileResult> results(tiles.size());
 

@@ -23,6 +23,10 @@ enum class AaMode { None, Uniform, Adaptive };
 struct RenderSettings {
   int width = 512;
   int height = 512;
+  // Render only these pixels (half-open, frame coordinates; empty = the whole frame).
+  // The film then holds just the region; its pixels are bit-identical to the same pixels
+  // of a full-frame render (same tile grid from the frame origin, same margins).
+  TileRect region;
   AaMode aa = AaMode::Adaptive;
   UniformSettings uniform;
   AdaptiveSettings adaptive;  // its tonemap is set from `tonemap` by render_frame
@@ -48,6 +52,10 @@ struct RenderCallbacks {
   // Set by another thread to stop promptly; unfinished tiles are left as they were.
   const std::atomic<bool>* cancel = nullptr;
 };
+
+// The region a render covers: settings.region, or the whole frame if it is empty.
+// Throws zz::Error if the region is not a non-empty rect inside the frame.
+TileRect render_region(const RenderSettings& settings);
 
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});

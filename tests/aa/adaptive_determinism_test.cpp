@@ -44,7 +44,7 @@ TEST(AdaptiveDeterminism, TileOrderDoesNotMatter) {
   std::vector<TileRect> tiles = make_tiles(70, 70, 16);
   AaStats st;
   for (auto it = tiles.rbegin(); it != tiles.rend(); ++it) {
-    TileTarget t{*it, 70, 70, fb.radiance.data(), fb.rays.data(), fb.level.data()};
+    const TileTarget t = fb.target(*it);
     AnalyticSource src{&zp};
     render_tile_adaptive(src, t, GeoMap{}, s, st);
   }

@@ -1,0 +1,72 @@
+#include "render/film_merge.h"
+
+#include <algorithm>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace zz {
+
+namespace {
+
+std::string rect_text(const TileRect& r) {
+  return std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," + std::to_string(r.y1);
+}
+
+}  // namespace
+
+FilmFile merge_films(const std::vector<FilmPart>& parts) {
+  if (parts.empty()) throw Error("merge: no parts");
+  const FilmFile& first = parts.front().file;
+  const int W = first.film.frame_width, H = first.film.frame_height;
+  for (const FilmPart& p : parts) {
+    const Film& f = p.file.film;
+    if (f.frame_width != W || f.frame_height != H)
+      throw Error("merge: " + p.name + " is part of a " + std::to_string(f.frame_width) + "x" +
+                  std::to_string(f.frame_height) + " frame but " + parts.front().name + " of a " + std::to_string(W) +
+                  "x" + std::to_string(H) + " frame");
+    if (std::memcmp(&p.file.tonemap.exposure, &first.tonemap.exposure, sizeof(float)) != 0)
+      throw Error("merge: " + p.name + " has exposure " + std::to_string(p.file.tonemap.exposure) + " but " +
+                  parts.front().name + " " + std::to_string(first.tonemap.exposure));
+    if (p.file.attributes != first.attributes) {
+      std::string key;  // the first key whose values differ (or that only one part has)
+      for (const auto& [k, v] : p.file.attributes)
+        if (auto it = first.attributes.find(k); it == first.attributes.end() || it->second != v) key = k;
+      for (const auto& [k, v] : first.attributes)
+        if (!p.file.attributes.count(k)) key = k;
+      throw Error("merge: " + p.name + " and " + parts.front().name + " come from different renders (zigzag:" + key +
+                  " differs)");
+    }
+  }
+  // Overlaps: sort by top edge; only parts starting above another's bottom can overlap it.
+  std::vector<size_t> order(parts.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  auto window = [&](size_t i) { return parts[i].file.film.window(); };
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    return std::make_pair(window(a).y0, window(a).x0) < std::make_pair(window(b).y0, window(b).x0);
+  });
+  for (size_t i = 0; i < order.size(); ++i)
+    for (size_t j = i + 1; j < order.size() && window(order[j]).y0 < window(order[i]).y1; ++j)
+      if (!intersect(window(order[i]), window(order[j])).empty())
+        throw Error("merge: " + parts[order[i]].name + " (" + rect_text(window(order[i])) + ") and " +
+                    parts[order[j]].name + " (" + rect_text(window(order[j])) + ") overlap");
+  // Disjoint parts inside the frame cover it exactly when their areas add up to it.
+  uint64_t covered = 0;
+  for (size_t i = 0; i < parts.size(); ++i) covered += uint64_t(window(i).width()) * uint64_t(window(i).height());
+  if (covered != uint64_t(W) * uint64_t(H))
+    throw Error("merge: the parts cover " + std::to_string(covered) + " of the frame's " +
+                std::to_string(uint64_t(W) * uint64_t(H)) + " pixels (a region is missing)");
+
+  FilmFile out;
+  out.film = Film(W, H);
+  out.tonemap = first.tonemap;
+  out.attributes = first.attributes;
+  for (const FilmPart& p : parts) {
+    const Film& f = p.file.film;
+    for (int y = 0; y < f.height; ++y)
+      std::copy_n(&f.radiance[size_t(y) * f.width], f.width, &out.film.radiance[size_t(f.y0 + y) * W + f.x0]);
+  }
+  return out;
+}
+
+}  // namespace zz

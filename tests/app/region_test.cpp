@@ -1,0 +1,167 @@
+// `zigzag render --region` + `zigzag merge` through the real binary (the Vulkan
+// visibility map on lavapipe with validation on): any split of a frame merges into the
+// full-frame render bit for bit, PNG byte for byte and EXR pixel for pixel.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "cli.h"
+#include "render/image_io.h"
+
+namespace zz {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RegionTest : ::testing::Test {
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("zigzag_region_test_" + std::to_string(::getpid()) + "_" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  // 150 x 130: neither side a multiple of 64, so tiles are partial at both far edges.
+  static constexpr const char* kFrame = " --width 150 --height 130 ";
+
+  std::string render(const std::string& options, const std::string& output) const {
+    const std::string command = test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                                kFrame + options + " --vk-validate -q -o " + (dir / output).string();
+    const auto r = test::run_command(command);
+    EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.output;
+    return (dir / output).string();
+  }
+
+  test::CommandResult merge(const std::vector<std::string>& parts, const std::string& output) const {
+    std::string command = test::zigzag_binary() + " merge";
+    for (const std::string& p : parts) command += " " + p;
+    return test::run_command(command + " -o " + (dir / output).string());
+  }
+
+  // Renders each region as an EXR part, merges them, and checks the merge against the
+  // full-frame render (PNG bytes and EXR radiance).
+  void expect_split_merges_exactly(const std::string& options, const std::vector<std::string>& regions) {
+    const std::string full_png = render(options, "full.png"), full_exr = render(options, "full.exr");
+    std::vector<std::string> parts;
+    for (size_t i = 0; i < regions.size(); ++i)
+      parts.push_back(render(options + " --region " + regions[i], "part" + std::to_string(i) + ".exr"));
+    for (const char* ext : {".png", ".exr"}) {
+      const auto r = merge(parts, std::string("merged") + ext);
+      ASSERT_EQ(r.exit_code, 0) << r.output;
+    }
+    EXPECT_EQ(bytes(dir / "merged.png"), bytes(full_png)) << options;
+    const FilmFile merged = read_film(dir / "merged.exr"), full = read_film(full_exr);
+    ASSERT_EQ(merged.film.width, full.film.width);
+    ASSERT_EQ(merged.film.height, full.film.height);
+    EXPECT_FALSE(merged.film.is_region());
+    EXPECT_EQ(std::memcmp(merged.film.radiance.data(), full.film.radiance.data(),
+                          full.film.radiance.size() * sizeof(glm::vec3)),
+              0)
+        << options;
+    EXPECT_EQ(merged.tonemap.exposure, full.tonemap.exposure);
+    EXPECT_EQ(merged.attributes, full.attributes);
+  }
+
+  static std::string bytes(const fs::path& p) {
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), {}};
+  }
+};
+
+// Four regions with odd bounds, none on the 64-pixel tile grid.
+const std::vector<std::string> kFourOdd = {"0,0,77,61", "77,0,150,61", "0,61,93,130", "93,61,150,130"};
+// A 1-pixel-wide strip, the rest beside it; and the full frame as one region.
+const std::vector<std::string> kStrip = {"0,0,63,130", "63,0,64,130", "64,0,150,130"};
+
+TEST_F(RegionTest, AdaptiveBoxFourOddRegions) { expect_split_merges_exactly("--filter box", kFourOdd); }
+TEST_F(RegionTest, AdaptiveMitchellFourOddRegions) { expect_split_merges_exactly("--filter mitchell", kFourOdd); }
+TEST_F(RegionTest, AdaptiveMitchellOnePixelStrip) { expect_split_merges_exactly("--filter mitchell", kStrip); }
+TEST_F(RegionTest, AdaptiveMitchellRegionIsTheFrame) {
+  expect_split_merges_exactly("--filter mitchell", {"0,0,150,130"});
+}
+TEST_F(RegionTest, UniformStratifiedRows) {
+  expect_split_merges_exactly("--aa uniform --spp 4", {"0,0,150,1", "0,1,150,65", "0,65,150,130"});
+}
+
+TEST_F(RegionTest, RegionExrHasFrameDisplayWindowAndFloatRadiance) {
+  const std::string part = render("--region 10,20,41,33 --stats " + (dir / "s.json").string(), "p.exr");
+  const FilmFile f = read_film(part);
+  EXPECT_EQ(f.film.frame_width, 150);
+  EXPECT_EQ(f.film.frame_height, 130);
+  EXPECT_EQ(f.film.window(), (TileRect{10, 20, 41, 33}));
+  EXPECT_GT(f.tonemap.exposure, 0.0f);
+  EXPECT_EQ(f.attributes.at("scene"), "default");
+  EXPECT_EQ(f.attributes.at("camera"), "0");
+  std::ifstream sf(dir / "s.json");
+  const nlohmann::json s = nlohmann::json::parse(sf);
+  EXPECT_EQ(s["region"], nlohmann::json({10, 20, 41, 33}));
+  EXPECT_EQ(s["pixels"], 31 * 13);
+  EXPECT_EQ(s["width"], 150);
+  EXPECT_DOUBLE_EQ(s["rays"]["primary"].get<double>() / (31 * 13),
+            s["rays_per_pixel"].get<double>());
+}
+
+TEST_F(RegionTest, RegionPngIsRegionSized) {
+  int w = 0, h = 0;
+  read_rgb_float(render("--region 5,6,25,16", "p.png"), w, h);
+  EXPECT_EQ(w, 20);
+  EXPECT_EQ(h, 10);
+}
+
+TEST_F(RegionTest, BadRegionsAreOneLineErrors) {
+  for (const char* bad : {"0,0,151,10", "-1,0,10,10", "5,5,5,10", "10,0,5,10", "1,2,3", "a,b,c,d", "0,0,10,10,3"}) {
+    const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                                     kFrame + "--edges off -q --region " + bad + " -o " + (dir / "x.exr").string());
+    EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.output;
+    EXPECT_NE(r.output.find("region "), std::string::npos) << bad << ": " << r.output;
+    EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "x.exr"));
+  }
+}
+
+TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
+  const std::string a = render("--edges off --region 0,0,80,130", "a.exr");
+  const std::string b = render("--edges off --region 80,0,150,130", "b.exr");
+  const std::string wide = render("--edges off --region 70,0,150,130", "wide.exr");
+  const std::string other = render("--edges off --exposure 2 --region 80,0,150,130", "exposure.exr");
+  const std::string eps = render("--edges off --eps 0.1 --region 80,0,150,130", "eps.exr");
+  const std::string size = test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                           " --width 151 --height 130 --edges off -q --region 80,0,151,130 -o " +
+                           (dir / "size.exr").string();
+  ASSERT_EQ(test::run_command(size).exit_code, 0);
+  const std::string png = render("--edges off --region 80,0,150,130", "b.png");
+  struct Case {
+    std::vector<std::string> parts;
+    const char* message;
+  };
+  const std::vector<Case> cases = {
+      {{a, wide}, "overlap"},
+      {{a}, "missing"},
+      {{a, b, b}, "overlap"},
+      {{a, other}, "exposure"},
+      {{a, eps}, "zigzag:settings differs"},
+      {{a, (dir / "size.exr").string()}, "frame"},
+      {{a, png}, "zigzag:exposure"},
+      {{a, (dir / "nothing.exr").string()}, "nothing.exr"},
+  };
+  for (const Case& c : cases) {
+    const auto r = merge(c.parts, "m.png");
+    EXPECT_EQ(r.exit_code, 1) << c.message << ": " << r.output;
+    EXPECT_NE(r.output.find(c.message), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir / "m.png")) << c.message;
+  }
+  const auto ok = merge({b, a}, "m.png");
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
+}  // namespace
+}  // namespace zz
