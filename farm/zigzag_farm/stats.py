@@ -66,6 +66,10 @@ def merge_stats(parts: list[dict], pixels: list[int], *, output: str, frame: int
     render_s = merged.get("time_s", {}).get("render")
     if rays is not None and render_s:
         merged["mrays_per_s"] = rays / render_s * 1e-6
+    if regions:
+        # The frame's stats cover the union of its parts (the whole frame).
+        merged["region"] = [min(r[0] for r in regions), min(r[1] for r in regions),
+                            max(r[2] for r in regions), max(r[3] for r in regions)]
     merged["output"] = output
     if frame is not None:
         merged["frame"] = frame

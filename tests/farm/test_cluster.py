@@ -5,6 +5,7 @@ import json
 import os
 import signal
 import subprocess
+import sys
 
 import psutil
 import pytest
@@ -100,8 +101,12 @@ def test_regions_merge_bit_identical_on_three_workers_all_on_loopback(renderer, 
         if driver.poll() is None:
             driver.kill()
     assert driver.returncode == 0, err
-    assert read(f"{out}/room.png") == reference(renderer, scene, os.path.join(workdir, "ref.png"))
+    ref_stats = os.path.join(workdir, "ref.json")
+    assert read(f"{out}/room.png") == reference(renderer, scene, os.path.join(workdir, "ref.png"),
+                                                "--stats", ref_stats)
     stats = json.load(open(f"{out}/room.json"))
+    # The parts' ray counts add up to the full frame's (each region's stats cover its pixels).
+    assert stats["rays"] == json.load(open(ref_stats))["rays"]
     assert stats["farm"]["jobs"] == 4 and len(stats["farm"]["regions"]) == 4
     assert len(set(stats["farm"]["workers"])) >= 2  # the parts really were spread
     assert os.listdir(os.path.join(out, ".zigzag-farm-parts")) == []  # parts removed after merging
@@ -191,3 +196,37 @@ def test_a_bad_scene_is_reported_and_the_others_complete(renderer, workdir):
     if renderer.failing():
         assert "failing" in failed and "material 3 has no texture" in p.stderr
     assert summary["rendered"] == 1
+
+
+def test_an_existing_scheduler_on_loopback(workdir):
+    """--scheduler: a `dask scheduler` and a `dask worker` started as the README says."""
+    dask = os.path.join(os.path.dirname(sys.executable), "dask")
+    sched_file = os.path.join(workdir, "scheduler.json")
+    loopback = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]
+    procs = [subprocess.Popen([dask, "scheduler", "--port", "0", "--scheduler-file", sched_file, *loopback],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        wait_for(lambda: os.path.exists(sched_file) and os.path.getsize(sched_file) > 0, 60, "the scheduler")
+        address = json.load(open(sched_file))["address"]
+        fake = Fake(workdir)
+        scene = fake.animated(sleep=0.1)
+        out = os.path.join(workdir, "out")
+        args = [scene, "-o", f"{out}/f{{frame}}.png", "--frames", "1-3", "--scheduler", address,
+                "--zigzag", FAKE_ZIGZAG]
+        lonely = run_farm(*args, "--wait", "2")
+        assert lonely.returncode == 2 and "no Dask worker joined" in lonely.stderr, lonely.stderr
+        procs.append(subprocess.Popen([dask, "worker", address, "--nthreads", "1", "--resources", "render=1",
+                                       *loopback], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        p = run_farm(*args)
+        assert p.returncode == 0, p.stderr
+        assert visible_files(out) == ["f1.png", "f2.png", "f3.png"]
+        for proc in procs:  # scheduler, its dashboard, the worker, its dashboard, its nanny
+            assert_loopback_only(proc.pid, min_sockets=2)
+    finally:
+        for proc in procs:
+            proc.terminate()
+        for proc in procs:
+            try:
+                proc.wait(20)
+            except subprocess.TimeoutExpired:
+                proc.kill()

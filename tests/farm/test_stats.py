@@ -5,7 +5,7 @@ from zigzag_farm.stats import merge_stats
 
 
 def part(primary, total, rpp, render_s, fraction):
-    return {"scene": "room", "camera": 0, "width": 128, "height": 128, "triangles": 1000,
+    return {"scene": "room", "region": [0, 0, 1, 1], "camera": 0, "width": 128, "height": 128, "triangles": 1000,
             "effects": ["shadows"], "rays_per_pixel": rpp,
             "rays": {"primary": primary, "total": total},
             "adaptive": {"eps": 0.05, "by_level": [1.0, rpp - 1.0, 0.0], "level2_fraction": fraction,
@@ -28,6 +28,7 @@ def test_counts_add_and_per_pixel_values_are_pixel_weighted():
     assert m["adaptive"]["eps"] == 0.05 and m["triangles"] == 1000 and m["bvh"]["nodes"] == 77
     assert m["mrays_per_s"] == pytest.approx(8000 / 4.0 * 1e-6)
     assert m["frame"] == 7 and m["output"] == "/o/x.png"
+    assert m["region"] == [0, 0, 40, 100]
     assert m["farm"] == {"jobs": 2, "regions": [[0, 0, 10, 100], [10, 0, 40, 100]],
                          "job_seconds": [1.5, 3.5], "workers": ["w1", "w2"]}
 
