@@ -19,15 +19,17 @@ class ClusterError(RuntimeError):
 
 
 @contextlib.contextmanager
-def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = True):
-    """workers single-job workers here; processes=False puts them in this process as threads
-    (the benchmark's simulated clusters of many workers that only wait on subprocesses)."""
+def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = True,
+                  jobs_per_worker: int = 1):
+    """workers single-job worker processes here. jobs_per_worker > 1 (the benchmark's
+    simulated clusters of many workers that only wait on subprocesses) gives each worker
+    that many threads and render slots; processes=False runs the workers in this process."""
     from distributed import Client, LocalCluster
     with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=processes,
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=jobs_per_worker, processes=processes,
                                protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                worker_dashboard_address="127.0.0.1:0",
-                               resources=RENDER_RESOURCE, silence_logs=logging.CRITICAL)
+                               resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL)
         try:
             with Client(cluster) as client:
                 yield client

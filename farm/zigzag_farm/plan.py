@@ -74,10 +74,6 @@ class FrameJob:
     parts: tuple[RenderJob, ...]
     merged: bool  # True: the parts are merged into `output` by `zigzag merge`
 
-    @property
-    def jobs(self) -> tuple[RenderJob, ...]:
-        return self.parts
-
 
 @dataclass
 class Plan:
@@ -104,14 +100,6 @@ def expand(pattern: str, scene: str, camera: int, frame: int | None) -> str:
 def _digest(payload: dict) -> str:
     blob = json.dumps(payload, sort_keys=True, separators=(",", ":")).encode()
     return hashlib.sha256(blob).hexdigest()[:12]
-
-
-def file_digest(path: str) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as f:
-        for chunk in iter(lambda: f.read(1 << 20), b""):
-            h.update(chunk)
-    return h.hexdigest()
 
 
 def _frame_tag(frame: int | None) -> str:

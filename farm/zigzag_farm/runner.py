@@ -187,34 +187,21 @@ class Runner:
         pending = dict(futures)
         try:
             while pending:
-                finished = [k for k, (fut, *_ ) in pending.items() if fut.done()]
-                for key in finished:
+                for key in [k for k, (fut, *_) in pending.items() if fut.done()]:
                     fut, kind, f, p = pending.pop(key)
-                    if fut.status == "finished":
-                        result = fut.result()
+                    error = self._collect(fut, kind, f, p)
+                    if error is None:
                         done += 1
-                        self.outcome.job_seconds.append(result["seconds"])
-                        if kind == "render":
-                            self.manifest.record(p.key, "render", result, stats=result.get("stats"),
-                                                 seconds=result["seconds"], worker=result.get("worker"))
-                            if not f.merged:
-                                self._finish_frame(f, None)
-                        else:
-                            self._finish_frame(f, result)
                         continue
                     failed += 1
-                    if f.key not in failed_frames:
-                        failed_frames.add(f.key)
+                    failed_frames.add(f.key)
                     if kind == "merge" and any(futures[q.key][0].status == "error"
                                                for q in f.parts if q.key in futures):
-                        continue  # its part's failure is the one to report
-                    exc = fut.exception() if fut.status == "error" else RuntimeError(fut.status)
+                        continue  # the failed part is the one to report
                     what = describe(p) if p else merge_spec(f, self.s)["what"]
-                    failure = Failure(what, key, _failure_message(exc))
-                    self.outcome.failures.append(failure)
-                    progress.message(f"zigzag-farm: FAILED {what}: {indent(failure.message)}")
-                running = self._running(client, pending)
-                progress.update(done=done, failed=failed, running=running)
+                    self.outcome.failures.append(Failure(what, key, _failure_message(error)))
+                    progress.message(f"zigzag-farm: FAILED {what}: {indent(_failure_message(error))}")
+                progress.update(done=done, failed=failed, running=self._running(client, pending))
                 if pending:
                     # Wakes as soon as any job ends; the timeout only refreshes the progress line.
                     try:
@@ -231,6 +218,24 @@ class Runner:
         self.outcome.failed_frames = len(failed_frames)
         self.outcome.wall_s = time.monotonic() - start
         return self.outcome
+
+    def _collect(self, fut, kind: str, f: FrameJob, p: RenderJob | None) -> BaseException | None:
+        """Record a finished job (and its frame when that is complete) -> None, or the error."""
+        if fut.status != "finished":
+            return fut.exception() if fut.status == "error" else RuntimeError(f"job {fut.status}")
+        result = fut.result()
+        self.outcome.job_seconds.append(result["seconds"])
+        try:
+            if kind == "render":
+                self.manifest.record(p.key, "render", result, stats=result.get("stats"),
+                                     seconds=result["seconds"], worker=result.get("worker"))
+                if not f.merged:
+                    self._finish_frame(f, None)
+            else:
+                self._finish_frame(f, result)
+        except OSError as e:  # e.g. the stats folder is not writable
+            return e
+        return None
 
     @staticmethod
     def _running(client, pending) -> int:
