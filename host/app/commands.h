@@ -10,5 +10,6 @@ void add_render_command(CLI::App& app, int& exit_code);
 void add_view_command(CLI::App& app, int& exit_code);
 void add_analytic_command(CLI::App& app);
 void add_merge_command(CLI::App& app);
+void add_info_command(CLI::App& app, int& exit_code);
 
 }  // namespace zz

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   zz::add_view_command(app, exit_code);
   zz::add_analytic_command(app);
   zz::add_merge_command(app);
+  zz::add_info_command(app, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

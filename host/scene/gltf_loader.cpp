@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "scene/gltf_accessor.h"
+#include "scene/gltf_animation.h"
 #include "scene/gltf_image.h"
 #include "scene/loader.h"
 
@@ -56,6 +57,7 @@ struct Loader {
   uint32_t material_base = 0;
   int default_material = -1;
   std::map<std::pair<int, bool>, int> texture_of_image;  // (image, srgb) -> scene texture
+  Animation animation;  // sampled at options.time for every animated node
 
   void warn(const std::string& msg) const {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
@@ -320,7 +322,9 @@ struct Loader {
       throw Error(file + ": node hierarchy instances more than " + std::to_string(kMaxNodeInstances) +
                   " nodes (exponential instancing)");
     const tinygltf::Node& node = model.nodes[size_t(node_index)];
-    const glm::mat4 world = parent * local_matrix(node);
+    const glm::mat4 world = parent * (animation.animates(node_index)
+                                          ? animation.pose(node_index, gltf::rest_pose(node), float(options.time.value_or(0.0))).matrix()
+                                          : local_matrix(node));
     for (int i = 0; i < 16; ++i)
       if (!std::isfinite(glm::value_ptr(world)[i]))
         throw Error(file + ": node '" + node.name + "' has a non-finite transform");
@@ -449,8 +453,11 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
     std::replace(warning.begin(), warning.end(), '\n', ' ');
     std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());
   }
-  Loader loader{model, scene, options, file, 0, -1, {}};
+  Loader loader{model, scene, options, file, 0, -1, {}, {}};
   loader.load_materials();
+  loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
+  scene.animated = scene.animated || !loader.animation.empty();
+  scene.animation_end = std::max(scene.animation_end, loader.animation.end_time());
   loader.load_nodes(transform);
 }
 

@@ -13,8 +13,11 @@
 #include <fstream>
 #include <initializer_list>
 #include <limits>
+#include <optional>
+#include <utility>
 
 #include "core/error.h"
+#include "scene/animation.h"
 
 namespace zz {
 namespace {
@@ -152,6 +155,38 @@ void apply_material_override(const Json& J, Material& m, const json& o, const st
   if (o.contains("double_sided")) m.double_sided = J.boolean(o["double_sided"], where + ".double_sided");
 }
 
+// When the scene is posed: the frame clock of LoadOptions and the rig's "fps"/"frames".
+struct FrameClock {
+  double fps = kDefaultFps;
+  std::optional<std::pair<int, int>> rig_frames;
+  double time = 0.0;
+  int frame = 0;
+
+  FrameClock(const LoadOptions& options, double rig_fps, std::optional<std::pair<int, int>> frames)
+      : rig_frames(frames) {
+    fps = options.fps > 0.0 ? options.fps : rig_fps > 0.0 ? rig_fps : kDefaultFps;
+    if (options.time) {
+      time = *options.time;
+      frame = -1;
+    } else {
+      frame = options.frame ? *options.frame : rig_frames ? rig_frames->first : 0;
+      time = double(frame) / fps;
+    }
+  }
+  LoadOptions posed(const LoadOptions& options) const {
+    LoadOptions o = options;
+    o.time = time;
+    return o;
+  }
+  void apply(Scene& scene) const {
+    scene.fps = fps;
+    scene.time = time;
+    scene.frame = frame;
+    scene.first_frame = rig_frames ? rig_frames->first : 0;
+    scene.last_frame = rig_frames ? rig_frames->second : zz::last_frame(scene.animation_end, fps);
+  }
+};
+
 fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
   if (!options.assets_dir.empty()) return options.assets_dir;
   if (const char* env = std::getenv("ZIGZAG_ASSETS"); env && *env) return fs::path(env);
@@ -174,8 +209,22 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   const Json J{file};
   J.check_keys(j, {"name", "description", "model", "transform", "camera", "cameras",
                    "use_model_cameras", "default_camera", "lights", "replace_lights", "background", "exposure",
-                   "max_depth", "width", "height", "materials_override"}, "scene");
+                   "max_depth", "width", "height", "materials_override", "fps", "frames"}, "scene");
   if (!j.contains("model")) J.fail("missing \"model\"");
+  double rig_fps = 0.0;
+  if (j.contains("fps")) {
+    rig_fps = J.number(j["fps"], "fps");
+    if (!(rig_fps > 0.0 && rig_fps <= 1000.0)) J.fail("fps must be in (0, 1000]");
+  }
+  std::optional<std::pair<int, int>> rig_frames;
+  if (j.contains("frames")) {
+    const json& f = j["frames"];
+    if (!f.is_array() || f.size() != 2) J.fail("frames must be [first, last] (two integers)");
+    const int first = J.integer(f[0], "frames[0]", 0, 100000000), last = J.integer(f[1], "frames[1]", 0, 100000000);
+    if (last < first) J.fail("frames: last (" + std::to_string(last) + ") is before first (" + std::to_string(first) + ")");
+    rig_frames = std::make_pair(first, last);
+  }
+  const FrameClock clock(options, rig_fps, rig_frames);
 
   Scene scene;
   scene.name = j.contains("name") ? J.string(j["name"], "name") : path.stem().string();
@@ -193,7 +242,8 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
     if (!fs::is_regular_file(model_path, ec)) J.fail("model '" + model_path.string() + "' not found");
   }
   const glm::mat4 transform = j.contains("transform") ? parse_transform(J, j["transform"]) : glm::mat4(1.0f);
-  load_gltf_into(scene, model_path, transform, options);
+  load_gltf_into(scene, model_path, transform, clock.posed(options));
+  clock.apply(scene);
 
   // Cameras: the rig's own first, then the model's (unless disabled).
   std::vector<Camera> model_cameras = std::move(scene.cameras);
@@ -283,7 +333,9 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) 
     throw Error(path.string() + ": unknown scene format (expected .json, .gltf or .glb)");
   Scene scene;
   scene.name = path.stem().string();
-  load_gltf_into(scene, path, glm::mat4(1.0f), options);
+  const FrameClock clock(options, 0.0, std::nullopt);
+  load_gltf_into(scene, path, glm::mat4(1.0f), clock.posed(options));
+  clock.apply(scene);
   if (scene.cameras.empty()) scene.cameras.push_back(auto_camera(scene));
   scene.finalize_materials();
   return scene;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "scene/scene.h"
@@ -14,7 +15,14 @@ struct LoadOptions {
   // $ZIGZAG_ASSETS, else ../shared/scenes next to the project checkout.
   std::filesystem::path assets_dir;
   bool quiet = false;  // no warnings on stderr
+  // When to load an animated scene: `time` seconds, else `frame` / fps, else the first
+  // frame of the scene's range. fps: this if > 0, else the rig's "fps", else 24.
+  std::optional<double> time;
+  std::optional<int> frame;
+  double fps = 0.0;
 };
+
+inline constexpr double kDefaultFps = 24.0;
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 
@@ -22,7 +30,8 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options =
 // front (+Z), slightly right and above; used when neither the rig nor the model has one.
 Camera auto_camera(const Scene& scene, float yfov = 0.8f);
 
-// Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs).
+// Loads only the glTF part (used by load_scene for .gltf/.glb and by JSON rigs), with
+// animated nodes posed at options.time (seconds; unset = 0).
 // Appends triangles, materials, textures, lights and cameras (all moved by `transform`);
 // does not finalize materials nor add an auto camera.
 void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::mat4& transform,

@@ -50,6 +50,15 @@ struct Scene {
   int default_width = 512;
   int default_height = 512;
 
+  // Animation: glTF node animations, posed at `time` when loaded (scene/animation.h).
+  bool animated = false;
+  float animation_end = 0.0f;  // the last keyframe time, seconds
+  double fps = 24.0;           // --fps, else the rig's "fps", else 24
+  int first_frame = 0;         // the rig's "frames", else 0 .. ceil(animation_end * fps)
+  int last_frame = 0;
+  double time = 0.0;           // seconds the scene is posed at
+  int frame = 0;               // the frame it was loaded as (-1 when given as a time)
+
   // Load-time bookkeeping, reported in stats.
   size_t dropped_degenerate = 0;
 

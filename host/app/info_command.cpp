@@ -1,0 +1,93 @@
+// `zigzag info SCENE... [--json]`: what a render of each scene would be — frame size,
+// cameras, frame clock and range, size of the geometry — so a farm can plan its jobs
+// without rendering. A scene that fails to load is reported and the others still are.
+#include <nlohmann/json.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/commands.h"
+#include "scene/loader.h"
+
+namespace zz {
+
+namespace {
+
+struct InfoOptions {
+  std::vector<std::string> scenes;
+  bool json = false;
+  double fps = 0.0;
+  std::string assets;
+};
+
+nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& o) {
+  LoadOptions load;
+  load.assets_dir = o.assets;
+  load.quiet = true;
+  load.fps = o.fps;
+  const Scene scene = load_scene(path, load);
+  nlohmann::json cameras = nlohmann::json::array();
+  for (const Camera& c : scene.cameras) cameras.push_back(c.name);
+  return {{"path", path.string()},
+          {"scene", path.stem().string()},  // what {scene} expands to in output patterns
+          {"name", scene.name},
+          {"width", scene.default_width},
+          {"height", scene.default_height},
+          {"cameras", cameras},
+          {"camera_count", scene.cameras.size()},
+          {"animated", scene.animated},
+          {"animation_end_s", scene.animation_end},
+          {"fps", scene.fps},
+          {"frames", {scene.first_frame, scene.last_frame}},
+          {"frame_count", scene.last_frame - scene.first_frame + 1},
+          {"triangles", scene.triangle_count()},
+          {"lights", scene.lights.size()}};
+}
+
+void print_human(const nlohmann::json& j) {
+  std::string cameras;
+  for (const auto& c : j["cameras"]) cameras += (cameras.empty() ? "" : ", ") + c.get<std::string>();
+  std::printf("%s (%s)\n", j["scene"].get<std::string>().c_str(), j["path"].get<std::string>().c_str());
+  std::printf("  size      %dx%d\n", j["width"].get<int>(), j["height"].get<int>());
+  std::printf("  cameras   %zu: %s\n", j["cameras"].size(), cameras.c_str());
+  if (j["animated"].get<bool>())
+    std::printf("  animation %.3f s, frames %d..%d (%d) at %g fps\n", j["animation_end_s"].get<double>(),
+                j["frames"][0].get<int>(), j["frames"][1].get<int>(), j["frame_count"].get<int>(), j["fps"].get<double>());
+  else
+    std::printf("  animation none (frames %d..%d at %g fps)\n", j["frames"][0].get<int>(), j["frames"][1].get<int>(),
+                j["fps"].get<double>());
+  std::printf("  geometry  %zu triangles, %zu lights\n", j["triangles"].get<size_t>(), j["lights"].get<size_t>());
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app, int& exit_code) {
+  auto o = std::make_shared<InfoOptions>();
+  CLI::App* cmd = app.add_subcommand("info", "Describe scenes: frame size, cameras, frame range, geometry");
+  cmd->add_option("scenes", o->scenes, "Scene files")->required();
+  cmd->add_flag("--json", o->json, "A JSON array, one object per scene (failed scenes have \"error\")");
+  cmd->add_option("--fps", o->fps, "Frames per second for the frame range (default: the rig's, else 24)")
+      ->check(CLI::Range(1e-3, 1000.0));
+  cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
+  cmd->callback([o, &exit_code] {
+    nlohmann::json all = nlohmann::json::array();
+    int failed = 0;
+    for (const std::string& path : o->scenes) {
+      try {
+        all.push_back(scene_info(path, *o));
+        if (!o->json) print_human(all.back());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "zigzag: error: %s\n", e.what());
+        all.push_back({{"path", path}, {"error", e.what()}});
+        ++failed;
+      }
+    }
+    if (o->json) std::printf("%s\n", all.dump(2).c_str());
+    exit_code = failed > 0 ? 1 : 0;
+  });
+}
+
+}  // namespace zz
