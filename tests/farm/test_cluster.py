@@ -46,7 +46,11 @@ class Real:
         return os.path.join(ROOT, "scenes", "room.json")
 
     def animated(self, sleep=None):
-        return os.path.join(ROOT, "scenes", "animated.json")
+        scene = os.path.join(ROOT, "scenes", "animated.json")
+        helps = subprocess.run([self.zigzag, "render", "--help"], capture_output=True, text=True).stdout
+        if not os.path.exists(scene) or "--frame" not in helps:
+            pytest.skip("no scenes/animated.json or zigzag render --frame yet (issue #14, renderer half)")
+        return scene
 
     def failing(self):
         return None
