@@ -51,19 +51,26 @@ def existing_scheduler(address: str, wait_s: float):
         yield client
 
 
+def slurm_options(*, queue=None, account=None, walltime=None, memory=None, cores=None,
+                  interface=None) -> dict:
+    """SLURMCluster arguments: one worker per Slurm job, offering render=1 (it may have many
+    threads; the resource still lets it run one render at a time, with all the job's cores).
+    What is not given comes from the dask-jobqueue configuration (~/.config/dask/jobqueue.yaml,
+    section jobqueue.slurm)."""
+    options = {k: v for k, v in dict(queue=queue, account=account, walltime=walltime,
+                                     memory=memory, cores=cores, interface=interface).items()
+               if v is not None}
+    options["processes"] = 1
+    options["worker_extra_args"] = ["--resources", "render=1"]
+    return options
+
+
 @contextlib.contextmanager
-def slurm_cluster(jobs: int, wait_s: float, *, queue=None, account=None, walltime=None,
-                  memory=None, cores=None, interface=None):
-    """jobs Slurm jobs of one worker each; anything not given comes from the dask-jobqueue
-    configuration (~/.config/dask/jobqueue.yaml, section jobqueue.slurm)."""
+def slurm_cluster(jobs: int, wait_s: float, **options):
+    """jobs Slurm jobs of one worker each (see slurm_options)."""
     from dask_jobqueue import SLURMCluster
     from distributed import Client
-    kwargs = {k: v for k, v in dict(queue=queue, account=account, walltime=walltime,
-                                    memory=memory, cores=cores, interface=interface).items()
-              if v is not None}
-    kwargs.setdefault("processes", 1)
-    cluster = SLURMCluster(worker_extra_args=["--resources", "render=1", "--nthreads", "1"],
-                           **kwargs)
+    cluster = SLURMCluster(**slurm_options(**options))
     try:
         cluster.scale(jobs=jobs)
         with Client(cluster) as client:
