@@ -9,8 +9,7 @@ scheduler run it again, and the dead worker's child may still be running), so:
   and dies with the worker thread that started it (PR_SET_PDEATHSIG), so a killed worker
   leaves no renderer running.
 
-Standard library only: the driver ships this module to the workers by value, so remote
-workers need Dask and the zigzag binary, not this package.
+Standard library only, so a worker's environment needs nothing beyond Dask and this package.
 """
 from __future__ import annotations
 

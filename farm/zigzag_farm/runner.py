@@ -9,7 +9,6 @@ import os
 import time
 from dataclasses import dataclass, field
 
-import cloudpickle
 from distributed import wait
 
 from . import job, tasks
@@ -19,11 +18,8 @@ from .plan import FrameJob, Plan, RenderJob
 from .progress import Progress
 from .stats import merge_stats
 
-# Workers need only Dask and the renderer: the task code travels with the tasks.
-cloudpickle.register_pickle_by_value(job)
-cloudpickle.register_pickle_by_value(tasks)
-
 POLL_S = 0.5
+RUNNING_EVERY_S = 1.0  # how often the progress line asks the scheduler what is running
 
 
 @dataclass
@@ -186,10 +182,14 @@ class Runner:
         done = failed = 0
         pending = dict(futures)
         try:
+            running, asked = 0, 0.0
             while pending:
-                for key in [k for k, (fut, *_) in pending.items() if fut.done()]:
-                    fut, kind, f, p = pending.pop(key)
-                    error = self._collect(fut, kind, f, p)
+                finished = {k: pending.pop(k) for k in [k for k, (fut, *_) in pending.items() if fut.done()]}
+                # One round trip for all the results that arrived, not one per job.
+                ok = [fut for fut, *_ in finished.values() if fut.status == "finished"]
+                results = dict(zip((fut.key for fut in ok), client.gather(ok))) if ok else {}
+                for key, (fut, kind, f, p) in finished.items():
+                    error = self._collect(fut, results.get(key), kind, f, p)
                     if error is None:
                         done += 1
                         continue
@@ -201,7 +201,9 @@ class Runner:
                     what = describe(p) if p else merge_spec(f, self.s)["what"]
                     self.outcome.failures.append(Failure(what, key, _failure_message(error)))
                     progress.message(f"zigzag-farm: FAILED {what}: {indent(_failure_message(error))}")
-                progress.update(done=done, failed=failed, running=self._running(client, pending))
+                if time.monotonic() - asked >= RUNNING_EVERY_S:
+                    running, asked = self._running(client, pending), time.monotonic()
+                progress.update(done=done, failed=failed, running=min(running, len(pending)))
                 if pending:
                     # Wakes as soon as any job ends; the timeout only refreshes the progress line.
                     try:
@@ -219,11 +221,11 @@ class Runner:
         self.outcome.wall_s = time.monotonic() - start
         return self.outcome
 
-    def _collect(self, fut, kind: str, f: FrameJob, p: RenderJob | None) -> BaseException | None:
+    def _collect(self, fut, result: dict | None, kind: str, f: FrameJob,
+                 p: RenderJob | None) -> BaseException | None:
         """Record a finished job (and its frame when that is complete) -> None, or the error."""
         if fut.status != "finished":
             return fut.exception() if fut.status == "error" else RuntimeError(f"job {fut.status}")
-        result = fut.result()
         self.outcome.job_seconds.append(result["seconds"])
         try:
             if kind == "render":
