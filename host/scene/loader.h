@@ -5,12 +5,16 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "scene/scene.h"
 
 namespace zz {
 
 struct LoadOptions {
+  LoadOptions() = default;
+  LoadOptions(std::filesystem::path assets, bool quiet_) : assets_dir(std::move(assets)), quiet(quiet_) {}
+
   // Where third-party models referenced as "assets:NAME/..." are found; empty means
   // $ZIGZAG_ASSETS, else ../shared/scenes next to the project checkout.
   std::filesystem::path assets_dir;

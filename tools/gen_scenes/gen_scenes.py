@@ -215,6 +215,10 @@ class GltfWriter:
         self.names = [m["name"] for m in materials]
         self.blob = bytearray()
         self.views, self.accessors, self.meshes, self.nodes = [], [], [], []
+        self.animation_channels, self.animation_samplers = [], []
+        self.roots = None  # scene root nodes; None = every node
+        self.cameras = []
+        self.extensions = {}  # document-level extensions (e.g. KHR_lights_punctual)
         self.triangles = 0
 
     def _view(self, data, target):
@@ -229,9 +233,10 @@ class GltfWriter:
         data = b"".join(struct.pack("<%df" % len(r), *r) for r in rows)
         view = self._view(data, 34962)
         acc = {"bufferView": view, "componentType": 5126, "count": len(rows), "type": kind}
-        if kind == "VEC3":  # POSITION needs min/max (spec); harmless for the others
-            acc["min"] = [min(f32(r[k]) for r in rows) for k in range(3)]
-            acc["max"] = [max(f32(r[k]) for r in rows) for k in range(3)]
+        if kind in ("VEC3", "SCALAR"):  # POSITION and animation inputs need min/max (spec)
+            n = 3 if kind == "VEC3" else 1
+            acc["min"] = [min(f32(r[k]) for r in rows) for k in range(n)]
+            acc["max"] = [max(f32(r[k]) for r in rows) for k in range(n)]
         self.accessors.append(acc)
         return len(self.accessors) - 1
 
@@ -268,17 +273,41 @@ class GltfWriter:
         self.nodes.append(n)
         self.triangles += self.meshes[mesh]["_tris"]
 
+    def add_node(self, node):
+        """Any node (camera, light, group); returns its index."""
+        self.nodes.append(node)
+        return len(self.nodes) - 1
+
+    def animate(self, node, path, interpolation, times, values):
+        """One channel; CUBICSPLINE values are (in-tangent, value, out-tangent) per key."""
+        kind = "VEC4" if path == "rotation" else "VEC3"
+        sampler = {"input": self._floats([(t,) for t in times], "SCALAR"),
+                   "output": self._floats([tuple(v) for v in values], kind),
+                   "interpolation": interpolation}
+        self.animation_samplers.append(sampler)
+        self.animation_channels.append({"sampler": len(self.animation_samplers) - 1,
+                                        "target": {"node": node, "path": path}})
+
     def write(self, directory, stem):
         for m in self.meshes:
             del m["_tris"]
         used = sorted({e for m in self.materials for e in m.get("extensions", {})})
         doc = {"asset": {"version": "2.0", "generator": "zigzag tools/gen_scenes/gen_scenes.py"},
-               "scene": 0, "scenes": [{"name": stem, "nodes": list(range(len(self.nodes)))}],
+               "scene": 0,
+               "scenes": [{"name": stem, "nodes": self.roots if self.roots is not None else list(range(len(self.nodes)))}],
                "nodes": self.nodes, "meshes": self.meshes, "materials": self.materials,
                "accessors": self.accessors, "bufferViews": self.views,
                "buffers": [{"uri": stem + ".bin", "byteLength": len(self.blob)}]}
+        used = sorted(set(used) | set(self.extensions))
         if used:
             doc["extensionsUsed"] = used
+        if self.extensions:
+            doc["extensions"] = self.extensions
+        if self.animation_channels:
+            doc["animations"] = [{"name": "motion", "channels": self.animation_channels,
+                                  "samplers": self.animation_samplers}]
+        if self.cameras:
+            doc["cameras"] = self.cameras
         with open(os.path.join(directory, stem + ".bin"), "wb") as f:
             f.write(bytes(self.blob))
         with open(os.path.join(directory, stem + ".gltf"), "w", newline="\n") as f:
@@ -500,6 +529,72 @@ def default(out):
     return tris
 
 
+def animated(out):
+    """2 s at 24 fps: objects moving with each interpolation mode, a light moving with
+    its node, and the camera orbiting as the child of a rotating node (a hierarchy)."""
+    mats = [material("checker_light", (0.8, 0.8, 0.8)),
+            material("checker_dark", (0.2, 0.2, 0.25)),
+            material("red_plastic", (0.8, 0.1, 0.08), roughness=0.4),
+            material("steel", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.05),
+            material("green", (0.2, 0.7, 0.25), roughness=0.6),
+            material("blue", (0.15, 0.3, 0.8), roughness=0.7)]
+    w = GltfWriter(mats)
+    w.node("floor", checker_floor(w, 3.0, 8))
+    red = Part("red_plastic")
+    sphere(red, (0, 0, 0), 0.4, 20, 10)
+    w.node("red_sphere", w.mesh("red_sphere", [red]), translation=(-1.2, 0.4, 0.6))
+    # LINEAR translation: across and back.
+    w.animate(len(w.nodes) - 1, "translation", "LINEAR", [0.0, 1.0, 2.0],
+              [(-1.2, 0.4, 0.6), (1.2, 0.4, 0.6), (-1.2, 0.4, 0.6)])
+    cube = Part("blue")
+    box(cube, (-0.35, 0.0, -0.35), (0.35, 0.7, 0.35))
+    w.node("cube", w.mesh("cube", [cube]), translation=(0.0, 0.0, -0.8))
+    # LINEAR rotation (slerp): a full turn about y in 90-degree keys.
+    w.animate(len(w.nodes) - 1, "rotation", "LINEAR", [0.0, 0.5, 1.0, 1.5, 2.0],
+              [quat_axis_angle((0, 1, 0), a) for a in (0, 90, 180, 270, 360)])
+    steel = Part("steel")
+    sphere(steel, (0, 0, 0), 0.35, 20, 10)
+    w.node("steel_sphere", w.mesh("steel_sphere", [steel]), translation=(1.3, 0.35, -0.2))
+    # STEP translation: hops between three heights.
+    w.animate(len(w.nodes) - 1, "translation", "STEP", [0.0, 0.5, 1.0, 1.5],
+              [(1.3, 0.35, -0.2), (1.3, 0.9, -0.2), (1.3, 0.35, -0.2), (1.3, 0.7, -0.2)])
+    green = Part("green")
+    box(green, (-0.25, 0.0, -0.25), (0.25, 0.5, 0.25))
+    w.node("pulse", w.mesh("pulse", [green]), translation=(-1.4, 0.0, -1.0))
+    # CUBICSPLINE scale: grows and shrinks with eased tangents (in, value, out per key).
+    w.animate(len(w.nodes) - 1, "scale", "CUBICSPLINE", [0.0, 1.0, 2.0],
+              [(0, 0, 0), (1, 1, 1), (0, 1.5, 0),
+               (0, 0, 0), (1.3, 1.8, 1.3), (0, 0, 0),
+               (0, -1.5, 0), (1, 1, 1), (0, 0, 0)])
+    # A point light on its own node, circling above (KHR_lights_punctual).
+    w.extensions["KHR_lights_punctual"] = {"lights": [
+        {"name": "moving_key", "type": "point", "color": [1.0, 0.95, 0.85], "intensity": 10.0}]}
+    light = w.add_node({"name": "moving_key", "translation": [2.5, 4.0, 2.5],
+                        "extensions": {"KHR_lights_punctual": {"light": 0}}})
+    w.animate(light, "translation", "LINEAR", [0.0, 1.0, 2.0],
+              [(2.5, 4.0, 2.5), (-2.5, 4.0, 2.5), (2.5, 4.0, 2.5)])
+    # The camera: a child of a pivot rotating 60 degrees about y (keys 15 degrees apart).
+    w.cameras.append({"name": "orbit", "type": "perspective",
+                      "perspective": {"yfov": math.radians(40.0), "aspectRatio": 1.0, "znear": 0.05, "zfar": 100.0}})
+    camera = w.add_node({"name": "orbit_camera", "camera": 0, "translation": [0.0, 1.9, 4.2],
+                         "rotation": quat_axis_angle((1, 0, 0), -20.0)})
+    pivot = w.add_node({"name": "orbit_pivot", "children": [camera]})
+    w.animate(pivot, "rotation", "LINEAR", [0.0, 0.5, 1.0, 1.5, 2.0],
+              [quat_axis_angle((0, 1, 0), a) for a in (-30, -15, 0, 15, 30)])
+    w.roots = [i for i in range(len(w.nodes)) if i != camera]
+    tris = w.write(out, "animated")
+    write_rig(out, "animated", {
+        "name": "animated",
+        "description": "2 s animation: LINEAR/STEP/CUBICSPLINE motion, a moving light, an orbiting camera",
+        "model": "animated.gltf",
+        "lights": [
+            {"type": "point", "name": "fill", "position": [-3.0, 2.5, 1.0], "color": [0.8, 0.85, 1.0], "intensity": 4.0}],
+        "background": [0.1, 0.12, 0.16],
+        "exposure": 1.0, "max_depth": 2, "width": 256, "height": 256,
+        "fps": 24, "frames": [0, 47]})
+    return tris
+
+
 def third_party(out):
     # ToyCar is 7 cm long; its own cameras frame it. Camera002 (the README view) shows
     # the whole car in a square frame.
@@ -540,7 +635,7 @@ def main():
     here = os.path.dirname(os.path.abspath(__file__))
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.normpath(os.path.join(here, "..", "..", "scenes"))
     os.makedirs(out, exist_ok=True)
-    for name, fn in (("room", room), ("glass", glass), ("default", default)):
+    for name, fn in (("room", room), ("glass", glass), ("default", default), ("animated", animated)):
         print("%s: %d triangles" % (name, fn(out)))
     third_party(out)
     print("car, vase, lamp: rigs written")
