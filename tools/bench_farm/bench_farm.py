@@ -197,7 +197,11 @@ def main():
               f"vs plain subprocess {r['direct_s_per_job'] * 1e3:.1f} ms/job; {r['jobs']} jobs); "
               f"LocalCluster start {r['cluster_startup_s']:.1f} s; {r['check']}")
         measured = []
-        if not o.skip_real:
+        helps = subprocess.run([os.path.join(o.build, "zigzag"), "render", "--help"],
+                               capture_output=True, text=True).stdout
+        if not o.skip_real and "--frame" not in helps:
+            print("real: skipped (this zigzag has no --frame yet)")
+        elif not o.skip_real:
             for w in (1, 2):
                 results[f"real_{w}_workers"] = r = real_frames(o.build, folder, o.frames, o.size, w)
                 measured = measured or r["job_seconds"]
