@@ -10,6 +10,7 @@
 #include <string>
 
 #include "aa/analytic.h"
+#include "app/render_options.h"
 #include "core/error.h"
 #include "render/image_io.h"
 
@@ -19,11 +20,8 @@ namespace {
 struct AnalyticArgs {
   std::string image = "star";
   int size = 256;
-  float eps = AdaptiveSettings{}.eps;
-  std::string tables = "paper";
-  std::string geo_policy = "paper";
+  AdaptiveOptions adaptive;  // the same defaults as `zigzag render`
   int geo_ss = 0;
-  std::string filter = "box";
   int threads = 0;
   std::string out;
   std::string json;
@@ -56,16 +54,19 @@ void run(const AnalyticArgs& a) {
   AnalyticOptions o;
   o.image = a.image;
   o.size = a.size;
-  o.settings.eps = a.eps;
-  o.settings.tables = &parse_table_set(a.tables);
-  o.settings.geo_policy = parse_geo_policy(a.geo_policy);
-  o.settings.filter = parse_filter(a.filter);
+  o.settings.eps = a.adaptive.eps;
+  o.settings.tables = a.adaptive.tables;
+  o.settings.geo_policy = a.adaptive.geo_policy;
+  o.settings.filter = a.adaptive.filter;
   o.geo_ss = a.geo_ss;
   o.threads = a.threads;
   const AnalyticReport report = run_analytic(o);
 
+  const char* tables = a.adaptive.tables->name;
+  const char* geo_policy = name_of(kGeoPolicies, a.adaptive.geo_policy);
+  const char* filter = name_of(kFilters, a.adaptive.filter);
   std::printf("analytic %s %dx%d  eps %g  tables %s  geo-policy %s  geo-ss %d  filter %s\n", a.image.c_str(), a.size,
-              a.size, double(a.eps), a.tables.c_str(), a.geo_policy.c_str(), a.geo_ss, a.filter.c_str());
+              a.size, double(a.adaptive.eps), tables, geo_policy, a.geo_ss, filter);
   std::printf("%-10s %8s %8s %8s %10s %8s %10s\n", "method", "rays/px", "level2", "level3", "rmse", "x lattice",
               "off>0.1");
   const double lattice_rmse = report.runs[2].error.rmse;
@@ -75,9 +76,9 @@ void run(const AnalyticArgs& a) {
                 lattice_rmse > 0 ? r.error.rmse / lattice_rmse : 0.0, (unsigned long long)r.error.pixels_off);
 
   if (!a.json.empty()) {
-    nlohmann::json j = {{"image", a.image},         {"size", a.size},         {"eps", a.eps},
-                        {"tables", a.tables},       {"geo_policy", a.geo_policy}, {"geo_ss", a.geo_ss},
-                        {"filter", a.filter},       {"runs", nlohmann::json::array()}};
+    nlohmann::json j = {{"image", a.image},   {"size", a.size},           {"eps", a.adaptive.eps},
+                        {"tables", tables},   {"geo_policy", geo_policy}, {"geo_ss", a.geo_ss},
+                        {"filter", filter},   {"runs", nlohmann::json::array()}};
     for (const AnalyticRun& r : report.runs) j["runs"].push_back(to_json(r));
     std::ofstream f(a.json);
     if (!(f << j.dump(2) << "\n")) throw Error("cannot write " + a.json);
@@ -102,15 +103,10 @@ void add_analytic_command(CLI::App& app) {
   for (std::string_view n : analytic_image_names()) images += (images.empty() ? "" : "|") + std::string(n);
   cmd->add_option("--image", args->image, images)->capture_default_str();
   cmd->add_option("--size", args->size, "Frame size N (N x N pixels)")->capture_default_str()->check(CLI::Range(1, 8192));
-  cmd->add_option("--eps", args->eps, "Colour threshold on tone-mapped display values")->capture_default_str();
-  std::string tables;
-  for (std::string_view n : table_set_names()) tables += (tables.empty() ? "" : "|") + std::string(n);
-  cmd->add_option("--tables", args->tables, "Zone table set (" + tables + ")")->capture_default_str();
-  cmd->add_option("--geo-policy", args->geo_policy, "paper|all")->capture_default_str();
+  add_adaptive_options(cmd, args->adaptive);
   cmd->add_option("--geo-ss", args->geo_ss, "Geo map samples per pixel axis (0 = no geo map)")
       ->capture_default_str()
       ->check(CLI::Range(0, 16));
-  cmd->add_option("--filter", args->filter, "box|mitchell")->capture_default_str();
   cmd->add_option("--threads", args->threads, "Worker threads (0 = all)")->capture_default_str();
   cmd->add_option("--out", args->out, "Write the adaptive image (PNG)");
   cmd->add_option("--json", args->json, "Write the comparison as JSON");

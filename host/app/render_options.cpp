@@ -6,20 +6,29 @@
 
 namespace zz {
 
+void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
+  cmd->add_option("--eps", o.eps, "Adaptive: colour threshold on display values [0,1]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0f, 1.0f));
+  std::vector<std::string> tables;
+  for (std::string_view n : table_set_names()) tables.emplace_back(n);
+  cmd->add_option_function<std::string>(
+         "--tables", [&o](const std::string& name) { o.tables = &parse_table_set(name); },
+         "Adaptive: zone table set (default " + std::string(o.tables->name) + ")")
+      ->check(CLI::IsMember(tables));
+  add_choice(cmd, "--geo-policy", o.geo_policy, kGeoPolicies,
+             "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
+  add_choice(cmd, "--filter", o.filter, kFilters, "Adaptive: reconstruction filter");
+}
+
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--width", o.width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o.height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--aa", o.aa, "Antialiasing: adaptive | none | uniform")
-      ->check(CLI::IsMember({"adaptive", "none", "uniform"}));
-  cmd->add_option("--eps", o.eps, "Adaptive: colour threshold on display values [0,1]")->check(CLI::Range(0.0f, 1.0f));
-  cmd->add_option("--tables", o.tables, "Adaptive: zone table set (paper, tuned, tuned-hq, all)");
-  cmd->add_option("--geo-policy", o.geo_policy, "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
-  cmd->add_option("--filter", o.filter, "Adaptive: reconstruction filter box | mitchell");
+  add_choice(cmd, "--aa", o.aa, kAaModes, "Antialiasing");
+  add_adaptive_options(cmd, o.adaptive);
   cmd->add_option("--spp", o.spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
-  cmd->add_option("--pattern", o.pattern, "Uniform pattern: grid | stratified | lattice")
-      ->check(CLI::IsMember({"grid", "stratified", "lattice"}));
-  cmd->add_option("--edges", o.edges, "Visibility map of geometric edges: vulkan | off")
-      ->check(CLI::IsMember({"vulkan", "off"}));
+  add_choice(cmd, "--pattern", o.pattern, kUniformPatterns, "Uniform pattern");
+  add_choice(cmd, "--edges", o.edges, kEdgeModes, "Visibility map of geometric edges");
   cmd->add_option("--edge-ss", o.edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
       ->check(CLI::Range(1, 16));
   cmd->add_option("--edge-angle", o.edge_angle, "Visibility map: normal angle threshold, degrees")
@@ -32,10 +41,23 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::Range(1e-6f, 1e6f));
   cmd->add_option("--max-depth", o.max_depth, "Reflection/refraction bounces (default: the scene's)")
-      ->check(CLI::Range(0, 64));
+      ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));
+}
+
+void validate(const RenderOptions& o) {
+  if (o.aa != AaMode::Uniform) return;
+  if (o.pattern == UniformPattern::Lattice) {
+    if (o.spp != 25) throw Error("--pattern lattice needs --spp 25 (the 25-point lattice)");
+    return;
+  }
+  const int n = int(std::lround(std::sqrt(double(o.spp))));
+  if (o.spp < 1 || n * n != o.spp)
+    throw Error("--spp must be a perfect square (4, 9, 16, 25, ...) for --pattern " +
+                std::string(name_of(kUniformPatterns, o.pattern)));
 }
 
 RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene) {
+  validate(o);
   RenderSettings s;
   s.width = o.width > 0 ? o.width : scene.default_width;
   s.height = o.height > 0 ? o.height : scene.default_height;
@@ -44,25 +66,14 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene) 
                 " is out of range (1..16384 per side)");
   s.threads = o.threads;
   s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
-  if (o.aa == "adaptive") {
-    s.aa = AaMode::Adaptive;
-    s.adaptive.eps = o.eps;
-    s.adaptive.tables = &parse_table_set(o.tables);
-    s.adaptive.geo_policy = parse_geo_policy(o.geo_policy);
-    s.adaptive.filter = parse_filter(o.filter);
-  } else if (o.aa == "none") {
-    s.aa = AaMode::None;
-  } else {
-    s.aa = AaMode::Uniform;
-    if (o.pattern == "lattice") {
-      if (o.spp != 25) throw Error("--pattern lattice needs --spp 25 (the 25-point lattice)");
-      s.uniform = {UniformPattern::Lattice, 25};
-    } else {
-      const int n = int(std::lround(std::sqrt(double(o.spp))));
-      if (o.spp < 1 || n * n != o.spp)
-        throw Error("--spp must be a perfect square (4, 9, 16, 25, ...) for --pattern " + o.pattern);
-      s.uniform = {o.pattern == "grid" ? UniformPattern::Grid : UniformPattern::Stratified, o.spp};
-    }
+  s.aa = o.aa;
+  if (o.aa == AaMode::Adaptive) {
+    s.adaptive.eps = o.adaptive.eps;
+    s.adaptive.tables = o.adaptive.tables;
+    s.adaptive.geo_policy = o.adaptive.geo_policy;
+    s.adaptive.filter = o.adaptive.filter;
+  } else if (o.aa == AaMode::Uniform) {
+    s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }
   return s;
 }
@@ -75,6 +86,6 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o) {
   return vs;
 }
 
-bool wants_visibility_map(const RenderOptions& o) { return o.edges == "vulkan" && o.aa == "adaptive"; }
+bool wants_visibility_map(const RenderOptions& o) { return o.edges == EdgeMode::Vulkan && o.aa == AaMode::Adaptive; }
 
 }  // namespace zz

@@ -1,30 +1,54 @@
 // The scene and image options `zigzag render` and `zigzag view` share: one set of flags,
-// parsed once, turned into RenderSettings and VisibilitySettings in one place, so the
-// viewer's screenshot and a render with the same arguments are the same image.
+// parsed once into typed values with the command line's one set of defaults, turned into
+// RenderSettings and VisibilitySettings in one place, so the viewer's screenshot and a
+// render with the same arguments are the same image.
+//
+// Adding an option: a field here (with its default), its flag in add_render_options
+// (render_options.cpp), and its use in make_render_settings / make_visibility_settings.
+// Render-only options (outputs, stats, cameras) live in batch_options.h.
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 #include <string>
 
+#include "aa/adaptive_settings.h"
+#include "aa/table_set.h"
+#include "aa/uniform.h"
+#include "app/option_choices.h"
 #include "gpu/visibility.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
 namespace zz {
 
+enum class EdgeMode { Vulkan, Off };
+
+inline constexpr Choice<AaMode> kAaModes[] = {
+    {"adaptive", AaMode::Adaptive}, {"none", AaMode::None}, {"uniform", AaMode::Uniform}};
+inline constexpr Choice<GeoPolicy> kGeoPolicies[] = {{"paper", GeoPolicy::Paper}, {"all", GeoPolicy::All}};
+inline constexpr Choice<Filter> kFilters[] = {{"box", Filter::Box}, {"mitchell", Filter::Mitchell}};
+inline constexpr Choice<UniformPattern> kUniformPatterns[] = {
+    {"grid", UniformPattern::Grid}, {"stratified", UniformPattern::Stratified}, {"lattice", UniformPattern::Lattice}};
+inline constexpr Choice<EdgeMode> kEdgeModes[] = {{"vulkan", EdgeMode::Vulkan}, {"off", EdgeMode::Off}};
+
+// The adaptive sampler's options, shared with `zigzag analytic`. Defaults chosen by the
+// accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): the lowest
+// worst-scene display error among settings within 1.75 rays/px.
+struct AdaptiveOptions {
+  float eps = 0.05f;
+  const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
+  GeoPolicy geo_policy = GeoPolicy::All;
+  Filter filter = Filter::Box;
+};
+
 struct RenderOptions {
   int width = 0, height = 0;  // 0 = the scene's
-  std::string aa = "adaptive";
-  // Defaults chosen by the accuracy/time report at 1024² (reports/REPORT.md, "Chosen
-  // defaults"): the lowest worst-scene display error among settings within 1.75 rays/px.
-  float eps = 0.05f;
-  std::string tables = "tuned";  // beats paper on the held-out edge population (tools/table_tuner)
-  std::string geo_policy = "all";
-  std::string filter = "box";
+  AaMode aa = AaMode::Adaptive;
+  AdaptiveOptions adaptive;
   int spp = 25;
-  std::string pattern = "stratified";
-  std::string edges = "vulkan";
+  UniformPattern pattern = UniformPattern::Stratified;
+  EdgeMode edges = EdgeMode::Vulkan;
   int edge_ss = VisibilitySettings{}.supersample;
   float edge_angle = VisibilitySettings{}.normal_angle_deg;
   float edge_depth = VisibilitySettings{}.depth_rel;
@@ -36,11 +60,17 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
+// Registers --eps --tables --geo-policy --filter.
+void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
+
 // Registers the shared flags on a subcommand.
 void add_render_options(CLI::App* cmd, RenderOptions& o);
 
-// Frame settings for a loaded scene; throws zz::Error for inconsistent choices
-// (e.g. --pattern lattice without --spp 25, a non-square --spp).
+// Checks the combinations single flags cannot (e.g. --pattern lattice without --spp 25,
+// a non-square --spp); throws zz::Error. Call before loading anything.
+void validate(const RenderOptions& o);
+
+// Frame settings for a loaded scene (validate() included).
 RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene);
 
 VisibilitySettings make_visibility_settings(const RenderOptions& o);

@@ -36,6 +36,7 @@ struct ViewOptions {
 
 int view(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
+  validate(o.render);
   // Fail fast, before loading anything, when no window can be opened.
   require_display();
   const auto t0 = std::chrono::steady_clock::now();
@@ -66,11 +67,11 @@ int view(const ViewOptions& o) {
   v.settings = make_render_settings(o.render, scene);
   v.tweaks.eps = v.settings.adaptive.eps;
   v.tweaks.mitchell = v.settings.adaptive.filter == Filter::Mitchell;
-  v.tweaks.edges = o.render.edges == "vulkan";
+  v.tweaks.edges = o.render.edges == EdgeMode::Vulkan;
   v.preview_scale = o.preview_scale;
   v.validate = o.render.vk_validate;
   v.vk_device = o.render.vk_device;
-  if (o.render.aa == "adaptive") {
+  if (o.render.aa == AaMode::Adaptive) {
     // The same visibility map as `zigzag render` (same settings, same device), built on
     // the viewer's Vulkan context; its queue is shared with presentation, hence the lock.
     const VisibilitySettings vs = make_visibility_settings(o.render);

@@ -277,7 +277,7 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
     scene.exposure = J.number(j["exposure"], "exposure");
     if (!(scene.exposure > 0.0f)) J.fail("exposure must be positive");
   }
-  if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", 1, 16);
+  if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", kMinTraceDepth, kMaxTraceDepth);
   if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, 16384);
   if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, 16384);
 

@@ -29,6 +29,10 @@ struct EffectSet {
   std::vector<std::string> names() const;  // e.g. {"shadows", "reflection"}
 };
 
+// The trace depth (bounces) a rig's "max_depth" and --max-depth accept.
+inline constexpr int kMinTraceDepth = 0;
+inline constexpr int kMaxTraceDepth = 16;
+
 struct Scene {
   std::string name;
 

@@ -102,7 +102,7 @@ TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
 
 TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
   Rig r("bad");
-  for (const char* json : {R"({"model": "model.gltf", "max_depth": 0})", R"({"model": "model.gltf", "exposure": "x"})",
+  for (const char* json : {R"({"model": "model.gltf", "max_depth": 17})", R"({"model": "model.gltf", "exposure": "x"})",
                            R"({"model": "model.gltf", "background": [1, 2]})", R"({"model": "model.gltf",)",
                            R"({"model": "missing.gltf"})", R"({"name": "no model"})", R"([1, 2, 3])",
                            R"({"model": "model.gltf", "camera": {"eye": [0,0,0], "target": [0,0,0]}})",

@@ -1,0 +1,89 @@
+#include "app/render_stats_json.h"
+
+#include <thread>
+
+namespace zz {
+
+nlohmann::json render_stats_json(const JobRecord& r) {
+  const RenderOptions& o = *r.options;
+  const RenderSettings& settings = *r.settings;
+  const RenderStats& stats = *r.stats;
+  const TileRect& region = r.region;
+  const double pixels = double(region.width()) * region.height();
+  nlohmann::json j;
+  j["scene"] = r.scene_name;
+  j["camera"] = r.camera;
+  j["output"] = r.output;
+  j["width"] = settings.width;
+  j["height"] = settings.height;
+  j["region"] = {region.x0, region.y0, region.x1, region.y1};
+  j["pixels"] = int64_t(region.width()) * region.height();
+  j["animated"] = r.scene->animated;
+  j["frame"] = r.scene->frame;  // -1 when rendered at a --time
+  j["scene_time_s"] = r.scene->time;
+  j["fps"] = r.scene->fps;
+  j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
+  j["aa"] = name_of(kAaModes, o.aa);
+  if (o.aa == AaMode::Uniform) {
+    j["spp"] = o.spp;
+    j["pattern"] = name_of(kUniformPatterns, o.pattern);
+  }
+  if (o.aa == AaMode::Adaptive) {
+    const AaStats& a = stats.aa;
+    j["adaptive"] = {{"eps", o.adaptive.eps},
+                     {"tables", o.adaptive.tables->name},
+                     {"geo_policy", name_of(kGeoPolicies, o.adaptive.geo_policy)},
+                     {"filter", name_of(kFilters, o.adaptive.filter)},
+                     {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
+                     {"level2_fraction", a.level2_fraction()},
+                     {"level3_fraction", a.level3_fraction()},
+                     {"vertical_fraction", a.per_pixel(a.vertical_pixels)},
+                     {"zones_traced", a.zones_traced},
+                     {"zones_interpolated", a.zones_interpolated},
+                     {"margin_rays", a.margin_rays},
+                     {"geo_fraction", a.per_pixel(a.geo_pixels)},
+                     // Summed over tiles (CPU seconds across threads): the split of render time.
+                     {"time_s", {{"level1_corners", a.seconds_corners},
+                                 {"levels_2_3", a.seconds_refine},
+                                 {"mitchell_filter", a.seconds_filter}}}};
+  }
+  j["triangles"] = r.scene->triangle_count();
+  j["dropped_degenerate_triangles"] = r.scene->dropped_degenerate;
+  j["lights"] = r.scene->lights.size();
+  j["max_depth"] = r.scene->max_depth;
+  j["effects"] = r.shader->effects().names();
+  j["rays_per_pixel"] = double(stats.rays.primary) / pixels;
+  j["rays"] = {{"primary", stats.rays.primary},
+               {"shadow", stats.rays.shadow},
+               {"reflection", stats.rays.reflection},
+               {"refraction", stats.rays.refraction},
+               {"total", stats.rays.total()}};
+  j["bvh"] = {{"nodes", r.bvh->node_count},
+              {"leaves", r.bvh->leaf_count},
+              {"max_depth", r.bvh->max_depth},
+              {"sah_cost", r.bvh->sah_cost},
+              {"build_s", r.bvh->build_seconds}};
+  j["time_s"] = {{"load", r.times.load},
+                 {"bvh", r.times.bvh},
+                 {"render", stats.render_seconds},
+                 {"write", r.times.write},
+                 {"total", r.times.total}};
+  j["edges"] = name_of(kEdgeModes, o.edges);
+  if (r.visibility) {
+    size_t flagged = 0;
+    for (int y = region.y0; y < region.y1; ++y)
+      for (int x = region.x0; x < region.x1; ++x) flagged += r.geo->at(x, y);
+    j["time_s"]["edges"] = {{"upload", r.visibility->upload_seconds()},
+                            {"raster", r.edge_times->raster_s},
+                            {"compute", r.edge_times->compute_s},
+                            {"readback", r.edge_times->readback_s},
+                            {"total", r.edge_times->total_s}};
+    j["geo_fraction"] = double(flagged) / pixels;
+    j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}};
+    j["vulkan_device"] = r.vulkan_device;
+  }
+  j["mrays_per_s"] = stats.render_seconds > 0 ? double(stats.rays.total()) / stats.render_seconds * 1e-6 : 0.0;
+  return j;
+}
+
+}  // namespace zz

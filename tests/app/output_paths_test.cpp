@@ -1,0 +1,80 @@
+// Output patterns: placeholder expansion and the batch collision check (issue 13).
+#include "app/output_paths.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+std::string error_of(const std::vector<OutputPattern>& p, const std::vector<OutputKey>& jobs) {
+  try {
+    check_distinct_outputs(p, jobs);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(OutputPattern, ExpandsSceneCameraAndFrame) {
+  const OutputKey k{"room", "2", 7};
+  EXPECT_EQ(expand_output_pattern("out/{scene}_{camera}.png", k), "out/room_2.png");
+  EXPECT_EQ(expand_output_pattern("{scene}.{frame}.exr", k), "room.7.exr");
+  EXPECT_EQ(expand_output_pattern("{scene}.{frame:04}.exr", k), "room.0007.exr");
+  EXPECT_EQ(expand_output_pattern("{frame:1}{frame:3}", OutputKey{"s", "0", 12345}), "1234512345");
+  EXPECT_EQ(expand_output_pattern("plain.png", k), "plain.png");
+  EXPECT_EQ(expand_output_pattern("{scene}{scene}", k), "roomroom");
+}
+
+TEST(OutputPattern, UnknownPlaceholdersAreErrorsNamingThem) {
+  const OutputKey k{"room", "0", 0};
+  for (const char* bad : {"{scen}.png", "{frame:x}.png", "{frame:}.png", "{scene.png", "{}.png"}) {
+    try {
+      expand_output_pattern(bad, k, "--stats");
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      const std::string m = e.what();
+      EXPECT_NE(m.find("--stats"), std::string::npos) << m;
+      EXPECT_NE(m.find("unknown placeholder"), std::string::npos) << m;
+    }
+  }
+}
+
+TEST(OutputCollisions, NameTheMissingPlaceholder) {
+  const std::vector<OutputKey> scenes = {{"room", "0", 0}, {"glass", "0", 0}};
+  const std::string e = error_of({{"-o", "x.png"}}, scenes);
+  EXPECT_NE(e.find("room and glass would both write x.png"), std::string::npos) << e;
+  EXPECT_NE(e.find("add {scene}"), std::string::npos) << e;
+
+  const std::vector<OutputKey> cameras = {{"room", "0", 0}, {"room", "1", 0}};
+  EXPECT_NE(error_of({{"-o", "{scene}.png"}}, cameras).find("add {camera}"), std::string::npos);
+  EXPECT_EQ(error_of({{"-o", "{scene}_{camera}.png"}}, cameras), "");
+
+  const std::vector<OutputKey> frames = {{"room", "0", 1}, {"room", "0", 2}};
+  EXPECT_NE(error_of({{"-o", "{scene}.png"}}, frames).find("add {frame}"), std::string::npos);
+  EXPECT_EQ(error_of({{"-o", "{scene}.{frame:04}.png"}}, frames), "");
+}
+
+TEST(OutputCollisions, StatsAndAovsAreCheckedToo) {
+  const std::vector<OutputKey> scenes = {{"room", "0", 0}, {"glass", "0", 0}};
+  const std::string e = error_of({{"-o", "{scene}.png"}, {"--stats", "stats.json"}}, scenes);
+  EXPECT_NE(e.find("--stats stats.json"), std::string::npos) << e;
+  // Two kinds of output onto one file.
+  const std::string same = error_of({{"-o", "{scene}.png"}, {"--aov rays", "{scene}.png"}}, scenes);
+  EXPECT_NE(same.find("-o and --aov rays would both write"), std::string::npos) << same;
+  // Same stem from two folders: every placeholder is there, the names collide.
+  const std::string stems = error_of({{"-o", "{scene}.png"}}, {{"room", "0", 0}, {"room", "0", 0}});
+  EXPECT_NE(stems.find("same name"), std::string::npos) << stems;
+  // Equal after normalisation.
+  EXPECT_NE(error_of({{"-o", "a/./x.png"}, {"--stats", "a/x.png"}}, {{"room", "0", 0}}), "");
+}
+
+TEST(OutputCollisions, DistinctBatchesPass) {
+  EXPECT_EQ(error_of({{"-o", "out/{scene}_{camera}.png"}, {"--stats", "out/{scene}_{camera}.json"}},
+                     {{"room", "0", 0}, {"room", "1", 0}, {"glass", "0", 0}}),
+            "");
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,80 @@
+// The command line parsed into typed options: one set of defaults, names mapped to enums,
+// bad values and combinations rejected before anything is loaded (issue 13).
+#include "app/batch_options.h"
+
+#include <gtest/gtest.h>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+// Parses `zigzag render ARGS` into o; returns CLI11's or validate()'s error text, "" if fine.
+std::string parse(std::vector<std::string> args, BatchOptions& o) {
+  CLI::App app;
+  CLI::App* cmd = app.add_subcommand("render");
+  add_batch_options(cmd, o);
+  args.insert(args.begin(), "render");
+  std::reverse(args.begin(), args.end());  // CLI11 takes a vector in reverse order
+  try {
+    app.parse(args);
+    validate(o);
+  } catch (const CLI::ParseError& e) {
+    return std::string("cli: ") + e.what();
+  } catch (const Error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json"}, o), "");
+  EXPECT_EQ(o.render.aa, AaMode::Adaptive);
+  EXPECT_FLOAT_EQ(o.render.adaptive.eps, 0.05f);
+  EXPECT_STREQ(o.render.adaptive.tables->name, "tuned");
+  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::All);
+  EXPECT_EQ(o.render.adaptive.filter, Filter::Box);
+  EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
+  EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
+  EXPECT_EQ(o.output_pattern(), "{scene}.png");
+}
+
+TEST(RenderOptions, NamesBecomeEnums) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json", "--aa", "uniform", "--pattern", "grid", "--spp", "16", "--tables", "paper",
+                   "--geo-policy", "paper", "--filter", "mitchell", "--edges", "off"},
+                  o),
+            "");
+  EXPECT_EQ(o.render.aa, AaMode::Uniform);
+  EXPECT_EQ(o.render.pattern, UniformPattern::Grid);
+  EXPECT_STREQ(o.render.adaptive.tables->name, "paper");
+  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::Paper);
+  EXPECT_EQ(o.render.adaptive.filter, Filter::Mitchell);
+  EXPECT_EQ(o.render.edges, EdgeMode::Off);
+  EXPECT_STREQ(name_of(kFilters, o.render.adaptive.filter), "mitchell");
+}
+
+TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
+  for (std::vector<std::string> bad : std::vector<std::vector<std::string>>{
+           {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
+           {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"}}) {
+    BatchOptions o;
+    bad.insert(bad.begin(), "a.json");
+    const std::string e = parse(bad, o);
+    EXPECT_EQ(e.rfind("cli: ", 0), 0u) << bad[1] << " " << bad[2] << " -> " << e;
+    EXPECT_NE(e.find(bad[1]), std::string::npos) << e;
+  }
+}
+
+TEST(RenderOptions, CombinationsAreCheckedBeforeLoading) {
+  BatchOptions a, b, c, d;
+  EXPECT_NE(parse({"a.json", "--aa", "uniform", "--spp", "7"}, a).find("perfect square"), std::string::npos);
+  EXPECT_NE(parse({"a.json", "--aa", "uniform", "--pattern", "lattice", "--spp", "16"}, b).find("lattice"),
+            std::string::npos);
+  EXPECT_NE(parse({"a.json", "b.json", "-o", "x.png"}, c).find("add {scene}"), std::string::npos);
+  EXPECT_NE(parse({"a.json", "--camera", "all", "-o", "{scene}.png"}, d).find("add {camera}"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace zz
