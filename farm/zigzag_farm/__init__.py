@@ -1,0 +1,1 @@
+"""zigzag-farm: zigzag renders as Dask jobs (frames, cameras, image regions)."""

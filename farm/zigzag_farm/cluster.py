@@ -1,0 +1,90 @@
+"""Where jobs run: a LocalCluster on this machine, an existing Dask scheduler, or Slurm.
+
+Every server this module starts on this machine listens on 127.0.0.1 only: Dask's
+scheduler and workers open their HTTP dashboards on 0.0.0.0 unless told otherwise, even
+with the dashboard "off" (dask/distributed #6301), hence the explicit dashboard addresses.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+
+import dask
+
+RENDER_RESOURCE = {"render": 1}  # each worker runs one renderer at a time
+
+
+class ClusterError(RuntimeError):
+    pass
+
+
+@contextlib.contextmanager
+def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = True,
+                  jobs_per_worker: int = 1):
+    """workers single-job worker processes here. jobs_per_worker > 1 (the benchmark's
+    simulated clusters of many workers that only wait on subprocesses) gives each worker
+    that many threads and render slots; processes=False runs the workers in this process."""
+    from distributed import Client, LocalCluster
+    with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=jobs_per_worker, processes=processes,
+                               protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                               worker_dashboard_address="127.0.0.1:0",
+                               resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL)
+        try:
+            with Client(cluster) as client:
+                yield client
+        finally:
+            cluster.close()
+
+
+@contextlib.contextmanager
+def existing_scheduler(address: str, wait_s: float):
+    from distributed import Client
+    try:
+        client = Client(address, timeout=wait_s)
+    except (OSError, TimeoutError) as e:
+        raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+    with client:
+        _wait_for_render_workers(client, wait_s,
+                                 f"start workers with `dask worker {address} --nthreads 1 "
+                                 "--resources render=1`")
+        yield client
+
+
+def slurm_options(*, queue=None, account=None, walltime=None, memory=None, cores=None,
+                  interface=None) -> dict:
+    """SLURMCluster arguments: one worker per Slurm job, offering render=1 (it may have many
+    threads; the resource still lets it run one render at a time, with all the job's cores).
+    What is not given comes from the dask-jobqueue configuration (~/.config/dask/jobqueue.yaml,
+    section jobqueue.slurm)."""
+    options = {k: v for k, v in dict(queue=queue, account=account, walltime=walltime,
+                                     memory=memory, cores=cores, interface=interface).items()
+               if v is not None}
+    options["processes"] = 1
+    options["worker_extra_args"] = ["--resources", "render=1"]
+    return options
+
+
+@contextlib.contextmanager
+def slurm_cluster(jobs: int, wait_s: float, **options):
+    """jobs Slurm jobs of one worker each (see slurm_options)."""
+    from dask_jobqueue import SLURMCluster
+    from distributed import Client
+    cluster = SLURMCluster(**slurm_options(**options))
+    try:
+        cluster.scale(jobs=jobs)
+        with Client(cluster) as client:
+            _wait_for_render_workers(client, wait_s, "check `squeue` for the worker jobs")
+            yield client
+    finally:
+        cluster.close()
+
+
+def _wait_for_render_workers(client, wait_s: float, hint: str) -> None:
+    try:
+        client.wait_for_workers(1, timeout=wait_s)
+    except TimeoutError:
+        raise ClusterError(f"no Dask worker joined within {wait_s:g} s: {hint}") from None
+    workers = client.scheduler_info()["workers"].values()
+    if not any(w.get("resources", {}).get("render", 0) >= 1 for w in workers):
+        raise ClusterError(f"no worker offers the resource render=1 (jobs would wait forever): {hint}")

@@ -1,0 +1,179 @@
+"""One job on a worker: a `zigzag render` or `zigzag merge` subprocess, made safe to run twice.
+
+Dask runs a task at least once (a worker that dies holding a finished result makes the
+scheduler run it again, and the dead worker's child may still be running), so:
+- the child writes under a unique temporary name in the output's folder and the finished
+  file is renamed over the final name (atomic on one file system; both runs write the same
+  bytes, so whichever rename lands last changes nothing);
+- the child runs in its own process group, killed as a group on timeout or cancellation,
+  and dies with the worker thread that started it (PR_SET_PDEATHSIG), so a killed worker
+  leaves no renderer running.
+
+Standard library only, so a worker's environment needs nothing beyond Dask and this package.
+"""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import json
+import os
+import signal
+import socket
+import subprocess
+import time
+import uuid
+
+STDERR_TAIL = 4000  # bytes of a failed child's stderr kept for the report
+KILL_GRACE_S = 3.0
+
+try:
+    _prctl = ctypes.CDLL(None, use_errno=True).prctl
+except (OSError, AttributeError):  # not Linux: no parent-death signal, the timeout still holds
+    _prctl = None
+_PR_SET_PDEATHSIG = 1
+
+
+class JobError(RuntimeError):
+    """A child exited non-zero, timed out or was cancelled; the message carries its stderr."""
+
+
+def _child_setup() -> None:
+    # Runs in the child between fork and exec. setsid (start_new_session) gives it its own
+    # process group; the parent-death signal ends it with the thread that waits on it.
+    if _prctl is not None:
+        _prctl(_PR_SET_PDEATHSIG, signal.SIGKILL, 0, 0, 0)
+
+
+def _kill_group(proc: subprocess.Popen) -> None:
+    for sig, wait in ((signal.SIGTERM, KILL_GRACE_S), (signal.SIGKILL, None)):
+        try:
+            os.killpg(proc.pid, sig)
+        except ProcessLookupError:
+            return
+        try:
+            proc.wait(timeout=wait)
+            return
+        except subprocess.TimeoutExpired:
+            continue
+
+
+def run_child(cmd: list[str], *, timeout: float | None, cancelled=lambda: False,
+              poll_s: float = 0.5) -> tuple[int, str]:
+    """Run cmd in its own process group -> (exit code, stderr tail). Raises JobError on
+    timeout or cancellation, after killing the whole group."""
+    start = time.monotonic()
+    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, start_new_session=True,
+                            preexec_fn=_child_setup)
+    try:
+        while True:
+            try:
+                _, err = proc.communicate(timeout=poll_s)
+                return proc.returncode, err.decode(errors="replace")[-STDERR_TAIL:]
+            except subprocess.TimeoutExpired:
+                pass
+            if timeout is not None and time.monotonic() - start > timeout:
+                _kill_group(proc)
+                raise JobError(f"timed out after {timeout:g} s (process group killed): {' '.join(cmd)}")
+            if cancelled():
+                _kill_group(proc)
+                raise JobError(f"cancelled (process group killed): {' '.join(cmd)}")
+    except BaseException:
+        if proc.poll() is None:
+            _kill_group(proc)
+        raise
+
+
+def temporary_name(final: str) -> str:
+    """A unique sibling of `final` that keeps its extension (the renderer picks the format
+    from it) and starts with a dot (never mistaken for an output)."""
+    folder, name = os.path.split(final)
+    stem, ext = os.path.splitext(name)
+    return os.path.join(folder, f".{stem}.{socket.gethostname()}-{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp{ext}")
+
+
+def sha256_of(path: str) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def _publish(tmp: str, final: str) -> dict:
+    """fsync the finished temporary file and rename it over the final name."""
+    fd = os.open(tmp, os.O_RDONLY)
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+    digest = sha256_of(tmp)
+    size = os.path.getsize(tmp)
+    os.replace(tmp, final)
+    return {"output": final, "size": size, "sha256": digest}
+
+
+def _remove(*paths: str) -> None:
+    for p in paths:
+        try:
+            os.remove(p)
+        except FileNotFoundError:
+            pass
+
+
+def _fail(code: int, stderr: str) -> JobError:
+    reason = f"killed by signal {-code}" if code < 0 else f"exit code {code}"
+    return JobError(f"zigzag {reason}\n{stderr.strip()}".strip())
+
+
+def render(spec: dict, cancelled=lambda: False) -> dict:
+    """Run one `zigzag render` job described by spec (see runner.render_spec)."""
+    final = spec["output"]
+    os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
+    tmp = temporary_name(final)
+    tmp_stats = tmp + ".stats.json"
+    cmd = [spec["zigzag"], "render", spec["scene"], "-o", tmp, "--stats", tmp_stats,
+           "--camera", str(spec["camera"]), "-q"]
+    if spec.get("frame") is not None:
+        cmd += ["--frame", str(spec["frame"])]
+    if spec.get("region"):
+        cmd += ["--region", ",".join(str(v) for v in spec["region"])]
+    cmd += list(spec.get("args", ()))
+    start, started_at = time.monotonic(), time.time()
+    try:
+        code, err = run_child(cmd, timeout=spec.get("timeout"), cancelled=cancelled)
+        if code != 0:
+            raise _fail(code, err)
+        if not os.path.exists(tmp):
+            raise JobError(f"zigzag exited 0 but wrote no {tmp}\n{err.strip()}".strip())
+        stats = None
+        if os.path.exists(tmp_stats):
+            with open(tmp_stats) as f:
+                stats = json.load(f)
+        result = _publish(tmp, final)
+    finally:
+        _remove(tmp, tmp_stats)
+    result.update(key=spec["key"], seconds=time.monotonic() - start, stats=stats,
+                  started_at=started_at, finished_at=time.time(),
+                  worker=f"{socket.gethostname()}:{os.getpid()}")
+    return result
+
+
+def merge(spec: dict, cancelled=lambda: False) -> dict:
+    """`zigzag merge PARTS... -o OUTPUT` for one frame; the parts stay (the driver removes
+    them once the frame is recorded, so a merge that runs twice still finds them)."""
+    final = spec["output"]
+    os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
+    tmp = temporary_name(final)
+    cmd = [spec["zigzag"], "merge", *spec["parts"], "-o", tmp]
+    start = time.monotonic()
+    try:
+        code, err = run_child(cmd, timeout=spec.get("timeout"), cancelled=cancelled)
+        if code != 0:
+            raise _fail(code, err)
+        result = _publish(tmp, final)
+    finally:
+        _remove(tmp)
+    result.update(key=spec["key"], seconds=time.monotonic() - start,
+                  worker=f"{socket.gethostname()}:{os.getpid()}")
+    return result

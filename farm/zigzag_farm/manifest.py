@@ -1,0 +1,82 @@
+"""The batch manifest: what finished, so a re-run after the driver died renders only the rest.
+
+An append-only JSON-lines file, one record per finished render job or frame, flushed and
+fsynced as each arrives; a record torn by a crash mid-write is ignored on reading. A record
+alone proves nothing: a job counts as done only while its output still exists with the
+recorded size and SHA-256 (an output deleted, truncated or re-rendered with other settings
+since is rendered again).
+"""
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+
+from .job import sha256_of
+
+
+class ManifestBusy(RuntimeError):
+    pass
+
+
+def verified(record: dict | None) -> bool:
+    """The record's output is on disk, complete, and the same bytes as when recorded."""
+    if not record:
+        return False
+    path = record.get("output")
+    try:
+        if not path or os.path.getsize(path) != record.get("size"):
+            return False
+        return sha256_of(path) == record.get("sha256")
+    except OSError:
+        return False
+
+
+class Manifest:
+    def __init__(self, path: str):
+        self.path = path
+        self.records: dict[str, dict] = {}
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        self._file = open(path, "a+", encoding="utf-8")
+        try:
+            fcntl.flock(self._file, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            self._file.close()
+            raise ManifestBusy(f"{path}: another zigzag-farm is running this batch") from None
+        self._file.seek(0)
+        text = self._file.read()
+        # A tail torn by a crash ends without a newline: the next record starts a fresh line.
+        self._torn = bool(text) and not text.endswith("\n")
+        for line in text.splitlines():
+            try:
+                record = json.loads(line)
+            except json.JSONDecodeError:
+                continue  # a line torn by a crash
+            if isinstance(record, dict) and "key" in record:
+                self.records[record["key"]] = record
+
+    def done(self, key: str) -> bool:
+        return verified(self.records.get(key))
+
+    def get(self, key: str) -> dict | None:
+        return self.records.get(key)
+
+    def record(self, key: str, kind: str, result: dict, **extra) -> None:
+        rec = {"key": key, "kind": kind, "output": result["output"], "size": result["size"],
+               "sha256": result["sha256"], **extra}
+        self.records[key] = rec
+        self._file.write(("\n" if self._torn else "") + json.dumps(rec, sort_keys=True) + "\n")
+        self._torn = False
+        self._file.flush()
+        os.fsync(self._file.fileno())
+
+    def close(self) -> None:
+        if not self._file.closed:
+            fcntl.flock(self._file, fcntl.LOCK_UN)
+            self._file.close()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()

@@ -1,0 +1,236 @@
+"""The driver end to end on LocalClusters, against the fake renderer (always) and the real
+zigzag (once it has `info` and `merge`): regions, a worker killed mid-job, the driver killed
+and re-run, a bad scene in the batch, and every listening socket on 127.0.0.1."""
+import json
+import os
+import signal
+import subprocess
+import sys
+
+import psutil
+import pytest
+
+from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, descendants, frame_records,
+                      listening_sockets, read, real_renderer_supports_farm, renderer_children,
+                      run_farm, start_farm, wait_for, write_scene)
+
+
+class Fake:
+    name = "fake"
+    zigzag = FAKE_ZIGZAG
+    args: list = []
+
+    def __init__(self, folder):
+        self.folder = folder
+
+    def still(self):
+        return write_scene(self.folder, "room", width=96, height=64, sleep=0.7)
+
+    def animated(self, sleep=1.0):
+        return write_scene(self.folder, "animated", animated=True, frame_range=[1, 48], fps=24,
+                           sleep=sleep)
+
+    def failing(self):
+        return write_scene(self.folder, "failing", fail="material 3 has no texture")
+
+
+class Real:
+    name = "real"
+    zigzag = REAL_ZIGZAG
+    args = list(SMALL)
+
+    def __init__(self, folder):
+        self.folder = folder
+
+    def still(self):
+        return os.path.join(ROOT, "scenes", "room.json")
+
+    def animated(self, sleep=None):
+        scene = os.path.join(ROOT, "scenes", "animated.json")
+        helps = subprocess.run([self.zigzag, "render", "--help"], capture_output=True, text=True).stdout
+        if not os.path.exists(scene) or "--frame" not in helps:
+            pytest.skip("no scenes/animated.json or zigzag render --frame yet (issue #14, renderer half)")
+        return scene
+
+    def failing(self):
+        return None
+
+
+@pytest.fixture(params=["fake", "real"])
+def renderer(request, tmp_path):
+    if request.param == "real":
+        if not real_renderer_supports_farm():
+            pytest.skip(f"{REAL_ZIGZAG} has no `info`/`merge` yet (regions half of issue #14)")
+        return Real(str(tmp_path))
+    return Fake(str(tmp_path))
+
+
+def reference(r, scene, out, *extra):
+    """The same image rendered by one plain `zigzag render` process."""
+    p = subprocess.run([r.zigzag, "render", scene, "-o", out, "-q", *r.args, *extra],
+                       capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    return read(out)
+
+
+def farm(r, *args):
+    extra = ["--", *r.args] if r.args else []
+    return [*args, "--zigzag", r.zigzag, *extra]
+
+
+def visible_files(folder):
+    return sorted(f for f in os.listdir(folder) if not f.startswith("."))
+
+
+def assert_loopback_only(pid, min_sockets):
+    pids = {pid} | {p.pid for p in descendants(pid)}
+    socks = listening_sockets(pids)
+    assert len(socks) >= min_sockets, socks
+    assert all(s.laddr.ip == "127.0.0.1" for s in socks), [(s.pid, s.laddr) for s in socks]
+    return socks
+
+
+def test_regions_merge_bit_identical_on_three_workers_all_on_loopback(renderer, workdir):
+    scene = renderer.still()
+    out = os.path.join(workdir, "out")
+    driver = start_farm(*farm(renderer, scene, "-o", f"{out}/{{scene}}.png", "--regions", "4",
+                              "--workers", "3", "--stats", f"{out}/{{scene}}.json"))
+    try:
+        wait_for(lambda: renderer_children(driver.pid) or driver.poll() is not None, 120,
+                 "a renderer to start")
+        # Scheduler + its dashboard, and per worker its comm and dashboard and its nanny.
+        socks = assert_loopback_only(driver.pid, min_sockets=2 + 3 * 3)
+        _, err = driver.communicate(timeout=180)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 0, err
+    ref_stats = os.path.join(workdir, "ref.json")
+    assert read(f"{out}/room.png") == reference(renderer, scene, os.path.join(workdir, "ref.png"),
+                                                "--stats", ref_stats)
+    stats = json.load(open(f"{out}/room.json"))
+    # The parts' ray counts add up to the full frame's (each region's stats cover its pixels).
+    assert stats["rays"] == json.load(open(ref_stats))["rays"]
+    assert stats["farm"]["jobs"] == 4 and len(stats["farm"]["regions"]) == 4
+    assert len(set(stats["farm"]["workers"])) >= 2  # the parts really were spread
+    assert os.listdir(os.path.join(out, ".zigzag-farm-parts")) == []  # parts removed after merging
+    assert visible_files(out) == ["room.json", "room.png"]
+    assert len({s.pid for s in socks}) >= 4
+
+
+def test_a_worker_killed_mid_job_loses_and_duplicates_nothing(renderer, workdir):
+    scene = renderer.animated(sleep=0.5)
+    out = os.path.join(workdir, "out")
+    driver = start_farm(*farm(renderer, scene, "-o", f"{out}/f{{frame:04}}.png", "--frames", "1-8",
+                              "--workers", "2", "--summary", f"{workdir}/summary.json"))
+    try:
+        (renderer_proc, worker), *_ = wait_for(lambda: renderer_children(driver.pid), 120,
+                                               "a renderer to start")
+        worker.send_signal(signal.SIGKILL)
+        wait_for(lambda: not renderer_proc.is_running() or renderer_proc.status() == psutil.STATUS_ZOMBIE,
+                 10, "the killed worker's renderer to die with it")
+        _, err = driver.communicate(timeout=240)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 0, err
+    names = [f"f{n:04}.png" for n in range(1, 9)]
+    assert visible_files(out) == names
+    for n, name in enumerate(names, start=1):
+        assert read(f"{out}/{name}") == reference(renderer, scene, f"{workdir}/ref.png", "--frame", str(n)), name
+    records = frame_records(f"{out}/.zigzag-farm-manifest.jsonl")
+    assert sorted(r["output"] for r in records) == [f"{out}/{n}" for n in names]  # each once
+    assert [f for f in os.listdir(out) if ".tmp" in f] == []
+
+
+def test_the_driver_killed_and_rerun_renders_only_what_is_missing(renderer, workdir):
+    scene = renderer.animated(sleep=0.4)
+    out = os.path.join(workdir, "out")
+    manifest = f"{out}/.zigzag-farm-manifest.jsonl"
+    args = farm(renderer, scene, "-o", f"{out}/f{{frame:04}}.png", "--frames", "1-8",
+                "--workers", "1", "--summary", f"{workdir}/summary.json")
+    driver = start_farm(*args)
+    try:
+        wait_for(lambda: len(frame_records(manifest)) >= 3 or driver.poll() is not None, 120,
+                 "three frames to finish")
+        tree = descendants(driver.pid)
+        driver.send_signal(signal.SIGKILL)
+        driver.wait(10)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == -signal.SIGKILL, "the driver finished before it could be killed"
+    # The workers and their renderers end with the driver.
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the killed driver's workers and renderers to exit")
+    done_before = {r["key"] for r in frame_records(manifest)}
+    assert 3 <= len(done_before) < 8
+
+    p = run_farm(*args)
+    assert p.returncode == 0, p.stderr
+    summary = json.load(open(f"{workdir}/summary.json"))
+    assert summary["skipped"] == len(done_before)
+    assert summary["rendered"] == summary["jobs_run"] == 8 - len(done_before)
+    assert visible_files(out) == [f"f{n:04}.png" for n in range(1, 9)]
+    for n in range(1, 9):
+        assert read(f"{out}/f{n:04}.png") == reference(renderer, scene, f"{workdir}/ref.png", "--frame", str(n))
+    assert len(frame_records(manifest)) == 8
+
+    again = run_farm(*args)  # everything verified on disk: nothing to run, no cluster
+    assert again.returncode == 0, again.stderr
+    assert json.load(open(f"{workdir}/summary.json"))["jobs_run"] == 0
+
+
+def test_a_bad_scene_is_reported_and_the_others_complete(renderer, workdir):
+    good = renderer.still()
+    broken = os.path.join(workdir, "broken.json")
+    with open(broken, "w") as f:
+        f.write("{ this is not json")
+    scenes = [good, broken] + ([renderer.failing()] if renderer.failing() else [])
+    out = os.path.join(workdir, "out")
+    p = run_farm(*farm(renderer, *scenes, "-o", f"{out}/{{scene}}.png", "--workers", "2",
+                       "--retries", "1", "--summary", f"{workdir}/summary.json"))
+    assert p.returncode == 1, p.stderr
+    assert visible_files(out) == ["room.png"]
+    assert read(f"{out}/room.png") == reference(renderer, good, f"{workdir}/ref.png")
+    summary = json.load(open(f"{workdir}/summary.json"))
+    failed = {f["what"].split()[0] for f in summary["failures"]}
+    assert broken in failed
+    assert "broken.json" in p.stderr
+    if renderer.failing():
+        assert "failing" in failed and "material 3 has no texture" in p.stderr
+    assert summary["rendered"] == 1
+
+
+def test_an_existing_scheduler_on_loopback(workdir):
+    """--scheduler: a `dask scheduler` and a `dask worker` started as the README says."""
+    dask = os.path.join(os.path.dirname(sys.executable), "dask")
+    sched_file = os.path.join(workdir, "scheduler.json")
+    loopback = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]
+    procs = [subprocess.Popen([dask, "scheduler", "--port", "0", "--scheduler-file", sched_file, *loopback],
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
+    try:
+        wait_for(lambda: os.path.exists(sched_file) and os.path.getsize(sched_file) > 0, 60, "the scheduler")
+        address = json.load(open(sched_file))["address"]
+        fake = Fake(workdir)
+        scene = fake.animated(sleep=0.1)
+        out = os.path.join(workdir, "out")
+        args = [scene, "-o", f"{out}/f{{frame}}.png", "--frames", "1-3", "--scheduler", address,
+                "--zigzag", FAKE_ZIGZAG]
+        lonely = run_farm(*args, "--wait", "2")
+        assert lonely.returncode == 2 and "no Dask worker joined" in lonely.stderr, lonely.stderr
+        procs.append(subprocess.Popen([dask, "worker", address, "--nthreads", "1", "--resources", "render=1",
+                                       *loopback], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        p = run_farm(*args)
+        assert p.returncode == 0, p.stderr
+        assert visible_files(out) == ["f1.png", "f2.png", "f3.png"]
+        for proc in procs:  # scheduler, its dashboard, the worker, its dashboard, its nanny
+            assert_loopback_only(proc.pid, min_sockets=2)
+    finally:
+        for proc in procs:
+            proc.terminate()
+        for proc in procs:
+            try:
+                proc.wait(20)
+            except subprocess.TimeoutExpired:
+                proc.kill()

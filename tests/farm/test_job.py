@@ -1,0 +1,117 @@
+"""The worker side of a job, without Dask: process groups, timeouts, atomic outputs."""
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import psutil
+import pytest
+
+from conftest import FAKE_ZIGZAG, fake_render, read, wait_for, write_scene
+from zigzag_farm import job
+
+
+def spec(scene, out, **kw):
+    s = {"key": "k", "what": "test", "zigzag": FAKE_ZIGZAG, "scene": scene, "frame": 3,
+         "camera": 0, "region": None, "output": out, "args": [], "timeout": 60}
+    s.update(kw)
+    return s
+
+
+def test_output_appears_whole_and_twice_the_same(workdir):
+    scene = write_scene(workdir, "s")
+    out = os.path.join(workdir, "out", "s.png")
+    r1 = job.render(spec(scene, out))
+    first = read(out)
+    r2 = job.render(spec(scene, out))
+    assert read(out) == first == fake_render(scene, os.path.join(workdir, "ref.png"), "--frame", "3")
+    assert r1["sha256"] == r2["sha256"] == job.sha256_of(out) and r1["size"] == len(first)
+    assert r1["stats"]["rays"]["primary"] == 48 * 32
+    assert os.listdir(os.path.dirname(out)) == ["s.png"]  # no temporary or stats file left
+
+
+def test_a_failure_carries_stderr_and_keeps_the_old_output(workdir):
+    scene = write_scene(workdir, "s", fail="no such material")
+    out = os.path.join(workdir, "s.png")
+    with open(out, "wb") as f:
+        f.write(b"an earlier render")
+    with pytest.raises(job.JobError, match="exit code 1(.|\n)*no such material"):
+        job.render(spec(scene, out))
+    assert read(out) == b"an earlier render"
+    assert os.listdir(workdir) == ["s.json", "s.png"]
+
+
+def test_a_region_job_passes_the_region(workdir):
+    scene = write_scene(workdir, "s")
+    out = os.path.join(workdir, "part.exr")
+    job.render(spec(scene, out, region=[8, 4, 40, 20]))
+    assert read(out).startswith(b"FAKE 8 4 40 20 48 32\n")
+
+
+GROUP_SCRIPT = "import subprocess, time; subprocess.Popen(['sleep', '60']); time.sleep(60)"
+
+
+def group_members(pgid):
+    out = []
+    for p in psutil.process_iter(["pid"]):
+        try:
+            if os.getpgid(p.pid) == pgid:
+                out.append(p.pid)
+        except (ProcessLookupError, PermissionError):
+            pass
+    return out
+
+
+@pytest.mark.parametrize("how", ["timeout", "cancel"])
+def test_timeout_and_cancel_kill_the_whole_process_group(how):
+    started = time.monotonic()
+    seen = {}
+
+    def cancelled():
+        kids = psutil.Process().children()
+        if kids:
+            seen["pgid"] = os.getpgid(kids[0].pid)
+            seen["members"] = group_members(seen["pgid"])
+        return how == "cancel" and len(seen.get("members", [])) >= 2
+
+    with pytest.raises(job.JobError, match="timed out" if how == "timeout" else "cancelled"):
+        job.run_child([sys.executable, "-c", GROUP_SCRIPT], timeout=2.0 if how == "timeout" else 30,
+                      cancelled=cancelled, poll_s=0.1)
+    assert time.monotonic() - started < 15
+    assert len(seen["members"]) >= 2  # the child and its grandchild shared the group
+    assert seen["pgid"] != os.getpgid(0)  # ... which is not ours
+    wait_for(lambda: not group_members(seen["pgid"]), 5, "the process group to be gone")
+
+
+def test_a_killed_worker_takes_its_renderer_along(workdir):
+    """The renderer dies with the thread waiting on it (PR_SET_PDEATHSIG), so a SIGKILLed
+    worker leaves nothing running."""
+    pidfile = os.path.join(workdir, "pid")
+    worker = textwrap.dedent(f"""
+        import sys, threading
+        sys.path.insert(0, {os.path.dirname(job.__file__)!r} + "/..")
+        from zigzag_farm import job
+        cmd = [sys.executable, "-c", "import os, time; open({pidfile!r}, 'w').write(str(os.getpid())); time.sleep(60)"]
+        t = threading.Thread(target=job.run_child, args=(cmd,), kwargs={{"timeout": None}})
+        t.start(); t.join()
+    """)
+    w = subprocess.Popen([sys.executable, "-c", worker])
+    try:
+        wait_for(lambda: os.path.exists(pidfile) and open(pidfile).read(), 20, "the renderer to start")
+        child = psutil.Process(int(open(pidfile).read()))
+        assert child.is_running()
+        w.send_signal(signal.SIGKILL)
+        w.wait(10)
+        wait_for(lambda: not child.is_running() or child.status() == psutil.STATUS_ZOMBIE, 10,
+                 "the renderer to die with its worker")
+    finally:
+        if w.poll() is None:
+            w.kill()
+
+
+def test_temporary_names_keep_the_extension_and_hide():
+    t = job.temporary_name("/a/b/frame_0001.exr")
+    assert t.startswith("/a/b/.frame_0001.") and t.endswith(".tmp.exr")
+    assert job.temporary_name("/a/b/frame_0001.exr") != t

@@ -1,0 +1,68 @@
+"""The manifest: a record counts only while its output is on disk, complete and unchanged."""
+import json
+import os
+
+import pytest
+
+from zigzag_farm.job import sha256_of
+from zigzag_farm.manifest import Manifest, ManifestBusy
+
+
+def output(folder, name, data):
+    path = os.path.join(folder, name)
+    with open(path, "wb") as f:
+        f.write(data)
+    return {"output": path, "size": len(data), "sha256": sha256_of(path)}
+
+
+def test_records_survive_a_reopen(workdir):
+    m_path = os.path.join(workdir, "m.jsonl")
+    a = output(workdir, "a.png", b"a" * 100)
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", a, stats_file=None)
+        assert m.done("ka") and not m.done("kb")
+    with Manifest(m_path) as m:
+        assert m.done("ka") and m.get("ka")["kind"] == "frame"
+
+
+@pytest.mark.parametrize("damage", ["delete", "truncate", "same_size_other_bytes"])
+def test_a_damaged_output_is_not_done(workdir, damage):
+    m_path = os.path.join(workdir, "m.jsonl")
+    a = output(workdir, "a.png", b"abcdef" * 50)
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", a)
+    if damage == "delete":
+        os.remove(a["output"])
+    elif damage == "truncate":
+        with open(a["output"], "r+b") as f:
+            f.truncate(10)
+    else:
+        with open(a["output"], "r+b") as f:
+            f.write(b"X")
+    with Manifest(m_path) as m:
+        assert not m.done("ka")
+
+
+def test_a_torn_last_line_is_ignored_and_the_next_record_starts_fresh(workdir):
+    m_path = os.path.join(workdir, "m.jsonl")
+    a = output(workdir, "a.png", b"a")
+    b = output(workdir, "b.png", b"b")
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", a)
+    with open(m_path, "a") as f:
+        f.write('{"key": "kb", "kind": "fra')  # the driver died mid-write
+    with Manifest(m_path) as m:
+        assert m.done("ka") and m.get("kb") is None
+        m.record("kb", "frame", b)
+    with Manifest(m_path) as m:
+        assert m.done("ka") and m.done("kb")
+    lines = open(m_path).read().splitlines()
+    assert json.loads(lines[-1])["key"] == "kb"
+
+
+def test_one_driver_per_manifest(workdir):
+    m_path = os.path.join(workdir, "m.jsonl")
+    with Manifest(m_path):
+        with pytest.raises(ManifestBusy):
+            Manifest(m_path)
+    Manifest(m_path).close()  # free again once the first is closed
