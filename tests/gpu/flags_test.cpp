@@ -7,29 +7,12 @@
 #include "flag_reference.h"
 #include "gpu/visibility.h"
 #include "gpu_fixture.h"
-#include "test_scenes.h"
+#include "test_busy_scene.h"
 
 namespace zz::test {
 namespace {
 
 using FlagsTest = GpuTest;
-
-Scene busy_scene() {
-  SceneBuilder b;
-  b.sphere({-0.5f, 0.0f, 0.0f}, 0.55f, 64, 32);
-  b.box({0.2f, -0.5f, -0.4f}, {0.9f, 0.2f, 0.2f});
-  b.box({0.25f, 0.2f, -0.3f}, {0.6f, 0.45f, 0.1f});  // resting on the first box: contact crease
-  b.grid({-2.0f, -0.5f, 2.0f}, {4.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -4.0f}, 10);
-  b.quad({-1.5f, -0.5f, -1.0f}, {1.5f, -0.5f, -1.0f}, {1.5f, 1.2f, -1.0f}, {-1.5f, 1.2f, -1.0f});  // wall
-  b.quad({-0.3f, 0.3f, -0.98f}, {0.3f, 0.3f, -0.98f}, {0.3f, 0.7f, -0.98f}, {-0.3f, 0.7f, -0.98f});  // picture
-  return b.done();
-}
-
-size_t count(const GeoMap& m) {
-  size_t n = 0;
-  for (uint8_t f : m.flags) n += f != 0;
-  return n;
-}
 
 void expect_matches_reference(VulkanContext& context, const Scene& scene, const Camera& camera, int w, int h,
                               const VisibilitySettings& settings) {
@@ -45,7 +28,7 @@ void expect_matches_reference(VulkanContext& context, const Scene& scene, const 
   size_t diff = 0;
   for (size_t i = 0; i < cpu.flags.size(); ++i) diff += gpu.flags[i] != cpu.flags[i];
   EXPECT_EQ(diff, 0u) << "of " << cpu.flags.size() << " pixels";
-  size_t n = count(cpu);
+  size_t n = flagged(cpu);
   // A meaningful comparison: some pixels flagged, most not.
   EXPECT_GT(n, size_t(w + h)) << "too few flags to compare";
   EXPECT_LT(n, cpu.flags.size() / 2);
@@ -102,7 +85,7 @@ TEST_F(FlagsTest, BandingDoesNotChangeTheResult) {
     std::printf("S=%d: %zu of %zu ids differ between 1 tile and %d tiles\n", ss, id_diff, ids_a.size(),
                 t_tiles.tiles);
     EXPECT_LE(id_diff, ids_a.size() / 2000);
-    EXPECT_GT(count(a), 100u);
+    EXPECT_GT(flagged(a), 100u);
   }
 }
 

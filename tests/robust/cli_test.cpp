@@ -11,36 +11,19 @@
 #include <limits>
 
 #include "child_process.h"
+#include "scratch_scene_dir.h"
 
 namespace zz {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kZigzag = std::string(ZZ_BINARY_DIR) + "/zigzag";
-const fs::path kScenes = fs::path(ZZ_SOURCE_DIR) / "scenes";
+using robust::kScenes;
+using robust::kZigzag;
 
-class Cli : public testing::Test {
+class Cli : public robust::ScratchSceneDir {
  protected:
-  void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("zz_robust_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    // A good, fast scene: the default model under a rig of our own.
-    fs::copy_file(kScenes / "default.gltf", dir_ / "default.gltf");
-    fs::copy_file(kScenes / "default.bin", dir_ / "default.bin");
-    write("good.json", R"({"model": "default.gltf", "width": 24, "height": 16})");
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
-  fs::path path(const std::string& name) const { return dir_ / name; }
-  void write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(path(name), std::ios::binary) << bytes;
-  }
+  Cli() : ScratchSceneDir("zz_robust_cli_") {}
 
   // zigzag render <args> --edges off -o DIR/{scene}.png
   std::vector<std::string> render_argv(const std::vector<std::string>& args) const {
@@ -74,7 +57,6 @@ class Cli : public testing::Test {
     }
   }
 
-  fs::path dir_;
 };
 
 std::string base64(const void* data, size_t n) {

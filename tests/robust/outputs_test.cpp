@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "child_process.h"
+#include "scratch_scene_dir.h"
 #include "render/image_io.h"
 
 namespace zz {
@@ -23,28 +24,15 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kZigzag = std::string(ZZ_BINARY_DIR) + "/zigzag";
-const fs::path kScenes = fs::path(ZZ_SOURCE_DIR) / "scenes";
+using robust::kScenes;
+using robust::kZigzag;
 
-class Outputs : public testing::Test {
+class Outputs : public robust::ScratchSceneDir {
  protected:
+  Outputs() : ScratchSceneDir("zz_outputs_") {}
   void SetUp() override {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("zz_outputs_" + std::string(info->name()) + "_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    fs::copy_file(kScenes / "default.gltf", dir_ / "default.gltf");
-    fs::copy_file(kScenes / "default.bin", dir_ / "default.bin");
-    write("good.json", R"({"model": "default.gltf", "width": 24, "height": 16})");
+    ScratchSceneDir::SetUp();
     write("other.json", R"({"model": "default.gltf", "width": 24, "height": 16})");
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path path(const std::string& name) const { return dir_ / name; }
-  void write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(path(name), std::ios::binary) << bytes;
   }
   robust::ChildResult render(std::vector<std::string> args) const {
     args.insert(args.begin(), {kZigzag, "render"});
@@ -59,7 +47,6 @@ class Outputs : public testing::Test {
     EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
     std::printf("[ message ] exit %d: %s", r.exit_code, r.err.c_str());
   }
-  fs::path dir_;
 };
 
 TEST_F(Outputs, InterruptDuringTheWriteLeavesTheOldOrTheNewImageNeverAPartOne) {
@@ -108,6 +95,19 @@ TEST_F(Outputs, InterruptDuringTheWriteLeavesTheOldOrTheNewImageNeverAPartOne) {
   std::printf("[ race ] %d of 4 rounds interrupted inside the write\n", interrupted_in_write);
 }
 
+// Whether process `pid` has a SIGINT handler installed (SigCgt in /proc/PID/status)
+// within `seconds`.
+bool catches_sigint_within(pid_t pid, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (std::chrono::steady_clock::now() < end) {
+    std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(status, line);)
+      if (line.rfind("SigCgt:", 0) == 0 && (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return false;
+}
+
 TEST_F(Outputs, InterruptDuringTheRenderExitsPromptlyWithOneLine) {
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -118,7 +118,10 @@ TEST_F(Outputs, InterruptDuringTheRenderExitsPromptlyWithOneLine) {
             "--edges", "off", "-q", "-o", out.c_str(), (char*)nullptr);
     ::_exit(127);
   }
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  // Under load the child can take seconds to reach main(): signal it only once it
+  // handles SIGINT, then let the render start.
+  ASSERT_TRUE(catches_sigint_within(pid, 30.0)) << "zigzag never installed its SIGINT handler";
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
   const auto t = std::chrono::steady_clock::now();
   ::kill(pid, SIGINT);
   int status = 0;
