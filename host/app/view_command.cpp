@@ -7,7 +7,6 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
-#include <mutex>
 #include <string>
 
 #include "accel/bvh.h"
@@ -77,18 +76,11 @@ int view(const ViewOptions& o) {
   v.vk_device = o.render.vk_device;
   if (o.render.aa == AaMode::Adaptive) {
     // The same visibility map as `zigzag render` (same settings, same device), built on
-    // the viewer's Vulkan context; its queue is shared with presentation, hence the lock.
+    // the viewer's Vulkan context (shared with presentation; the context serialises the queue).
     const VisibilitySettings vs = make_visibility_settings(o.render);
-    v.make_geo_source = [&scene, vs](VulkanContext& context, std::mutex& queue) -> ProgressiveRenderer::GeoSource {
-      std::shared_ptr<VisibilityPass> pass;
-      {
-        std::lock_guard<std::mutex> lock(queue);
-        pass = std::make_shared<VisibilityPass>(context, scene);
-      }
-      return [pass, vs, &queue](const Camera& camera, int width, int height) {
-        std::lock_guard<std::mutex> lock(queue);
-        return pass->run(camera, width, height, vs);
-      };
+    v.make_geo_source = [&scene, vs](VulkanContext& context) -> ProgressiveRenderer::GeoSource {
+      auto pass = std::make_shared<VisibilityPass>(context, scene);
+      return [pass, vs](const Camera& camera, int width, int height) { return pass->run(camera, width, height, vs); };
     };
   }
   v.screenshot_dir = o.screenshot_dir;

@@ -72,7 +72,16 @@ const char* vk_result_name(VkResult r) {
     case VK_ERROR_INCOMPATIBLE_DRIVER: return "VK_ERROR_INCOMPATIBLE_DRIVER";
     case VK_ERROR_TOO_MANY_OBJECTS: return "VK_ERROR_TOO_MANY_OBJECTS";
     case VK_ERROR_FORMAT_NOT_SUPPORTED: return "VK_ERROR_FORMAT_NOT_SUPPORTED";
+    case VK_ERROR_FRAGMENTED_POOL: return "VK_ERROR_FRAGMENTED_POOL";
+    case VK_ERROR_UNKNOWN: return "VK_ERROR_UNKNOWN";
+    case VK_ERROR_OUT_OF_POOL_MEMORY: return "VK_ERROR_OUT_OF_POOL_MEMORY";
+    case VK_ERROR_INVALID_EXTERNAL_HANDLE: return "VK_ERROR_INVALID_EXTERNAL_HANDLE";
+    case VK_ERROR_FRAGMENTATION: return "VK_ERROR_FRAGMENTATION";
+    case VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS: return "VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS";
     case VK_ERROR_SURFACE_LOST_KHR: return "VK_ERROR_SURFACE_LOST_KHR";
+    case VK_ERROR_NATIVE_WINDOW_IN_USE_KHR: return "VK_ERROR_NATIVE_WINDOW_IN_USE_KHR";
+    case VK_SUBOPTIMAL_KHR: return "VK_SUBOPTIMAL_KHR";
+    case VK_ERROR_OUT_OF_DATE_KHR: return "VK_ERROR_OUT_OF_DATE_KHR";
     default: return "VkResult error";
   }
 }
@@ -223,7 +232,7 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
 
 VulkanContext::~VulkanContext() {
   if (device_) {
-    vkDeviceWaitIdle(device_);
+    wait_idle_noexcept();
     if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
@@ -267,35 +276,72 @@ VkMemoryPropertyFlags VulkanContext::memory_flags(uint32_t type) const {
   return memory_.memoryTypes[type].propertyFlags;
 }
 
+void VulkanContext::submit(const VkSubmitInfo& submit, VkFence fence) {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  vk_check(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit");
+}
+
+VkResult VulkanContext::present(const VkPresentInfoKHR& info) {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  return vkQueuePresentKHR(queue_, &info);
+}
+
+void VulkanContext::wait_idle() {
+  std::lock_guard<std::mutex> lock(queue_mutex_);
+  vk_check(vkDeviceWaitIdle(device_), "vkDeviceWaitIdle");
+}
+
+void VulkanContext::wait_idle_noexcept() noexcept {
+  try {
+    wait_idle();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "zigzag: %s\n", e.what());
+  }
+}
+
 void VulkanContext::run_commands(const std::function<void(VkCommandBuffer)>& record) {
-  VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = command_pool_;
-  alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  alloc.commandBufferCount = 1;
+  // A command buffer's pool stays externally synchronised while it is recorded or
+  // freed, so recording holds the pool lock; the GPU wait holds neither lock.
   VkCommandBuffer cmd = VK_NULL_HANDLE;
-  vk_check(vkAllocateCommandBuffers(device_, &alloc, &cmd), "vkAllocateCommandBuffers");
+  auto free_commands = [&] {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
+  };
+  {
+    std::lock_guard<std::mutex> lock(pool_mutex_);
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = command_pool_;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    vk_check(vkAllocateCommandBuffers(device_, &alloc, &cmd), "vkAllocateCommandBuffers");
+    try {
+      VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+      begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+      vk_check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
+      record(cmd);
+      vk_check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    } catch (...) {
+      vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);  // never submitted
+      throw;
+    }
+  }
   VkFence fence = VK_NULL_HANDLE;
   try {
-    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    vk_check(vkBeginCommandBuffer(cmd, &begin), "vkBeginCommandBuffer");
-    record(cmd);
-    vk_check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
     VkFenceCreateInfo fence_info{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     vk_check(vkCreateFence(device_, &fence_info, nullptr, &fence), "vkCreateFence");
-    VkSubmitInfo submit{VK_STRUCTURE_TYPE_SUBMIT_INFO};
-    submit.commandBufferCount = 1;
-    submit.pCommandBuffers = &cmd;
-    vk_check(vkQueueSubmit(queue_, 1, &submit, fence), "vkQueueSubmit");
+    VkSubmitInfo info{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+    info.commandBufferCount = 1;
+    info.pCommandBuffers = &cmd;
+    submit(info, fence);
     vk_check(vkWaitForFences(device_, 1, &fence, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   } catch (...) {
-    vkDeviceWaitIdle(device_);
+    wait_idle_noexcept();  // the buffer may still be pending: it cannot be freed before
     if (fence) vkDestroyFence(device_, fence, nullptr);
-    vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
+    free_commands();
     throw;
   }
   vkDestroyFence(device_, fence, nullptr);
-  vkFreeCommandBuffers(device_, command_pool_, 1, &cmd);
+  free_commands();
 }
 
 }  // namespace zz

@@ -1,5 +1,7 @@
 // The Vulkan instance, physical device, logical device, one queue and a command pool:
-// everything the visibility pass (and later the viewer's swapchain) runs on.
+// everything the visibility pass and the viewer's presenter run on. The queue and the
+// pool need external synchronisation (Vulkan spec 3.6), so the context owns the locks:
+// callers on any thread submit, present and wait only through it.
 #pragma once
 
 #include <vulkan/vulkan.h>
@@ -7,6 +9,7 @@
 #include <atomic>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -38,9 +41,7 @@ class VulkanContext {
   VkInstance instance() const { return instance_; }
   VkPhysicalDevice physical_device() const { return physical_; }
   VkDevice device() const { return device_; }
-  VkQueue queue() const { return queue_; }
   uint32_t queue_family() const { return queue_family_; }
-  VkCommandPool command_pool() const { return command_pool_; }
   VkSurfaceKHR surface() const { return surface_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
   std::string device_name() const { return properties_.deviceName; }
@@ -57,8 +58,16 @@ class VulkanContext {
                        VkMemoryPropertyFlags preferred = 0) const;
   VkMemoryPropertyFlags memory_flags(uint32_t type) const;
 
-  // Records with `record` into a fresh primary command buffer, submits and waits.
+  // Records with `record` into a fresh primary command buffer from the context's pool,
+  // submits and waits. Safe to call from several threads at once.
   void run_commands(const std::function<void(VkCommandBuffer)>& record);
+
+  // The queue operations, serialised by the context's queue lock (any thread).
+  void submit(const VkSubmitInfo& submit, VkFence fence);
+  VkResult present(const VkPresentInfoKHR& info);  // the caller handles OUT_OF_DATE/SUBOPTIMAL
+  void wait_idle();                                // vkDeviceWaitIdle: every queue is used
+  // For destructors: waits, and on failure prints the reason instead of throwing.
+  void wait_idle_noexcept() noexcept;
 
  private:
   VulkanContext() = default;
@@ -78,7 +87,9 @@ class VulkanContext {
   VkQueue queue_ = VK_NULL_HANDLE;
   uint32_t queue_family_ = 0;
   uint32_t timestamp_bits_ = 0;
-  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;  // only run_commands uses it, under pool_mutex_
+  std::mutex queue_mutex_;
+  std::mutex pool_mutex_;
   VkPhysicalDeviceProperties properties_{};
   VkPhysicalDeviceMemoryProperties memory_{};
   std::atomic<int> messages_{0};

@@ -91,7 +91,7 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
 
 VisibilityPass::~VisibilityPass() {
   VkDevice d = context_.device();
-  vkDeviceWaitIdle(d);
+  context_.wait_idle_noexcept();
   if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
   if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
   for (auto& [s, pipeline] : flag_pipelines_) vkDestroyPipeline(d, pipeline, nullptr);
@@ -166,7 +166,7 @@ uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySett
 
 void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
   if (ids_.image && ids_.width >= width && ids_.height >= height) return;
-  vkDeviceWaitIdle(context_.device());
+  context_.wait_idle();
   width = std::max(width, ids_.width);
   height = std::max(height, ids_.height);
   depth_.reset();

@@ -7,9 +7,13 @@
 
 namespace zz {
 
-Presenter::Presenter(VulkanContext& context, std::mutex& queue_mutex) : context_(context), queue_mutex_(queue_mutex) {
+Presenter::Presenter(VulkanContext& context) : context_(context) {
+  VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  pool.queueFamilyIndex = context.queue_family();
+  vk_check(vkCreateCommandPool(context.device(), &pool, nullptr, &pool_), "vkCreateCommandPool");
   VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  alloc.commandPool = context.command_pool();
+  alloc.commandPool = pool_;
   alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
   alloc.commandBufferCount = 1;
   vk_check(vkAllocateCommandBuffers(context.device(), &alloc, &commands_), "vkAllocateCommandBuffers");
@@ -22,14 +26,12 @@ Presenter::Presenter(VulkanContext& context, std::mutex& queue_mutex) : context_
 
 Presenter::~Presenter() {
   VkDevice device = context_.device();
-  {
-    std::lock_guard<std::mutex> lock(queue_mutex_);
-    vkDeviceWaitIdle(device);
-  }
+  context_.wait_idle_noexcept();
   for (VkSemaphore s : rendered_) vkDestroySemaphore(device, s, nullptr);
   vkDestroySemaphore(device, acquired_, nullptr);
   vkDestroyFence(device, fence_, nullptr);
-  vkFreeCommandBuffers(device, context_.command_pool(), 1, &commands_);
+  vkFreeCommandBuffers(device, pool_, 1, &commands_);
+  vkDestroyCommandPool(device, pool_, nullptr);
   staging_.reset();
   destroy_swapchain(context_, swapchain_);
 }
@@ -38,7 +40,7 @@ bool Presenter::ensure_swapchain(uint32_t fb_width, uint32_t fb_height) {
   if (fb_width == 0 || fb_height == 0) return false;
   const bool size_changed = swapchain_.extent.width != fb_width || swapchain_.extent.height != fb_height;
   if (swapchain_.swapchain && !size_changed && !out_of_date_) return true;
-  vkDeviceWaitIdle(context_.device());  // the old images may still be written by a copy (queue lock held)
+  context_.wait_idle();  // the old images may still be written by a copy
   if (!create_swapchain(context_, swapchain_, fb_width, fb_height)) return false;
   out_of_date_ = false;
   VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO};
@@ -51,10 +53,6 @@ bool Presenter::ensure_swapchain(uint32_t fb_width, uint32_t fb_height) {
 }
 
 bool Presenter::present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_width, uint32_t fb_height) {
-  // The render thread's visibility pass may hold the queue for a while: skip this tick
-  // rather than stall the UI loop (the caller presents again on the next one).
-  std::unique_lock<std::mutex> lock(queue_mutex_, std::try_to_lock);
-  if (!lock.owns_lock()) return false;
   VkDevice device = context_.device();
   vk_check(vkWaitForFences(device, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   if (!ensure_swapchain(fb_width, fb_height)) return false;
@@ -141,7 +139,7 @@ bool Presenter::present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_wi
   submit.pCommandBuffers = &commands_;
   submit.signalSemaphoreCount = 1;
   submit.pSignalSemaphores = &rendered_[index];
-  vk_check(vkQueueSubmit(context_.queue(), 1, &submit, fence_), "vkQueueSubmit");
+  context_.submit(submit, fence_);
 
   VkPresentInfoKHR info{VK_STRUCTURE_TYPE_PRESENT_INFO_KHR};
   info.waitSemaphoreCount = 1;
@@ -149,7 +147,7 @@ bool Presenter::present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_wi
   info.swapchainCount = 1;
   info.pSwapchains = &swapchain_.swapchain;
   info.pImageIndices = &index;
-  r = vkQueuePresentKHR(context_.queue(), &info);
+  r = context_.present(info);
   if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
     out_of_date_ = true;
     return r == VK_SUBOPTIMAL_KHR;

@@ -7,7 +7,6 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
-#include <mutex>
 #include <vector>
 
 #include "gpu/resources.h"
@@ -20,26 +19,25 @@ class VulkanContext;
 
 class Presenter {
  public:
-  // `queue_mutex` guards the context's queue, which the render thread may also use
-  // (the visibility pass); vkQueueSubmit/vkQueuePresentKHR need external sync.
-  Presenter(VulkanContext& context, std::mutex& queue_mutex);
+  // The render thread may use the same context (the visibility pass): the presenter
+  // records into its own command pool and submits/presents through the context's lock.
+  explicit Presenter(VulkanContext& context);
   ~Presenter();
   Presenter(const Presenter&) = delete;
   Presenter& operator=(const Presenter&) = delete;
 
   // Presents `mode` of `frame` in a framebuffer of fb_width x fb_height (the swapchain
   // follows that size). Returns false when nothing could be shown (minimised window or
-  // an out-of-date swapchain, which is recreated for the next call, or the queue busy
-  // with the render thread's visibility pass).
+  // an out-of-date swapchain, which is recreated for the next call).
   bool present(const DisplayFrame& frame, ViewMode mode, uint32_t fb_width, uint32_t fb_height);
 
  private:
   bool ensure_swapchain(uint32_t fb_width, uint32_t fb_height);
 
   VulkanContext& context_;
-  std::mutex& queue_mutex_;
   Swapchain swapchain_;
   bool out_of_date_ = false;
+  VkCommandPool pool_ = VK_NULL_HANDLE;  // used on the UI thread only
   VkCommandBuffer commands_ = VK_NULL_HANDLE;
   VkFence fence_ = VK_NULL_HANDLE;
   VkSemaphore acquired_ = VK_NULL_HANDLE;

@@ -58,7 +58,6 @@ class Viewer {
 
   std::unique_ptr<GLFWwindow, WindowDeleter> window_;
   std::unique_ptr<VulkanContext> context_;
-  std::mutex queue_mutex_;
   std::unique_ptr<Presenter> presenter_;
   DisplayFrame display_;
   std::unique_ptr<ProgressiveRenderer> renderer_;
@@ -123,10 +122,10 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
     return surface;
   };
   context_ = VulkanContext::create(vk);
-  presenter_ = std::make_unique<Presenter>(*context_, queue_mutex_);
+  presenter_ = std::make_unique<Presenter>(*context_);
 
   ProgressiveRenderer::GeoSource geo;
-  if (options.make_geo_source) geo = options.make_geo_source(*context_, queue_mutex_);
+  if (options.make_geo_source) geo = options.make_geo_source(*context_);
   renderer_ = std::make_unique<ProgressiveRenderer>(shader_, display_, std::move(geo));
 
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {

@@ -9,7 +9,6 @@
 #include <chrono>
 #include <filesystem>
 #include <functional>
-#include <mutex>
 #include <string>
 
 #include "render/renderer.h"
@@ -42,8 +41,8 @@ struct ViewerOptions {
   double script_timeout_seconds = 600; // a `wait` longer than this fails the run
 
   // Optional visibility map for a frame, built on the render thread with the viewer's
-  // Vulkan context; it must lock `queue_mutex` around its queue submissions.
-  std::function<ProgressiveRenderer::GeoSource(VulkanContext& context, std::mutex& queue_mutex)> make_geo_source;
+  // Vulkan context (which serialises the queue shared with the presenter itself).
+  std::function<ProgressiveRenderer::GeoSource(VulkanContext& context)> make_geo_source;
 };
 
 // Makes sure a window can be opened (GLFW initialised with a display); throws zz::Error

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <string>
+#include <thread>
+#include <vector>
+
 #include "gpu/resources.h"
 #include "gpu_fixture.h"
 
@@ -11,7 +15,6 @@ using DeviceTest = GpuTest;
 TEST_F(DeviceTest, CreatesDeviceWithGraphicsComputeQueue) {
   EXPECT_FALSE(context().device_name().empty());
   EXPECT_NE(context().device(), VK_NULL_HANDLE);
-  EXPECT_NE(context().queue(), VK_NULL_HANDLE);
   EXPECT_GE(context().properties().apiVersion, VK_API_VERSION_1_3);
 }
 
@@ -22,6 +25,48 @@ TEST_F(DeviceTest, HostVisibleBufferRoundTrip) {
   context().run_commands([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, b.buffer, 0, 64, 0xA5A5A5A5u); });
   invalidate(b);
   EXPECT_EQ(static_cast<const uint32_t*>(b.mapped)[15], 0xA5A5A5A5u);
+}
+
+TEST_F(DeviceTest, SubmitsFromSeveralThreadsAtOnce) {
+  // The context serialises its queue and pool itself: callers on any thread take no lock.
+  // Validation (on in this fixture) reports any unsynchronised use as a message.
+  constexpr int kThreads = 4, kRounds = 25;
+  std::vector<Buffer> buffers;
+  for (int t = 0; t < kThreads; ++t)
+    buffers.push_back(create_buffer(context(), 256, VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                    VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT));
+  std::vector<std::string> errors(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t)
+    threads.emplace_back([&, t] {
+      try {
+        for (int round = 0; round < kRounds; ++round) {
+          const uint32_t value = uint32_t(t * 1000 + round);
+          context().run_commands([&](VkCommandBuffer cmd) { vkCmdFillBuffer(cmd, buffers[t].buffer, 0, 256, value); });
+          invalidate(buffers[t]);
+          if (static_cast<const uint32_t*>(buffers[t].mapped)[63] != value) throw Error("wrong value after fill");
+          if (round % 8 == 0) context().wait_idle();
+        }
+      } catch (const std::exception& e) {
+        errors[t] = e.what();
+      }
+    });
+  for (auto& th : threads) th.join();
+  for (int t = 0; t < kThreads; ++t) EXPECT_EQ(errors[t], "") << "thread " << t;
+}
+
+TEST(VkCheck, NamesTheCallAndTheResult) {
+  EXPECT_NO_THROW(vk_check(VK_SUCCESS, "vkQueueSubmit"));
+  try {
+    vk_check(VK_ERROR_DEVICE_LOST, "vkQueueSubmit");
+    ADD_FAILURE() << "expected zz::Error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("vkQueueSubmit"), std::string::npos) << what;
+    EXPECT_NE(what.find("VK_ERROR_DEVICE_LOST"), std::string::npos) << what;
+  }
+  EXPECT_STREQ(vk_result_name(VK_ERROR_OUT_OF_DATE_KHR), "VK_ERROR_OUT_OF_DATE_KHR");
+  EXPECT_STREQ(vk_result_name(VK_TIMEOUT), "VK_TIMEOUT");
 }
 
 TEST_F(DeviceTest, BadDeviceIndexIsAUserError) {
