@@ -82,7 +82,7 @@ def merge_spec(f: FrameJob, s: RunSettings) -> dict:
 
 
 def remove_stale_temporaries(f: FrameJob) -> None:
-    """Temporary files left by an earlier run that was killed (this batch's names only)."""
+    """Temporary files left by a run or an attempt that was killed (this batch's names only)."""
     for path in [f.output] + [p.output for p in f.parts]:
         folder, name = os.path.split(path)
         stem, ext = os.path.splitext(name)
@@ -146,6 +146,9 @@ class Runner:
         image = merge_result if merge_result is not None else records[0]
         self.manifest.record(f.key, "frame", image, stats_file=f.stats)
         self.outcome.rendered += 1
+        # An attempt lost with its worker (SIGKILL, node gone) cannot clean up after itself;
+        # once the frame is recorded, whatever temporary it left is an orphan.
+        remove_stale_temporaries(f)
         if f.merged and not self.s.keep_parts:
             for p in f.parts:
                 try:
