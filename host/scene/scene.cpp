@@ -44,7 +44,9 @@ EffectSet Scene::effects() const {
       // Textures only scale the factors down: the smoothest and most metallic texel decides
       // whether any hit on this material can mirror.
       float min_roughness = 1.0f, max_metallic = 0.0f;
-      for (const glm::vec4& t : textures[size_t(m.metallic_roughness_texture.index)].texels) {
+      const Texture& tex = textures[size_t(m.metallic_roughness_texture.index)];
+      for (size_t i = 0; i < tex.texel_count(); ++i) {
+        const glm::vec4 t = tex.texel(i);
         min_roughness = std::min(min_roughness, t.g);
         max_metallic = std::max(max_metallic, t.b);
       }

@@ -38,13 +38,13 @@ int wrap_index(long i, int n, TextureWrap wrap) {
 }  // namespace
 
 glm::vec4 Texture::sample(glm::vec2 uv) const {
-  if (width <= 0 || height <= 0 || texels.size() < size_t(width) * size_t(height)) return glm::vec4(1.0f);
-  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texels[0];
+  if (width <= 0 || height <= 0 || texel_count() < size_t(width) * size_t(height)) return glm::vec4(1.0f);
+  if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texel(0);
   const float u = reduce(uv.x, wrap_s), v = reduce(uv.y, wrap_t);
   if (filter == TextureFilter::Nearest) {
     const int x = wrap_index(long(std::floor(u * float(width))), width, wrap_s);
     const int y = wrap_index(long(std::floor(v * float(height))), height, wrap_t);
-    return texels[size_t(y) * size_t(width) + size_t(x)];
+    return texel(size_t(y) * size_t(width) + size_t(x));
   }
   // Texel centres at (i + 0.5) / width.
   const float x = u * float(width) - 0.5f, y = v * float(height) - 0.5f;
@@ -53,10 +53,10 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
   const long ix = long(fx), iy = long(fy);
   const int x0 = wrap_index(ix, width, wrap_s), x1 = wrap_index(ix + 1, width, wrap_s);
   const int y0 = wrap_index(iy, height, wrap_t), y1 = wrap_index(iy + 1, height, wrap_t);
-  const glm::vec4& a = texels[size_t(y0) * width + x0];
-  const glm::vec4& b = texels[size_t(y0) * width + x1];
-  const glm::vec4& c = texels[size_t(y1) * width + x0];
-  const glm::vec4& d = texels[size_t(y1) * width + x1];
+  const glm::vec4 a = texel(size_t(y0) * width + x0);
+  const glm::vec4 b = texel(size_t(y0) * width + x1);
+  const glm::vec4 c = texel(size_t(y1) * width + x0);
+  const glm::vec4 d = texel(size_t(y1) * width + x1);
   return (a * (1.0f - tx) + b * tx) * (1.0f - ty) + (c * (1.0f - tx) + d * tx) * ty;
 }
 

@@ -59,7 +59,10 @@ TEST(EffectSet, FollowsLightsAndUsedMaterials) {
   textured.base_color_texture.index = 0;
   Scene t = scene_with({textured}, {0});
   EXPECT_TRUE(t.effects().names().empty());  // index without a texture behind it
-  t.textures.push_back(Texture{1, 1, {glm::vec4(1)}});
+  Texture white;
+  white.width = white.height = 1;
+  white.texels = {glm::vec4(1)};
+  t.textures.push_back(white);
   EXPECT_EQ(t.effects().names(), Names{"textures"});
 }
 

@@ -76,9 +76,11 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   ASSERT_EQ(t.width, 2);
   ASSERT_EQ(t.height, 1);
   auto srgb = [](float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
-  expect_rgba(t.texels[0], {srgb(188 / 255.0f), 0, 1, 1}, 1e-5f);
-  expect_rgba(t.texels[1], glm::vec4(glm::vec3(srgb(128 / 255.0f)), 1), 1e-5f);
-  EXPECT_NEAR(t.texels[0].r, 0.5029f, 1e-3f);  // a familiar value: sRGB 188 is linear ~0.5
+  EXPECT_TRUE(t.texels.empty()) << "8-bit images keep their bytes";
+  ASSERT_EQ(t.texels8.size(), 2u);
+  expect_rgba(t.texel(0), {srgb(188 / 255.0f), 0, 1, 1}, 1e-5f);
+  expect_rgba(t.texel(1), glm::vec4(glm::vec3(srgb(128 / 255.0f)), 1), 1e-5f);
+  EXPECT_NEAR(t.texel(0).r, 0.5029f, 1e-3f);  // a familiar value: sRGB 188 is linear ~0.5
   EXPECT_TRUE(s.effects().textures);
 }
 
@@ -101,10 +103,65 @@ TEST(Texture, SixteenBitGreyAlphaImagesExpandToRgba) {
   b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
   Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
   ASSERT_EQ(s.materials[0].emissive_texture.index, 0);
-  const glm::vec4 t = s.textures[0].texels[0];
+  ASSERT_EQ(s.textures[0].texels.size(), 1u) << "16-bit images are stored as float";
+  const glm::vec4 t = s.textures[0].texel(0);
   const float g = std::pow((32768 / 65535.0f + 0.055f) / 1.055f, 2.4f);
   expect_rgba(t, {g, g, g, 16384 / 65535.0f}, 1e-4f);
   EXPECT_TRUE(s.effects().emission);
+}
+
+// RGBA8 storage must sample exactly as float storage of the same decoded values would: the
+// renderer's images stay bit-identical to those made before texels were compacted.
+TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
+  Texture bytes;
+  bytes.width = 5;
+  bytes.height = 3;
+  for (int i = 0; i < 256; ++i) {
+    bytes.colour_of_byte[size_t(i)] = std::pow((i / 255.0f + 0.055f) / 1.055f, 2.4f);
+    bytes.alpha_of_byte[size_t(i)] = float(i) * (1.0f / 255.0f);
+  }
+  for (uint32_t p = 0; p < 15; ++p)
+    bytes.texels8.push_back((p * 37u) % 256u | ((p * 91u + 7u) % 256u) << 8 | ((p * 13u) % 256u) << 16 |
+                            ((255u - p * 17u) % 256u) << 24);
+  Texture floats = bytes;
+  floats.texels8.clear();
+  for (size_t i = 0; i < bytes.texel_count(); ++i) floats.texels.push_back(bytes.texel(i));
+  for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat}) {
+    for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Nearest}) {
+      bytes.wrap_s = bytes.wrap_t = floats.wrap_s = floats.wrap_t = wrap;
+      bytes.filter = floats.filter = filter;
+      for (int k = 0; k < 400; ++k) {
+        const glm::vec2 uv(-1.3f + 0.0137f * float(k), 2.1f - 0.0091f * float(k));
+        const glm::vec4 a = bytes.sample(uv), b = floats.sample(uv);
+        for (int c = 0; c < 4; ++c) ASSERT_EQ(a[c], b[c]) << "uv " << uv.x << "," << uv.y << " channel " << c;
+      }
+    }
+  }
+}
+
+TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
+  auto dir = test::temp_dir("grey8a");
+  const unsigned char pixels[] = {0, 255, 200, 0, 255, 128};  // 3 x 1 grey + alpha
+  auto out = OIIO::ImageOutput::create((dir / "ga.png").string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(3, 1, 2, OIIO::TypeDesc::UINT8);
+  spec.alpha_channel = 1;
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  ASSERT_TRUE(out->open((dir / "ga.png").string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  out->close();
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", "ga.png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
+  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  const Texture& t = s.textures[0];
+  ASSERT_EQ(t.texels8.size(), 3u);
+  const float g200 = std::pow((200 / 255.0f + 0.055f) / 1.055f, 2.4f);
+  EXPECT_EQ(t.texel(0), glm::vec4(0, 0, 0, 1));  // alpha byte 255 is exactly 1
+  EXPECT_EQ(t.texel(1), glm::vec4(g200, g200, g200, 0));
+  EXPECT_EQ(t.texel(2), glm::vec4(1, 1, 1, 128 * (1.0f / 255.0f)));
 }
 
 TEST(Texture, MissingImageIsIgnoredNotFatal) {

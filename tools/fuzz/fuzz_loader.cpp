@@ -51,7 +51,7 @@ void check_invariants(const Scene& s) {
       if (r->index >= int(s.textures.size()) || r->texcoord < 0 || r->texcoord > 1) bug("texture slot out of range");
   }
   for (const Texture& t : s.textures)
-    if (t.width <= 0 || t.height <= 0 || t.texels.size() != size_t(t.width) * size_t(t.height))
+    if (t.width <= 0 || t.height <= 0 || t.texel_count() != size_t(t.width) * size_t(t.height))
       bug("texture size does not match its texels");
   if (s.cameras.empty()) bug("no camera");
   for (const Camera& c : s.cameras)
