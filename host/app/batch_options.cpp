@@ -112,7 +112,8 @@ void validate(const BatchOptions& o) {
       throw Error("--aov geo needs the visibility map (--edges vulkan)");
     if (a.layers() && !holds_extra_channels(o.output_pattern()))
       throw Error("--aov " + a.name + " without a file adds channels to the -o image, which must be an .exr (-o " +
-                  o.output_pattern() + "); or give a file: --aov " + a.name + " FILE.png");
+                  o.output_pattern() + ")" +
+                  (has_heatmap(a.aov) ? "; or give a file: --aov " + a.name + " FILE.png" : std::string()));
     if (!a.layers() && !has_heatmap(a.aov))
       throw Error("--aov " + a.name + " " + a.file + ": " + a.name +
                   " has no image of its own; give it without a file to add its channels to an -o .exr (scene "
