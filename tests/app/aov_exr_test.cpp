@@ -207,8 +207,11 @@ TEST_F(AovExrTest, RegionPartsMergeIntoTheFullFrameBitForBit) {
   const Layers full = read_layers(render(kAllLayers, "full.exr"));
   std::string parts;
   const std::vector<std::string> regions = {"0,0,77,61", "77,0,150,61", "0,61,93,130", "93,61,150,130"};
-  for (size_t i = 0; i < regions.size(); ++i)
-    parts += " " + render(std::string(kAllLayers) + "--region " + regions[i], "p" + std::to_string(i) + ".exr").string();
+  const char* names[] = {"p0.exr", "p1.exr", "p2.exr", "p3.exr"};
+  for (size_t i = 0; i < regions.size(); ++i) {
+    parts += ' ';
+    parts += render(std::string(kAllLayers) + "--region " + regions[i], names[i]).string();
+  }
   const auto m = test::run_command(test::zigzag_binary() + " merge" + parts + " -o " + (dir / "m.exr").string());
   ASSERT_EQ(m.exit_code, 0) << m.output;
   const Layers merged = read_layers(dir / "m.exr");
@@ -219,7 +222,7 @@ TEST_F(AovExrTest, RegionPartsMergeIntoTheFullFrameBitForBit) {
   const fs::path bare = render("--region 93,61,150,130", "bare.exr");
   const fs::path fewer = render("--aov depth --region 93,61,150,130", "fewer.exr");
   for (const fs::path& odd : {bare, fewer}) {
-    const std::string three = " " + (dir / "p0.exr").string() + " " + (dir / "p1.exr").string() + " " +
+    const std::string three = std::string(" ") + (dir / "p0.exr").string() + " " + (dir / "p1.exr").string() + " " +
                               (dir / "p2.exr").string() + " " + odd.string();
     const auto r = test::run_command(test::zigzag_binary() + " merge" + three + " -o " + (dir / "bad.exr").string());
     EXPECT_EQ(r.exit_code, 1) << r.output;

@@ -99,6 +99,20 @@ TEST(PrimaryHits, MissesHoldInfinityAndZeros) {
   EXPECT_EQ(hit, w / 2 * h);
 }
 
+TEST(PrimaryHits, ABackFaceReportsTheNormalTowardsTheCamera) {
+  // The wall wound the other way: its normals point away from the camera (-z); the
+  // shading normal the shader lights with, and the AOV reports, is turned to +z.
+  Scene s;
+  s.materials.push_back(test::diffuse_material(kWallColour));
+  test::add_quad(s, {-10, -10, 0}, {-10, 10, 0}, {10, 10, 0}, {10, -10, 0}, 0);
+  ASSERT_EQ(s.normals[0], glm::vec3(0, 0, -1));
+  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.5f));
+  s.finalize_materials();
+  const PrimaryHits hits = trace(s, 33, 33);
+  for (size_t i = 0; i < hits.normal.size(); ++i) ASSERT_EQ(hits.normal[i], glm::vec3(0, 0, 1)) << i;
+  EXPECT_NEAR(hits.depth[16 * 33 + 16], 4.0f, 4.0f * 1e-4f);
+}
+
 TEST(PrimaryHits, CutOutSurfacesAreSeenThrough) {
   // A fully cut-out (alpha MASK, alpha 0) sheet at z = 2 in front of the wall: the
   // shader passes it, so depth and albedo are the wall's behind it.
