@@ -1,9 +1,11 @@
 #include "app/batch_options.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
 #include "core/error.h"
+#include "render/image_io.h"
 
 namespace zz {
 
@@ -12,6 +14,36 @@ std::string BatchOptions::output_pattern() const {
   return all_cameras() ? "{scene}_{camera}.png" : "{scene}.png";
 }
 
+std::vector<Aov> BatchOptions::layer_aovs() const {
+  std::vector<Aov> layers;
+  for (const AovRequest& a : aovs)
+    if (a.layers() && std::find(layers.begin(), layers.end(), a.aov) == layers.end()) layers.push_back(a.aov);
+  return layers;
+}
+
+bool BatchOptions::wants_primary_hits() const {
+  for (Aov a : layer_aovs())
+    if (needs_primary_hits(a)) return true;
+  return false;
+}
+
+namespace {
+
+// `--aov NAME [FILE]` occurrences -> typed requests; an unknown name is an error here,
+// while the command line is parsed (before anything is loaded).
+std::vector<AovRequest> parse_aovs(const std::vector<std::vector<std::string>>& groups) {
+  std::vector<AovRequest> out;
+  for (const std::vector<std::string>& g : groups) {
+    if (g.empty()) continue;
+    const std::optional<Aov> aov = find_aov(g[0]);
+    if (!aov) throw Error("--aov " + g[0] + ": unknown AOV (valid: " + aov_names() + ")");
+    out.push_back({*aov, g[0], g.size() > 1 ? g[1] : std::string()});
+  }
+  return out;
+}
+
+}  // namespace
+
 void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_option("scenes", o.scenes, "Scene files")->required();
   cmd->add_option("-o,--output", o.output,
@@ -19,7 +51,12 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
                   "(.png = display, .exr = linear HDR)");
   cmd->add_option("--stats", o.stats, "Write JSON stats per job (same placeholders as -o)");
   cmd->add_option("--camera", o.camera, "Camera index or name, or 'all'");
-  cmd->add_option("--aov", o.aovs, "Write an AOV image: --aov rays|levels|geo FILE.png (repeatable)");
+  cmd->add_option_function<std::vector<std::vector<std::string>>>(
+         "--aov", [&o](const std::vector<std::vector<std::string>>& groups) { o.aovs = parse_aovs(groups); },
+         "An AOV (repeatable): with FILE a heatmap image (rays, level, geo); without, raw channels in the -o "
+         ".exr (" + aov_names() + ")")
+      ->expected(1, 2)
+      ->type_name("NAME [FILE]");
   add_render_options(cmd, o.render);
   cmd->add_option("--region", o.region,
                   "Render only pixels X0,Y0,X1,Y1 (half-open): an EXR keeps the frame as display window, a PNG "
@@ -46,7 +83,8 @@ TileRect parse_region(const std::string& text) {
 std::vector<OutputPattern> output_patterns(const BatchOptions& o) {
   std::vector<OutputPattern> p = {{"-o", o.output_pattern()}};
   if (!o.stats.empty()) p.push_back({"--stats", o.stats});
-  for (const auto& [name, file] : o.aovs) p.push_back({"--aov " + name, file});
+  for (const AovRequest& a : o.aovs)
+    if (!a.layers()) p.push_back({"--aov " + a.name, a.file});
   return p;
 }
 
@@ -69,11 +107,17 @@ std::vector<OutputKey> known_jobs(const BatchOptions& o) {
 void validate(const BatchOptions& o) {
   validate(o.render);
   if (!o.region.empty()) (void)parse_region(o.region);
-  for (const auto& [name, file] : o.aovs) {
-    if (name != "rays" && name != "levels" && name != "geo")
-      throw Error("--aov " + name + ": unknown AOV (valid: rays, levels, geo)");
-    if (name == "geo" && o.render.edges == EdgeMode::Off)
+  for (const AovRequest& a : o.aovs) {
+    if (a.aov == Aov::Geo && o.render.edges == EdgeMode::Off)
       throw Error("--aov geo needs the visibility map (--edges vulkan)");
+    if (a.layers() && !holds_extra_channels(o.output_pattern()))
+      throw Error("--aov " + a.name + " without a file adds channels to the -o image, which must be an .exr (-o " +
+                  o.output_pattern() + ")" +
+                  (has_heatmap(a.aov) ? "; or give a file: --aov " + a.name + " FILE.png" : std::string()));
+    if (!a.layers() && !has_heatmap(a.aov))
+      throw Error("--aov " + a.name + " " + a.file + ": " + a.name +
+                  " has no image of its own; give it without a file to add its channels to an -o .exr (scene "
+                  "files go before the options, or after --)");
   }
   check_distinct_outputs(output_patterns(o), known_jobs(o));
 }

@@ -14,15 +14,25 @@
 
 #include "app/output_paths.h"
 #include "app/render_options.h"
+#include "render/aov_layers.h"
 
 namespace zz {
+
+// One --aov: a heatmap image (`--aov rays FILE.png`) or, without a file, the AOV's raw
+// channels in the -o EXR (`--aov depth`).
+struct AovRequest {
+  Aov aov = Aov::Rays;
+  std::string name;  // as given (for messages)
+  std::string file;  // pattern; empty = layers of the -o EXR
+  bool layers() const { return file.empty(); }
+};
 
 struct BatchOptions {
   std::vector<std::string> scenes;
   std::string output;  // pattern; empty = default_output_pattern()
   std::string stats;   // pattern; empty = none
   std::string camera = "0";  // an index, a name, or "all"
-  std::vector<std::pair<std::string, std::string>> aovs;  // name, file pattern
+  std::vector<AovRequest> aovs;
   bool quiet = false;
   RenderOptions render;
   std::string region;         // "X0,Y0,X1,Y1"; empty = the whole frame
@@ -31,6 +41,9 @@ struct BatchOptions {
   double fps = 0.0;           // --fps; 0 = the rig's, else 24
 
   bool all_cameras() const { return camera == "all"; }
+  // The AOVs that go into the -o EXR as channels (each once).
+  std::vector<Aov> layer_aovs() const;
+  bool wants_primary_hits() const;
   std::string output_pattern() const;
 };
 

@@ -24,14 +24,16 @@ void add_merge_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "merge", "Assemble the EXR parts of a frame (zigzag render --region) into the whole frame");
   cmd->add_option("parts", o->parts, "EXR parts; together they must cover the frame exactly once")->required();
-  cmd->add_option("-o,--output", o->output, "Output image (.png = display image, .exr = linear radiance)")
+  cmd->add_option("-o,--output", o->output, "Output image (.png = display image, .exr = linear radiance and the parts' AOV layers)")
       ->required();
   cmd->callback([o] {
     std::vector<FilmPart> parts;
     parts.reserve(o->parts.size());
     for (const std::string& p : o->parts) parts.push_back({p, read_film(p)});
-    const FilmFile merged = merge_films(parts);
+    FilmFile merged = merge_films(parts);
     parts.clear();  // the parts' memory before the output's display bytes
+    // The AOV layers go into an EXR; any other output is the colour alone.
+    if (!holds_extra_channels(o->output)) merged.film.channels.clear();
     write_film(o->output, merged.film, merged.tonemap, merged.attributes);
   });
 }

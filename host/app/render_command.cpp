@@ -31,6 +31,7 @@
 #include "render/aov.h"
 #include "render/image_io.h"
 #include "render/memory_budget.h"
+#include "render/primary_hits.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
 
@@ -40,8 +41,8 @@ namespace {
 
 bool wants_geo_map(const BatchOptions& o) {
   if (wants_visibility_map(o.render)) return true;
-  for (const auto& aov : o.aovs)
-    if (aov.first == "geo" && o.render.edges == EdgeMode::Vulkan) return true;
+  for (const AovRequest& aov : o.aovs)
+    if (aov.aov == Aov::Geo && o.render.edges == EdgeMode::Vulkan) return true;
   return false;
 }
 
@@ -111,10 +112,19 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     // The film's own memory (region-sized; display image, scratch) and the visibility
     // raster and readback (full-frame tiles, a full-size map) on top of what the process
     // holds now (libraries, Vulkan, scene, BVH).
-    const uint64_t frame_need =
+    uint64_t frame_need =
         frame_bytes(region.width(), region.height(),
                     settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
         (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+    // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
+    // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
+    size_t layer_count = 0;
+    for (Aov a : o.layer_aovs()) layer_count += aov_channel_names(a).size();
+    const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
+    const uint64_t layer_need = layer_count == 0 ? 0
+                                                 : region_pixels * (4 * layer_count + (o.wants_primary_hits() ? 28 : 0)) +
+                                                       uint64_t(64) * uint64_t(region.width()) * 4 * (3 + layer_count);
+    frame_need += layer_need;
     check_memory(frame_need, what.c_str());
     const uint64_t memory_estimate = resident_bytes() + frame_need;
     const int frame = scene.frame >= 0 ? scene.frame : int(std::lround(scene.time * scene.fps));
@@ -159,13 +169,31 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     throw_if_interrupted();
     const double frame_s = seconds_since(t_frame);
 
+    // The AOV layers of the -o EXR (render/aov_layers.h); the centre rays only when
+    // depth, normal or albedo is among them.
+    const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
+    const GeoMap& film_geo = film.is_region() ? region_geo : geo;
+    RayCounters aov_rays;
+    double aov_s = 0.0;
+    if (!o.layer_aovs().empty()) {
+      t = std::chrono::steady_clock::now();
+      PrimaryHits hits;
+      if (o.wants_primary_hits()) {
+        CancellableScope cancellable;
+        hits = trace_primary_hits(shader, scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                                  region, settings.threads, &interrupt_flag(), &aov_rays);
+      }
+      throw_if_interrupted();
+      film.channels = aov_channels(o.layer_aovs(), film, film_geo, hits);
+      aov_s = seconds_since(t);
+    }
+
     t = std::chrono::steady_clock::now();
     write_film(output, film, settings.tonemap,
                {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}});
     const double write_s = seconds_since(t);
-    const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
-    for (const auto& [name, file] : o.aovs)
-      write_aov(name, expand_output_pattern(file, key, "--aov"), film, film.is_region() ? region_geo : geo);
+    for (const AovRequest& a : o.aovs)
+      if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo);
 
     JobRecord record;
     record.scene_name = scene_name;
@@ -179,6 +207,9 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     record.bvh = &bvh_stats;
     record.memory_estimate_bytes = memory_estimate;
     record.region = region;
+    for (const FilmChannel& c : film.channels) record.aov_channels.push_back(c.name);
+    record.aov_rays = aov_rays;
+    record.aov_seconds = aov_s;
     record.times = {load_s, bvh_s, write_s,
                     seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0), frame_s};
     if (visibility) {

@@ -85,6 +85,10 @@ nlohmann::json render_stats_json(const JobRecord& r) {
     j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}};
     j["vulkan_device"] = r.vulkan_device;
   }
+  if (!r.aov_channels.empty())
+    j["aov"] = {{"channels", r.aov_channels},
+                {"primary_hit_rays", r.aov_rays.total()},
+                {"primary_hit_s", r.aov_seconds}};
   j["mrays_per_s"] = stats.render_seconds > 0 ? double(stats.rays.total()) / stats.render_seconds * 1e-6 : 0.0;
   return j;
 }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 #include "accel/bvh.h"
 #include "app/render_options.h"
@@ -38,6 +39,11 @@ struct JobRecord {
   const GeoMap* geo = nullptr;
   std::string vulkan_device;
   TileRect region;  // the pixels rendered (the whole frame unless --region)
+  // The AOV channels written into the EXR, and the centre rays traced for depth, normal
+  // and albedo (render/primary_hits.h: not part of `stats`, which counts the image's rays).
+  std::vector<std::string> aov_channels;
+  RayCounters aov_rays;
+  double aov_seconds = 0;
 };
 
 nlohmann::json render_stats_json(const JobRecord& r);

@@ -4,16 +4,26 @@
 // A film holds either the whole frame or one region of it (`zigzag render --region`):
 // `width` x `height` is what the buffers hold (OpenEXR's data window), at `x0, y0` in a
 // frame of `frame_width` x `frame_height` (the display window).
+//
+// `channels` are extra named float planes over the data window: the AOVs an EXR holds
+// as layers of its own (`zigzag render -o x.exr --aov depth`, render/aov_layers.h).
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "core/tile.h"
 
 namespace zz {
+
+// One extra channel: its EXR name ("depth", "normal.X", ...) and width * height values.
+struct FilmChannel {
+  std::string name;
+  std::vector<float> values;
+};
 
 struct Film {
   int width = 0;   // buffer size: the data window
@@ -23,6 +33,7 @@ struct Film {
   std::vector<glm::vec3> radiance;  // linear RGB
   std::vector<uint8_t> rays;        // rays traced per pixel (saturating)
   std::vector<uint8_t> level;       // AA level reached (1..3), +4 when oriented vertically
+  std::vector<FilmChannel> channels;  // extra layers for an EXR; empty unless AOVs asked for them
 
   Film() = default;
   Film(int w, int h) : Film(w, h, TileRect{0, 0, w, h}) {}

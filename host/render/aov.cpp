@@ -55,17 +55,21 @@ Rgb8Image geo_image(const GeoMap& geo) {
   return img;
 }
 
-void write_aov(const std::string& name, const std::filesystem::path& path, const Film& film, const GeoMap& geo) {
+void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo) {
   Rgb8Image img;
-  if (name == "rays") {
-    img = rays_heatmap(film);
-  } else if (name == "levels") {
-    img = level_map(film);
-  } else if (name == "geo") {
-    if (geo.empty()) throw Error("--aov geo needs the visibility map (--edges vulkan)");
-    img = geo_image(geo);
-  } else {
-    throw Error("unknown AOV '" + name + "' (valid: rays, levels, geo)");
+  switch (aov) {
+    case Aov::Rays:
+      img = rays_heatmap(film);
+      break;
+    case Aov::Level:
+      img = level_map(film);
+      break;
+    case Aov::Geo:
+      if (geo.empty()) throw Error("--aov geo needs the visibility map (--edges vulkan)");
+      img = geo_image(geo);
+      break;
+    default:
+      throw Error(std::string("--aov ") + aov_name(aov) + " has no image of its own (only channels of an .exr)");
   }
   write_rgb8(path, img.width, img.height, img.rgb);
 }

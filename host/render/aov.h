@@ -1,7 +1,7 @@
 // Arbitrary output variables as viewable 8-bit images:
 //   rays    rays traced per pixel, 1..25 on a perceptual ramp, with a legend band below
 //           the image (25 swatches, a tick every 5 rays)
-//   levels  AA level reached: 1 grey; 2 blue (horizontal) / cyan (vertical);
+//   level   AA level reached: 1 grey; 2 blue (horizontal) / cyan (vertical);
 //           3 red (horizontal) / yellow (vertical)
 //   geo     the visibility map: white = geometric discontinuity
 #pragma once
@@ -13,6 +13,7 @@
 
 #include "core/geo_map.h"
 #include "core/film.h"
+#include "render/aov_layers.h"
 
 namespace zz {
 
@@ -31,7 +32,8 @@ void ray_count_colour(int n, uint8_t rgb[3]);
 // Colour of an AA level byte (1..3, +4 when vertical; 0 = not rendered: black).
 void level_colour(int level, uint8_t rgb[3]);
 
-// name: rays | levels | geo. Throws zz::Error for an unknown name or a missing geo map.
-void write_aov(const std::string& name, const std::filesystem::path& path, const Film& film, const GeoMap& geo);
+// The heatmap image of rays, level or geo (has_heatmap). Throws zz::Error for another
+// AOV or a missing geo map.
+void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo);
 
 }  // namespace zz

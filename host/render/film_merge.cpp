@@ -13,6 +13,19 @@ std::string rect_text(const TileRect& r) {
   return std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," + std::to_string(r.y1);
 }
 
+std::string channel_list(const Film& f) {
+  std::string names;
+  for (const FilmChannel& c : f.channels) names += (names.empty() ? "" : ", ") + c.name;
+  return names.empty() ? "none" : names;
+}
+
+bool same_channels(const Film& a, const Film& b) {
+  if (a.channels.size() != b.channels.size()) return false;
+  for (size_t i = 0; i < a.channels.size(); ++i)
+    if (a.channels[i].name != b.channels[i].name) return false;
+  return true;
+}
+
 }  // namespace
 
 FilmFile merge_films(const std::vector<FilmPart>& parts) {
@@ -25,6 +38,9 @@ FilmFile merge_films(const std::vector<FilmPart>& parts) {
       throw Error("merge: " + p.name + " is part of a " + std::to_string(f.frame_width) + "x" +
                   std::to_string(f.frame_height) + " frame but " + parts.front().name + " of a " + std::to_string(W) +
                   "x" + std::to_string(H) + " frame");
+    if (!same_channels(f, first.film))
+      throw Error("merge: " + p.name + " has the AOV channels " + channel_list(f) + " but " + parts.front().name +
+                  " " + channel_list(first.film) + " (render every part with the same --aov)");
     if (std::memcmp(&p.file.tonemap.exposure, &first.tonemap.exposure, sizeof(float)) != 0)
       throw Error("merge: " + p.name + " has exposure " + std::to_string(p.file.tonemap.exposure) + " but " +
                   parts.front().name + " " + std::to_string(first.tonemap.exposure));
@@ -61,10 +77,16 @@ FilmFile merge_films(const std::vector<FilmPart>& parts) {
   out.film = Film(W, H);
   out.tonemap = first.tonemap;
   out.attributes = first.attributes;
+  for (const FilmChannel& c : first.film.channels)
+    out.film.channels.push_back({c.name, std::vector<float>(size_t(W) * size_t(H))});
   for (const FilmPart& p : parts) {
     const Film& f = p.file.film;
-    for (int y = 0; y < f.height; ++y)
-      std::copy_n(&f.radiance[size_t(y) * f.width], f.width, &out.film.radiance[size_t(f.y0 + y) * W + f.x0]);
+    for (int y = 0; y < f.height; ++y) {
+      const size_t from = size_t(y) * f.width, to = size_t(f.y0 + y) * W + f.x0;
+      std::copy_n(&f.radiance[from], f.width, &out.film.radiance[to]);
+      for (size_t c = 0; c < f.channels.size(); ++c)
+        std::copy_n(&f.channels[c].values[from], f.width, &out.film.channels[c].values[to]);
+    }
   }
   return out;
 }

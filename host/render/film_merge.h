@@ -1,7 +1,8 @@
 // `zigzag merge`: the region parts of one frame (EXRs from `zigzag render --region`)
 // assembled by their data windows into the whole frame. The parts must tile the frame
 // exactly (no overlap, no gap) and come from the same render (display window, exposure
-// and "zigzag:" attributes equal), so the result is the full-frame render bit for bit.
+// and "zigzag:" attributes equal, the same AOV channels), so the result is the
+// full-frame render bit for bit, its AOV layers included.
 #pragma once
 
 #include <string>

@@ -33,12 +33,56 @@ void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& spec
   });
 }
 
+// An EXR of the radiance plus film.channels, interleaved a band of rows at a time (a
+// whole interleaved copy of a large frame would double the output's memory).
+void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const Film& film) {
+  const size_t extra = film.channels.size();
+  for (const FilmChannel& c : film.channels)
+    if (c.values.size() != film.radiance.size())
+      throw Error("cannot write " + path.string() + ": channel " + c.name + " is not the film's size");
+  spec.nchannels = int(3 + extra);
+  spec.channelnames = {"R", "G", "B"};
+  for (const FilmChannel& c : film.channels) spec.channelnames.push_back(c.name);
+  spec.alpha_channel = -1;
+  spec.z_channel = -1;
+  if (spec.width < 1 || spec.height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
+  constexpr int kBand = 64;
+  const size_t stride = 3 + extra;
+  std::vector<float> band(size_t(kBand) * size_t(film.width) * stride);
+  write_atomically(path, [&](const std::filesystem::path& temporary) {
+    auto out = OIIO::ImageOutput::create(temporary.string());
+    if (!out) throw Error("cannot write " + path.string() + ": " + first_line(OIIO::geterror()));
+    if (!out->open(temporary.string(), spec)) throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+    for (int y0 = 0; y0 < film.height; y0 += kBand) {
+      const int y1 = std::min(film.height, y0 + kBand);
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < film.width; ++x) {
+          const size_t p = size_t(y) * size_t(film.width) + size_t(x);
+          float* o = &band[(size_t(y - y0) * size_t(film.width) + size_t(x)) * stride];
+          o[0] = film.radiance[p].r;
+          o[1] = film.radiance[p].g;
+          o[2] = film.radiance[p].b;
+          for (size_t c = 0; c < extra; ++c) o[3 + c] = film.channels[c].values[p];
+        }
+      if (!out->write_scanlines(film.y0 + y0, film.y0 + y1, 0, OIIO::TypeDesc::FLOAT, band.data()))
+        throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+    }
+    if (!out->close()) throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+  });
+}
+
 }  // namespace
 
 bool is_hdr_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+}
+
+bool holds_extra_channels(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".exr";
 }
 
 bool can_write_image_format(const std::filesystem::path& path) {
@@ -90,8 +134,16 @@ void write_film(const std::filesystem::path& path, const Film& film, const ToneM
     for (const auto& [key, value] : attributes) spec.attribute(std::string(kAttributePrefix) + key, value);
     // OpenImageIO copies the bytes: a glm::vec3 is three packed floats.
     static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
-    write_pixels(path, spec, static_cast<const void*>(film.radiance.data()));
+    if (film.channels.empty()) {
+      write_pixels(path, spec, static_cast<const void*>(film.radiance.data()));
+      return;
+    }
+    if (!holds_extra_channels(path))
+      throw Error("cannot write " + path.string() + ": only an .exr holds the AOV channels");
+    write_layers(path, spec, film);
   } else {
+    if (!film.channels.empty())
+      throw Error("cannot write " + path.string() + ": only an .exr holds the AOV channels");
     write_rgb8(path, film.width, film.height, display_bytes(film, tonemap));
   }
 }
@@ -130,8 +182,31 @@ FilmFile read_film(const std::filesystem::path& path) {
     if (name.rfind(kAttributePrefix, 0) != 0 || p.type() != OIIO::TypeDesc::STRING) continue;
     f.attributes[name.substr(std::strlen(kAttributePrefix))] = p.get_string();
   }
-  if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, f.film.radiance.data()))
-    throw Error("cannot read " + file + ": " + in->geterror());
+  // R, G, B by name (any order in the file), else the first three; the rest are layers.
+  const int nch = spec.nchannels;
+  int rgb[3] = {0, 1, 2};
+  for (int c = 0; c < 3; ++c) {
+    const int found = spec.channelindex(c == 0 ? "R" : c == 1 ? "G" : "B");
+    if (found >= 0) rgb[c] = found;
+  }
+  if (nch == 3 && rgb[0] == 0 && rgb[1] == 1 && rgb[2] == 2) {
+    if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, f.film.radiance.data()))
+      throw Error("cannot read " + file + ": " + first_line(in->geterror()));
+    return f;
+  }
+  std::vector<float> all(size_t(spec.width) * size_t(spec.height) * size_t(nch));
+  if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data()))
+    throw Error("cannot read " + file + ": " + first_line(in->geterror()));
+  const size_t pixels = f.film.radiance.size();
+  for (size_t p = 0; p < pixels; ++p)
+    f.film.radiance[p] = glm::vec3(all[p * size_t(nch) + size_t(rgb[0])], all[p * size_t(nch) + size_t(rgb[1])],
+                                   all[p * size_t(nch) + size_t(rgb[2])]);
+  for (int c = 0; c < nch; ++c) {
+    if (c == rgb[0] || c == rgb[1] || c == rgb[2]) continue;
+    FilmChannel channel{spec.channel_name(c), std::vector<float>(pixels)};
+    for (size_t p = 0; p < pixels; ++p) channel.values[p] = all[p * size_t(nch) + size_t(c)];
+    f.film.channels.push_back(std::move(channel));
+  }
   return f;
 }
 

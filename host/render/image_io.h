@@ -14,6 +14,9 @@ namespace zz {
 
 bool is_hdr_extension(const std::filesystem::path& path);
 
+// Whether the format holds a film's extra channels (the AOV layers): .exr only.
+bool holds_extra_channels(const std::filesystem::path& path);
+
 // Whether OpenImageIO has a writer for the path's extension.
 bool can_write_image_format(const std::filesystem::path& path);
 
@@ -26,12 +29,15 @@ using FilmAttributes = std::map<std::string, std::string>;
 // its data window, plus the tone map's exposure ("zigzag:exposure", float) and
 // `attributes`, so the parts of a frame merge into exactly the full render. Display
 // formats (PNG, ...) hold the film's own pixels: a region's PNG is region-sized.
+// film.channels go into an EXR after R, G, B as float channels of their own names;
+// any other format with channels is an error (holds_extra_channels).
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
                 const FilmAttributes& attributes = {});
 
 // An EXR written by write_film, read back: radiance with its windows, the exposure and
-// the "zigzag:" attributes (keys without the prefix). Throws zz::Error naming the file
-// when it is unreadable, not RGB, or lacks the exposure.
+// the "zigzag:" attributes (keys without the prefix), and every channel besides R, G, B
+// in film.channels (in the file's order). Throws zz::Error naming the file when it is
+// unreadable, not RGB, or lacks the exposure.
 struct FilmFile {
   Film film;
   ToneMap tonemap;

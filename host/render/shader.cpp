@@ -110,6 +110,34 @@ glm::vec3 mapped_normal(const Scene& scene, const Material& m, size_t t3, float 
   return mapped_len > 1e-12f && std::isfinite(mapped_len) ? mapped / mapped_len : n;
 }
 
+// The geometry of lane i's hit (position, facing geometric normal, direction back,
+// distance from the ray origin including `skipped`); returns the interpolated vertex
+// normal (the geometric one where it degenerates), not yet turned towards the viewer.
+glm::vec3 surface_geometry(const Scene& scene, glm::vec3 dir, const LaneHits& hits, int i, float skipped,
+                           SurfacePoint& s) {
+  const float u = hits.u[i], v = hits.v[i], w = 1.0f - u - v;
+  const size_t t3 = size_t(hits.prim[i]) * 3;
+  const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+  s.hit = interpolate_hit(p0, p1, p2, u, v);
+  s.dir = dir;
+  const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  const float dir_len = glm::length(dir);
+  s.wo = -dir / dir_len;
+  s.distance = skipped + hits.t[i] * dir_len;
+  s.front = glm::dot(ng, s.wo) >= 0.0f;
+  s.ng = s.front ? ng : -ng;
+  glm::vec3 ns = w * scene.normals[t3] + u * scene.normals[t3 + 1] + v * scene.normals[t3 + 2];
+  const float ns_len = glm::length(ns);
+  return ns_len > 0.0f && std::isfinite(ns_len) ? ns / ns_len : ng;
+}
+
+// The shading normal `ns` (normal map applied) on the side the ray came from.
+glm::vec3 facing_shading_normal(const SurfacePoint& s, glm::vec3 ns) {
+  if (!s.front) ns = -ns;
+  // A shading normal pointing away from the viewer would shade a lit side black.
+  return glm::dot(ns, s.wo) > 0.0f ? ns : s.ng;
+}
+
 // Fills a packet lane by lane, then loads it once. Unused lanes stay harmless
 // (zero origin, +z direction, tmax 0) and are masked off anyway.
 struct PacketBuilder {
@@ -165,6 +193,41 @@ bool light_towards(const Light& light, glm::vec3 p, glm::vec3& to_light, float& 
 constexpr int kMaxSeeThroughLayers = 16;
 // Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
 constexpr int kMaxBlendLayers = 8;
+
+// Moves the active lanes that hit a cut-out texel (MASK below the cutoff, BLEND alpha 0)
+// on to the first surface behind it, one packet per layer; `skipped` gets the distance
+// travelled through them. Bounded: beyond kMaxSeeThroughLayers a ray escapes (a miss).
+void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int active_bits, LaneHits& hits,
+                  float skipped[4], RayCounters& counters) {
+  for (int layer = 0;; ++layer) {
+    PacketBuilder behind;
+    int again = 0;
+    for (int i = 0; i < 4; ++i) {
+      if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
+      const size_t t3 = size_t(hits.prim[i]) * 3;
+      const Material& m = scene.materials[scene.material_of[size_t(hits.prim[i])]];
+      if (!m.see_through() || coverage(scene, m, Texcoords(scene, t3, hits.u[i], hits.v[i])) > 0.0f) continue;
+      if (layer == kMaxSeeThroughLayers) {
+        hits.prim[i] = -1;
+        continue;
+      }
+      const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
+      const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+      glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+      if (glm::dot(n, dir) < 0.0f) n = -n;
+      const glm::vec3 origin = offset_ray_origin(interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]), n);
+      skipped[i] += hits.t[i] * glm::length(dir);
+      behind.set(i, origin, dir, kInfinity);
+      again |= 1 << i;
+    }
+    if (again == 0) break;
+    counters.continuation += uint64_t(std::popcount(unsigned(again)));
+    HitPacket4 next;
+    bvh.intersect4(behind.packet(), mask4(again & 1, again & 2, again & 4, again & 8), next);
+    for (int i = 0; i < 4; ++i)
+      if ((again >> i) & 1) hits.take(next, i);
+  }
+}
 
 // The light arriving along each lane of a shadow packet through see-through surfaces:
 // alpha cut-outs and BLEND surfaces pass (1 - alpha) of it, transmissive non-metal
@@ -250,6 +313,40 @@ Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), e
   if (effects_.textures) bits |= kTextures;
   if (effects_.alpha_mask || effects_.alpha_blend) bits |= kAlpha;
   kernel_ = pick_kernel(bits, std::make_integer_sequence<unsigned, kAllEffects + 1>{});
+  const bool textured = (bits & kTextures) != 0, see_through = (bits & kAlpha) != 0;
+  primary_kernel_ = textured ? (see_through ? &Shader::primary4_impl<true, true> : &Shader::primary4_impl<true, false>)
+                             : (see_through ? &Shader::primary4_impl<false, true> : &Shader::primary4_impl<false, false>);
+}
+
+template <bool kTextured, bool kSeeThrough>
+void Shader::primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const {
+  HitPacket4 packet_hits;
+  bvh_.intersect4(rays, mask4(true), packet_hits);
+  LaneHits hits(packet_hits);
+  float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  if constexpr (kSeeThrough) pass_cutouts(scene_, bvh_, rays, 0xF, hits, skipped, counters);
+  for (int i = 0; i < 4; ++i) {
+    if (hits.prim[i] < 0) {
+      out.depth[i] = kInfinity;
+      out.normal[i] = out.albedo[i] = glm::vec3(0.0f);
+      continue;
+    }
+    SurfacePoint s;
+    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
+    const uint32_t mat_index = scene_.material_of[size_t(hits.prim[i])];
+    const Material& m = scene_.materials[mat_index];
+    glm::vec3 base = m.base_color;
+    if constexpr (kTextured) {
+      const size_t t3 = size_t(hits.prim[i]) * 3;
+      const Texcoords tc(scene_, t3, hits.u[i], hits.v[i]);
+      if (m.base_color_texture.used()) base *= glm::vec3(tc.sample(scene_, m.base_color_texture));
+      if (m.normal_texture.used() && !scene_.tangents.empty())
+        ns = mapped_normal(scene_, m, t3, hits.u[i], hits.v[i], tc, ns);
+    }
+    out.depth[i] = s.distance;
+    out.normal[i] = facing_shading_normal(s, ns);
+    out.albedo[i] = base;
+  }
 }
 
 template <unsigned... kE>
@@ -273,37 +370,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // distance travelled through cut-outs
 
   // Alpha: a ray that hits a cut-out texel (MASK below the cutoff, BLEND alpha 0)
-  // continues behind it, in one packet per layer.
-  if constexpr (kSeeThrough) {
-    for (int layer = 0;; ++layer) {
-      PacketBuilder behind;
-      int again = 0;
-      for (int i = 0; i < 4; ++i) {
-        if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-        const size_t t3 = size_t(hits.prim[i]) * 3;
-        const Material& m = scene_.materials[scene_.material_of[size_t(hits.prim[i])]];
-        if (!m.see_through() || coverage(scene_, m, Texcoords(scene_, t3, hits.u[i], hits.v[i])) > 0.0f) continue;
-        if (layer == kMaxSeeThroughLayers) {  // bounded: beyond it the ray escapes
-          hits.prim[i] = -1;
-          continue;
-        }
-        const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
-        const glm::vec3 &p0 = scene_.positions[t3], &p1 = scene_.positions[t3 + 1], &p2 = scene_.positions[t3 + 2];
-        glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-        if (glm::dot(n, dir) < 0.0f) n = -n;
-        const glm::vec3 origin = offset_ray_origin(interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]), n);
-        skipped[i] += hits.t[i] * glm::length(dir);
-        behind.set(i, origin, dir, kInfinity);
-        again |= 1 << i;
-      }
-      if (again == 0) break;
-      counters.continuation += uint64_t(std::popcount(unsigned(again)));
-      HitPacket4 next;
-      bvh_.intersect4(behind.packet(), mask4(again & 1, again & 2, again & 4, again & 8), next);
-      for (int i = 0; i < 4; ++i)
-        if ((again >> i) & 1) hits.take(next, i);
-    }
-  }
+  // continues behind it.
+  if constexpr (kSeeThrough) pass_cutouts(scene_, bvh_, rays, active_bits, hits, skipped, counters);
 
   alignas(16) float out[3][4] = {};
   SurfacePoint sp[4];
@@ -317,22 +385,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       out[2][i] = scene_.background.b;
       continue;
     }
-    const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
-    const float u = hits.u[i], v = hits.v[i], w = 1.0f - u - v;
+    const float u = hits.u[i], v = hits.v[i];
     const size_t t3 = size_t(prim) * 3;
-    const glm::vec3 &p0 = scene_.positions[t3], &p1 = scene_.positions[t3 + 1], &p2 = scene_.positions[t3 + 2];
     SurfacePoint& s = sp[i];
-    s.hit = interpolate_hit(p0, p1, p2, u, v);
-    s.dir = dir;
-    const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-    const float dir_len = glm::length(dir);
-    s.wo = -dir / dir_len;
-    s.distance = skipped[i] + hits.t[i] * dir_len;
-    s.front = glm::dot(ng, s.wo) >= 0.0f;
-    s.ng = s.front ? ng : -ng;
-    glm::vec3 ns = w * scene_.normals[t3] + u * scene_.normals[t3 + 1] + v * scene_.normals[t3 + 2];
-    const float ns_len = glm::length(ns);
-    ns = ns_len > 0.0f && std::isfinite(ns_len) ? ns / ns_len : ng;
+    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
     glm::vec3 emission = scene_.whitted[mat_index].emission;
     if constexpr (kTextured) {
@@ -348,9 +404,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.material = &material_at<false>(scene_, mat_index, nullptr, s.local, s.albedo);
       if constexpr (kSeeThrough) s.alpha = coverage(scene_, scene_.materials[mat_index], Texcoords(scene_, t3, u, v));
     }
-    if (!s.front) ns = -ns;
-    // A shading normal pointing away from the viewer would shade a lit side black.
-    s.ns = glm::dot(ns, s.wo) > 0.0f ? ns : s.ng;
+    s.ns = facing_shading_normal(s, ns);
     out[0][i] = emission.r;
     out[1][i] = emission.g;
     out[2][i] = emission.b;

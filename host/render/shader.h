@@ -19,6 +19,15 @@
 
 namespace zz {
 
+// What four camera rays see first: the data of the depth, normal and albedo AOVs
+// (render/primary_hits.h). The same surface the shader lights: alpha cut-outs are passed
+// through, a BLEND surface with coverage > 0 counts as hit.
+struct PrimaryHit4 {
+  float depth[4];       // distance from the ray origin to the hit (directions are unit); +inf on a miss
+  glm::vec3 normal[4];  // shading normal (normal map applied), world space, turned to the ray; 0 on a miss
+  glm::vec3 albedo[4];  // base colour: glTF baseColorFactor x baseColorTexture (linear); 0 on a miss
+};
+
 class Shader {
  public:
   Shader(const Scene& scene, const Bvh& bvh);
@@ -38,6 +47,12 @@ class Shader {
   // 8-bit display step for the scenes' own depths (the reference-image tests hold them).
   static constexpr float kMinThroughput = 1.0f / 1024.0f;
 
+  // The first surface along each ray of a full packet, without shading it: no light,
+  // shadow or secondary rays (only cut-out continuations, counted in `counters`).
+  void primary4(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const {
+    (this->*primary_kernel_)(rays, out, counters);
+  }
+
   const EffectSet& effects() const { return effects_; }
 
   // Bits of the kernel specialisation.
@@ -53,10 +68,15 @@ class Shader {
   template <unsigned... kE>
   static Kernel pick_kernel(unsigned effects, std::integer_sequence<unsigned, kE...>);
 
+  template <bool kTextured, bool kSeeThrough>
+  void primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const;
+  using PrimaryKernel = void (Shader::*)(const RayPacket4&, PrimaryHit4&, RayCounters&) const;
+
   const Scene& scene_;
   const Bvh& bvh_;
   EffectSet effects_;
   Kernel kernel_;
+  PrimaryKernel primary_kernel_;
 };
 
 // Exact unpolarised Fresnel reflectance of a dielectric interface for cos_i >= 0 and

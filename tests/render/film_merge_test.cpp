@@ -1,0 +1,112 @@
+// EXR films with AOV channels: written and read back exactly (through OpenImageIO, by
+// channel name), and merged from region parts only when every part has the same channels.
+#include "render/film_merge.h"
+
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imageio.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct FilmMergeTest : ::testing::Test {
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::temp_directory_path() / ("zigzag_film_merge_test_" + std::to_string(::getpid()) + "_" +
+                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+};
+
+// A film of `window` in a 7 x 5 frame whose values are a function of the frame position,
+// so the parts of one frame agree with the whole.
+Film frame_film(const TileRect& window, bool with_depth = true) {
+  Film f(7, 5, window);
+  f.channels.push_back({"rays", std::vector<float>(f.radiance.size())});
+  if (with_depth) f.channels.push_back({"depth", std::vector<float>(f.radiance.size())});
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const int fx = f.x0 + x, fy = f.y0 + y;
+      const size_t i = size_t(y) * f.width + x;
+      f.radiance[i] = glm::vec3(0.1f * fx, 0.01f * fy, 1.0f / 3.0f);
+      f.channels[0].values[i] = float(1 + fx + fy);
+      if (with_depth) f.channels[1].values[i] = fx == 3 ? std::numeric_limits<float>::infinity() : 0.7f * fx + fy;
+    }
+  return f;
+}
+
+bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(float)) == 0;
+}
+
+TEST_F(FilmMergeTest, ChannelsRoundTripByNameAndValue) {
+  const Film film = frame_film({0, 0, 7, 5});
+  write_film(dir / "f.exr", film, ToneMap{});
+  auto in = OIIO::ImageInput::open((dir / "f.exr").string());
+  ASSERT_TRUE(in);
+  std::vector<std::string> names = in->spec().channelnames;
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"B", "G", "R", "depth", "rays"}));
+  in->close();
+  const FilmFile back = read_film(dir / "f.exr");
+  ASSERT_EQ(back.film.channels.size(), 2u);
+  for (const FilmChannel& c : back.film.channels) {
+    const FilmChannel& orig = c.name == "rays" ? film.channels[0] : film.channels[1];
+    EXPECT_TRUE(same_bits(c.values, orig.values)) << c.name;
+  }
+  EXPECT_EQ(std::memcmp(back.film.radiance.data(), film.radiance.data(), film.radiance.size() * sizeof(glm::vec3)), 0);
+}
+
+TEST_F(FilmMergeTest, PartsMergeIntoTheWholeChannelsIncluded) {
+  const Film whole = frame_film({0, 0, 7, 5});
+  std::vector<FilmPart> parts;
+  for (const TileRect& r : {TileRect{0, 0, 4, 2}, TileRect{4, 0, 7, 2}, TileRect{0, 2, 7, 5}}) {
+    const fs::path p = dir / ("part" + std::to_string(parts.size()) + ".exr");
+    write_film(p, frame_film(r), ToneMap{});
+    parts.push_back({p.string(), read_film(p)});
+  }
+  const FilmFile merged = merge_films(parts);
+  ASSERT_EQ(merged.film.channels.size(), 2u);
+  const FilmFile full = [&] {
+    write_film(dir / "whole.exr", whole, ToneMap{});
+    return read_film(dir / "whole.exr");
+  }();
+  for (size_t c = 0; c < 2; ++c) {
+    EXPECT_EQ(merged.film.channels[c].name, full.film.channels[c].name);
+    EXPECT_TRUE(same_bits(merged.film.channels[c].values, full.film.channels[c].values)) << c;
+  }
+}
+
+TEST_F(FilmMergeTest, PartsWithDifferentChannelsAreRefused) {
+  write_film(dir / "a.exr", frame_film({0, 0, 7, 2}), ToneMap{});
+  write_film(dir / "b.exr", frame_film({0, 2, 7, 5}, false), ToneMap{});
+  std::vector<FilmPart> parts = {{"a.exr", read_film(dir / "a.exr")}, {"b.exr", read_film(dir / "b.exr")}};
+  try {
+    merge_films(parts);
+    FAIL() << "merged parts with different channels";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("b.exr has the AOV channels rays but a.exr depth, rays"), std::string::npos)
+        << e.what();
+  }
+}
+
+TEST_F(FilmMergeTest, OnlyAnExrHoldsChannels) {
+  EXPECT_THROW(write_film(dir / "f.png", frame_film({0, 0, 7, 5}), ToneMap{}), Error);
+  EXPECT_THROW(write_film(dir / "f.hdr", frame_film({0, 0, 7, 5}), ToneMap{}), Error);
+  EXPECT_FALSE(fs::exists(dir / "f.png"));
+}
+
+}  // namespace
+}  // namespace zz
