@@ -22,6 +22,8 @@ struct SurfacePoint {
   glm::vec3 ng;        // geometric normal facing the incoming ray
   glm::vec3 ns;        // shading normal facing the incoming ray, same hemisphere as ng
   glm::vec3 wo;        // unit direction back towards the ray origin
+  glm::vec3 shadow_p;  // shadow-ray origin before the offset: hit.p lifted to the smooth surface
+  bool lifted = false; // shadow_p != hit.p (smooth shading bends the surface outward here)
   glm::vec3 albedo;    // diffuse reflectance (texture applied)
   glm::vec3 dir;       // the ray's direction as traced (not normalised)
   bool front = true;   // the ray hit the side the triangle's winding normal points to
@@ -108,6 +110,27 @@ glm::vec3 mapped_normal(const Scene& scene, const Material& m, size_t t3, float 
   const glm::vec3 mapped = t * (texel.x * m.normal_scale) + b * (texel.y * m.normal_scale) + n * texel.z;
   const float mapped_len = glm::length(mapped);
   return mapped_len > 1e-12f && std::isfinite(mapped_len) ? mapped / mapped_len : n;
+}
+
+// The shadow terminator: a coarse mesh with interpolated normals is shaded as the smooth
+// surface its vertex normals describe, but shadow rays leave the flat triangle, which lies
+// inside that surface, so near the terminator they are blocked by the triangle itself or
+// its neighbours and lit regions turn black facet by facet. Hanika, "Hacking the Shadow
+// Terminator" (Ray Tracing Gems II, 2021): start them from the point projected onto the
+// tangent plane of each vertex (normal n_i, the side the ray came from), interpolated with
+// the barycentrics, p' = sum b_i (p - min(0, (p - p_i).n_i) n_i): only outward moves,
+// so concave regions, where the planes lie below the triangle, keep p. Exact on flat
+// meshes (every n_i = ng gives p' = p).
+glm::vec3 lift_to_smooth_surface(glm::vec3 p, const glm::vec3* vertices, const glm::vec3* normals, float u, float v,
+                                 bool flip) {
+  const float b[3] = {1.0f - u - v, u, v};
+  glm::vec3 lifted = p;
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3 n = flip ? -normals[i] : normals[i];
+    const float height = glm::dot(p - vertices[i], n);  // signed, above the vertex's plane
+    if (height < 0.0f) lifted -= (b[i] * height) * n;
+  }
+  return lifted;
 }
 
 // Fills a packet lane by lane, then loads it once. Unused lanes stay harmless
@@ -348,6 +371,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.material = &material_at<false>(scene_, mat_index, nullptr, s.local, s.albedo);
       if constexpr (kSeeThrough) s.alpha = coverage(scene_, scene_.materials[mat_index], Texcoords(scene_, t3, u, v));
     }
+    s.shadow_p = lift_to_smooth_surface(s.hit.p, &scene_.positions[t3], &scene_.normals[t3], u, v, !s.front);
+    s.lifted = s.shadow_p != s.hit.p;
     if (!s.front) ns = -ns;
     // A shading normal pointing away from the viewer would shade a lit side black.
     s.ns = glm::dot(ns, s.wo) > 0.0f ? ns : s.ng;
@@ -370,7 +395,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         float dist;
         if (!light_towards(light, s.hit.p, wi, dist, scale)) continue;
         const float cos_s = glm::dot(s.ns, wi);
-        if (cos_s <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+        // Below the flat triangle's plane the light is blocked by the triangle itself,
+        // unless the shadow ray starts lifted off it (the shadow terminator, above).
+        if (cos_s <= 0.0f || (glm::dot(s.ng, wi) <= 0.0f && !s.lifted)) continue;
         const WhittedMaterial& m = *s.material;
         // Normalised Phong: (n+2)/(2 pi) cos^n(R, wo), energy-conserving lobe.
         const glm::vec3 r = 2.0f * glm::dot(s.ns, wi) * s.ns - wi;
@@ -379,7 +406,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const glm::vec3 f = s.albedo * kInvPi + m.specular * phong;
         contribution[i] = f * scale * cos_s;
         if (!(contribution[i].r > 0.0f || contribution[i].g > 0.0f || contribution[i].b > 0.0f)) continue;
-        const glm::vec3 origin = offset_ray_origin(s.hit, s.ng);
+        // The lifted point's rounding error is that of the hit plus a few ULPs of the lift.
+        const glm::vec3 lift = s.shadow_p - s.hit.p;
+        const SurfacePosition from{s.shadow_p, s.hit.error + glm::abs(lift) * 4e-7f};
+        const glm::vec3 origin = offset_ray_origin(from, s.ng);
         if (light.type == Light::Type::Directional)
           shadow.set(i, origin, wi, kInfinity);
         else
