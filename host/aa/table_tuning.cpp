@@ -10,16 +10,17 @@
 
 namespace zz {
 
-float PixelPattern::eval(float x, float y) const {
+bool PixelPattern::inside_at(float x, float y) const {
   const float d = nx * x + ny * y - c;
-  bool in = false;
   switch (kind) {
-    case Edge: in = d >= 0.0f; break;
-    case ThinLine: in = std::fabs(d) < 0.5f * width; break;
-    case Wedge: in = d >= 0.0f && nx2 * x + ny2 * y - c2 >= 0.0f; break;
+    case Edge: return d >= 0.0f;
+    case ThinLine: return std::fabs(d) < 0.5f * width;
+    case Wedge: return d >= 0.0f && nx2 * x + ny2 * y - c2 >= 0.0f;
   }
-  return in ? inside : outside;
+  return false;
 }
+
+float PixelPattern::eval(float x, float y) const { return inside_at(x, y) ? inside : outside; }
 
 Rgb4 PixelPatternSource::sample4(float4 px, float4 py) const {
   alignas(16) float x[4], y[4], g[4];
@@ -28,6 +29,18 @@ Rgb4 PixelPatternSource::sample4(float4 px, float4 py) const {
   for (int i = 0; i < 4; ++i) g[i] = pattern->eval(x[i], y[i]);
   const float4 v = float4::load(g);
   return {v, v, v};
+}
+
+Rgb4 PixelPatternSource::sample4(float4 px, float4 py, int4& sig) const {
+  alignas(16) float x[4], y[4];
+  alignas(16) int32_t side[4] = {0, 0, 0, 0};
+  if (signatures) {
+    px.store(x);
+    py.store(y);
+    for (int i = 0; i < 4; ++i) side[i] = pattern->inside_at(x[i], y[i]) ? 2 : 1;
+  }
+  sig = int4(side[0], side[1], side[2], side[3]);
+  return sample4(px, py);
 }
 
 namespace {
@@ -87,20 +100,21 @@ Population make_population(int n, uint32_t seed) {
 }
 
 PatternRecord evaluate_pattern(const PixelPattern& p, const AdaptiveSettings& settings) {
-  PixelPatternSource source{&p};
+  PixelPatternSource source{&p, (settings.signature & kSignatureObject) != 0};
   const float4 eps(settings.eps);
   // Level 1: the pixel's 4 corners as one packet (TL, TR, BL, BR).
-  const Rgb4 lin = source.sample4(float4(0, 1, 0, 1), float4(0, 0, 1, 1));
+  int4 sig;
+  const Rgb4 lin = source.sample4(float4(0, 1, 0, 1), float4(0, 0, 1, 1), sig);
   const Rgb4 disp = settings.tonemap.apply4(lin);
   float4 tl, tr, bl, br;
   aos_from_soa(lin, tl, tr, bl, br);
-  const PixelCase pcase = kCaseTable[corner_mask(disp, eps)];
+  const PixelCase pcase = kCaseTable[corner_mask(disp, sig, eps)];
 
   PatternRecord r;
   alignas(16) float4 lattice[kLatticePoints];
   const Orientation o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
   const float4 zero(0.0f);
-  const Level2 l2 = trace_level2(source, zero, zero, o, lin, disp, settings.tonemap, eps);
+  const Level2 l2 = trace_level2(source, zero, zero, o, lin, disp, sig, settings.tonemap, eps);
   trace_level3(source, zero, zero, l2, kAllZones, lattice);
   const float reference = box_lattice(tl, tr, bl, br, lattice)[0];
   if (pcase == PixelCase::None) {

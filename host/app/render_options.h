@@ -40,6 +40,7 @@ struct AdaptiveOptions {
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
   GeoPolicy geo_policy = GeoPolicy::All;
   Filter filter = Filter::Box;
+  unsigned signature = kSignatureNone;  // parts of the sample signatures (aa/signature.h)
 };
 
 struct RenderOptions {
@@ -61,7 +62,7 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
-// Registers --eps --tables --geo-policy --filter.
+// Registers --eps --tables --geo-policy --filter --signature.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // Registers the shared flags on a subcommand.

@@ -283,7 +283,7 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 
 template <unsigned kEffects>
 Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                         RayCounters& counters) const {
+                         RayCounters& counters, PathSignature4* signature) const {
   constexpr bool kTextured = (kEffects & kTextures) != 0;
   constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
@@ -357,6 +357,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     const float ns_len = glm::length(ns);
     ns = ns_len > 0.0f && std::isfinite(ns_len) ? ns / ns_len : ng;
     const uint32_t mat_index = scene_.material_of[prim];
+    if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
     if constexpr (kTextured) {
       const Material& gltf = scene_.materials[mat_index];
@@ -384,7 +385,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
 
   // Direct light: one shadow packet per light, lanes that face it.
   if constexpr ((kEffects & kShadows) != 0) {
-    for (const Light& light : scene_.lights) {
+    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+      const Light& light = scene_.lights[light_index];
+      const uint32_t light_bit = 1u << (light_index % 32);
       PacketBuilder shadow;
       glm::vec3 contribution[4];
       bool want[4] = {false, false, false, false};
@@ -424,6 +427,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             scene_, bvh_, light, shadow, lanes.bits(), through, counters);
         for (int i = 0; i < 4; ++i) {
           if (!want[i]) continue;
+          if (signature && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
+            signature->shadowed[i] |= light_bit;
           out[0][i] += contribution[i].r * through[i].r;
           out[1][i] += contribution[i].g * through[i].g;
           out[2][i] += contribution[i].b * through[i].b;
@@ -432,6 +437,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         counters.shadow += uint64_t(count_lanes(lanes));
         const int blocked = bvh_.occluded4(shadow.packet(), lanes).bits();
         for (int i = 0; i < 4; ++i) {
+          if (signature && want[i] && ((blocked >> i) & 1)) signature->shadowed[i] |= light_bit;
           if (!want[i] || ((blocked >> i) & 1)) continue;
           out[0][i] += contribution[i].r;
           out[1][i] += contribution[i].g;
@@ -495,8 +501,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
+        PathSignature4 seen;  // the reflected rays' first hits, for a camera packet's signature
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                        float4::load(reflect_path), counters);
+                                        float4::load(reflect_path), counters, signature && depth == 0 ? &seen : nullptr);
+        if (signature && depth == 0)
+          for (int i = 0; i < 4; ++i) signature->reflected[i] = do_reflect[i] ? seen.object[i] : 0;
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];
@@ -508,8 +517,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
+          PathSignature4 seen;
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters);
+                                        float4::load(refract_path), counters, signature && depth == 0 ? &seen : nullptr);
+          if (signature && depth == 0)
+            for (int i = 0; i < 4; ++i) signature->refracted[i] = do_refract[i] ? seen.object[i] : 0;
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];
@@ -545,7 +557,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (blend != 0) {
       counters.continuation += uint64_t(std::popcount(unsigned(blend)));
       const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
-                                           blend_layers + 1, throughput, counters);  // bounded by kMaxBlendLayers
+                                           blend_layers + 1, throughput, counters, nullptr);  // bounded by kMaxBlendLayers
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
         const float a = sp[i].alpha;

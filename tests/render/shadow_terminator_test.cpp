@@ -21,28 +21,12 @@ const glm::vec3 kToLight{1.0f, 0.0f, 0.0f};  // from the side: the terminator is
 // Blue beyond anything the grey sphere reflects, so coverage is told apart from shadow.
 const glm::vec3 kBackground{0.0f, 0.0f, 4.0f};
 
-// A unit UV sphere of `segments` x `rings` quads, poles on y, turned by `turn` about y so
-// that the terminator crosses the facets obliquely; vertex normals are the sphere's.
+// The low-poly sphere lit from the side, seen from kEye.
 Scene low_poly_sphere(int segments, int rings, float turn) {
   Scene s;
   s.name = "low_poly_sphere";
   s.materials.push_back(test::diffuse_material(glm::vec3(0.8f)));
-  auto at = [&](int i, int j) {
-    const float phi = 2.0f * kPi * float(i) / float(segments) + turn, theta = kPi * float(j) / float(rings);
-    return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
-  };
-  auto tri = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
-    if (glm::length(glm::cross(b - a, c - a)) < 1e-6f) return;  // the poles' degenerate halves
-    s.positions.insert(s.positions.end(), {a, b, c});
-    s.normals.insert(s.normals.end(), {glm::normalize(a), glm::normalize(b), glm::normalize(c)});
-    s.uvs.insert(s.uvs.end(), {glm::vec2(0), glm::vec2(0), glm::vec2(0)});
-    s.material_of.push_back(0);
-  };
-  for (int j = 0; j < rings; ++j)
-    for (int i = 0; i < segments; ++i) {  // outward winding
-      tri(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-      tri(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-    }
+  test::add_uv_sphere(s, segments, rings, turn, 0);
   Light sun;
   sun.type = Light::Type::Directional;
   sun.direction = -kToLight;

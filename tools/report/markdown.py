@@ -224,7 +224,7 @@ def recommendation(choice: dict) -> list[str]:
     if not c:
         return [f"No recommendation: {choice['why']}."]
     r = c["row"]
-    flags = f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} --edges {r['edges']}"
+    flags = f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} --edges {r['edges']} --signature {r.get('signature') or 'none'}"
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "
