@@ -99,6 +99,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
     }
   }
   stats.rays[0] += corner_rays;
+  stats.padded_rays += 4 * uint64_t((cw + 1) / 2) * uint64_t((ch + 1) / 2) - corner_rays;
   stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }

@@ -517,11 +517,16 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
+          // A refracted ray's first hit is mostly the far side of the same glass; what the
+          // glass shows is the hit after that, so a camera packet's signature keeps both.
           PathSignature4 seen;
+          const bool sign = signature && depth <= 1;
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters, signature && depth == 0 ? &seen : nullptr);
-          if (signature && depth == 0)
-            for (int i = 0; i < 4; ++i) signature->refracted[i] = do_refract[i] ? seen.object[i] : 0;
+                                        float4::load(refract_path), counters, sign ? &seen : nullptr);
+          if (sign)
+            for (int i = 0; i < 4; ++i)
+              signature->refracted[i] =
+                  !do_refract[i] ? 0u : depth == 0 ? (seen.object[i] * 0x9E3779B1u) ^ seen.refracted[i] : seen.object[i];
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];

@@ -25,7 +25,7 @@ struct PathSignature4 {
   uint32_t object[4] = {};     // the primary hit
   uint32_t shadowed[4] = {};   // bit l % 32: light l's shadow ray was blocked or attenuated
   uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
-  uint32_t refracted[4] = {};  // the first hit of its refraction ray
+  uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
 };
 
 class Shader {

@@ -106,6 +106,10 @@ TEST(Renderer, AdaptiveIsBitIdenticalAcrossThreadsTileSizesAndOrderWithAndWithou
       RenderStats last;
       EXPECT_TRUE(bit_identical(reference, render(scene, s, &last)));
       EXPECT_GT(first.aa.level2_pixels, 0u);
+      // One definition of rays/px: the sampler's count is the camera rays traced.
+      EXPECT_EQ(first.aa.total_rays(), first.rays.primary);
+      EXPECT_EQ(last.aa.total_rays(), last.rays.primary);
+      EXPECT_GT(last.aa.padded_rays, 0u);  // 7-pixel tiles: 8 x 8 corners, but 97 x 70 leaves odd edges
     }
 }
 
