@@ -7,6 +7,7 @@
 
 #include <bit>
 
+#include "aa/adaptive_settings.h"
 #include "aa/case_table.h"
 #include "aa/lattice.h"
 #include "aa/sample_source.h"
@@ -101,9 +102,27 @@ inline Level2 trace_level2(S& source, float4 px, float4 py, Orientation o, const
   return r;
 }
 
-// Zone set of a level-2 pixel: tables OR-ed; `full` (geo policy, refine_all) adds all.
-inline int zone_set(const TableSet& t, const Level2& l2, bool full) {
-  return t.zones(l2.b, l2.c0, l2.c1) | (-int(full) & kAllZones);
+// ---- the rule: one decision for the sampler and the tuner (§4, §5, §9, §11) ----------
+// So that the tuner (table_tuning.cpp) optimises exactly what the sampler ships.
+
+// Level 1: a pixel goes on to level 2 when its corner mask (colours and signatures) is a
+// case, when the visibility map flags it, or always with refine_all; the case orients it.
+struct Level1 {
+  bool refine;
+  Orientation orientation;
+};
+inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float4 eps, bool geo, bool refine_all) {
+  const PixelCase pcase = kCaseTable[corner_mask(corners_display, corners_sig, eps)];
+  return {pcase != PixelCase::None || geo || refine_all,
+          pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal};
+}
+
+// Level 2: the zones a level-2 pixel traces: the three tables OR-ed, and every zone with
+// refine_all or for a geo pixel under GeoPolicy::All or whose masks all stayed zero.
+inline int decide_zones(const TableSet& t, int b, int c0, int c1, bool geo, GeoPolicy policy, bool refine_all) {
+  const bool no_mask = (b | c0 | c1) == 0;
+  const bool full = refine_all || (geo && (policy == GeoPolicy::All || no_mask));
+  return t.zones(b, c0, c1) | (-int(full) & kAllZones);
 }
 
 // ---- level 3 (§6) -----------------------------------------------------------

@@ -141,21 +141,19 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const Rgb4 disp = soa_from_aos(corner_disp[ci], corner_disp[ci + 1], corner_disp[ci + cw], corner_disp[ci + cw + 1]);
 
       const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
-      const PixelCase pcase = kCaseTable[corner_mask(disp, sig, eps)];
       const bool g = geo.at(x, y);
-      const bool refine = pcase != PixelCase::None || g || settings.refine_all;
+      const Level1 l1 = decide_level1(disp, sig, eps, g, settings.refine_all);
+      const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
       } else {
-        o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
+        o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
         const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
-        const bool no_mask = (l2.b | l2.c0 | l2.c1) == 0;
-        const bool full = settings.refine_all || (g && (settings.geo_policy == GeoPolicy::All || no_mask));
-        zones = zone_set(tables, l2, full);
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);

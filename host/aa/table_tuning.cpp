@@ -108,16 +108,17 @@ PatternRecord evaluate_pattern(const PixelPattern& p, const AdaptiveSettings& se
   const Rgb4 disp = settings.tonemap.apply4(lin);
   float4 tl, tr, bl, br;
   aos_from_soa(lin, tl, tr, bl, br);
-  const PixelCase pcase = kCaseTable[corner_mask(disp, sig, eps)];
+  // The sampler's own rule (adaptive_pixel.h); the tuner's pixels have no visibility map.
+  const Level1 l1 = decide_level1(disp, sig, eps, /*geo=*/false, settings.refine_all);
 
   PatternRecord r;
   alignas(16) float4 lattice[kLatticePoints];
-  const Orientation o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
+  const Orientation o = l1.orientation;
   const float4 zero(0.0f);
   const Level2 l2 = trace_level2(source, zero, zero, o, lin, disp, sig, settings.tonemap, eps);
   trace_level3(source, zero, zero, l2, kAllZones, lattice);
   const float reference = box_lattice(tl, tr, bl, br, lattice)[0];
-  if (pcase == PixelCase::None) {
+  if (!l1.refine) {
     r.error.fill(std::fabs(corner_mean(tl, tr, bl, br)[0] - reference));
     return r;
   }
@@ -147,7 +148,7 @@ double rays_of(const PatternRecord& r, int zones) { return r.refined ? refined_r
 TableScore score_tables(const TableSet& t, const std::vector<PatternRecord>& records) {
   TableScore s;
   for (const PatternRecord& r : records) {
-    const int z = r.refined ? t.zones(r.b, r.c0, r.c1) : 0;
+    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, /*geo=*/false, GeoPolicy::Paper, false) : 0;
     s.error += r.error[z];
     s.rays += rays_of(r, z);
   }
@@ -166,6 +167,7 @@ TableSet tune_tables(const TableSet& start, const std::vector<PatternRecord>& re
       users[16 + records[i].c0].push_back(i);
       users[32 + records[i].c1].push_back(i);
     }
+  // The zones of a record: decide_zones without a geo flag, i.e. the three entries OR-ed.
   auto cost_of = [&](int entry) {
     double c = 0;
     for (uint32_t i : users[entry]) {
