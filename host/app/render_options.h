@@ -41,7 +41,7 @@ struct AdaptiveOptions {
   GeoPolicy geo_policy = GeoPolicy::All;
   Filter filter = Filter::Box;
   // Parts of the sample signatures (aa/signature.h). All: at 512² it has the lowest display
-  // error in each of room, glass and car, for +0.24 primary rays/px (docs/signatures.md).
+  // error in each of room, glass and car, for +0.26 primary rays/px (docs/signatures.md).
   unsigned signature = kSignatureAll;
 };
 
