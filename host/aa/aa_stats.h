@@ -11,7 +11,11 @@ namespace zz {
 
 struct AaStats {
   uint64_t pixels = 0;             // pixels written (a tile's own pixels)
-  uint64_t rays[3] = {0, 0, 0};    // rays traced at level 1 (corners), 2 (E..H), 3 (zigzags)
+  uint64_t rays[3] = {0, 0, 0};    // distinct points traced at level 1 (corners), 2 (E..H), 3 (zigzags)
+  // Lanes traced only to fill a packet (the corner grid's odd last row or column repeats a
+  // point). They are camera rays like any other, so rays/px counts them: total_rays() is
+  // the renderer's primary ray count (RayCounters::primary), one definition of rays/px.
+  uint64_t padded_rays = 0;
   uint64_t margin_rays = 0;        // part of rays[] spent on the Mitchell margin (§8)
   uint64_t level2_pixels = 0;      // own pixels that reached level 2 (or 3)
   uint64_t level3_pixels = 0;      // own pixels that traced at least one zone
@@ -26,6 +30,7 @@ struct AaStats {
   void merge(const AaStats& o) {
     pixels += o.pixels;
     for (int i = 0; i < 3; ++i) rays[i] += o.rays[i];
+    padded_rays += o.padded_rays;
     margin_rays += o.margin_rays;
     level2_pixels += o.level2_pixels;
     level3_pixels += o.level3_pixels;
@@ -37,7 +42,7 @@ struct AaStats {
     seconds_refine += o.seconds_refine;
     seconds_filter += o.seconds_filter;
   }
-  uint64_t total_rays() const { return rays[0] + rays[1] + rays[2]; }
+  uint64_t total_rays() const { return rays[0] + rays[1] + rays[2] + padded_rays; }
   double per_pixel(uint64_t n) const { return pixels ? double(n) / double(pixels) : 0.0; }
   double rays_per_pixel() const { return per_pixel(total_rays()); }
   double level2_fraction() const { return per_pixel(level2_pixels); }

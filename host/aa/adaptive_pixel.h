@@ -1,14 +1,17 @@
 // Levels 1–3 of one pixel (ALGORITHM.md §4–§6), as small inline steps that the tile
 // sampler, the analytic harness and the table tuner all call. Colours of a pixel's
 // corners are packed SoA in physical order TL, TR, BL, BR (A, B, C, D of the horizontal
-// frame). Every colour comparison is one SSE op over 4 pairs -> 4-bit mask -> table.
+// frame), their signatures (signature.h) likewise in one int4. Every comparison is one
+// SSE op over 4 pairs -> 4-bit mask -> table: d(p, q) = rho(p, q) > eps or sig(p) != sig(q).
 #pragma once
 
 #include <bit>
 
+#include "aa/adaptive_settings.h"
 #include "aa/case_table.h"
 #include "aa/lattice.h"
 #include "aa/sample_source.h"
+#include "aa/signature.h"
 #include "aa/table_set.h"
 #include "core/color.h"
 #include "core/simd.h"
@@ -49,14 +52,24 @@ inline int differs4(const Rgb4& p, const Rgb4& q, float4 eps) {
   return (d > eps).bits();
 }
 
+// d(p, q) with signatures (§11): colours or signatures differ, 4 pairs at once.
+inline int discontinuous4(const Rgb4& p, int4 sp, const Rgb4& q, int4 sq, float4 eps) {
+  return differs4(p, q, eps) | signatures_differ4(sp, sq);
+}
+
 // ---- level 1 (§4) -----------------------------------------------------------
 // Mask a0=d(A,B) a1=d(C,D) a2=d(A,C) a3=d(B,D): pairs [A,C,A,B] vs [B,D,C,D].
-inline int corner_mask(const Rgb4& display, float4 eps) {
-  return differs4(shuffle4<0, 2, 0, 1>(display), shuffle4<1, 3, 2, 3>(display), eps);
+inline int corner_mask(const Rgb4& display, int4 sig, float4 eps) {
+  return discontinuous4(shuffle4<0, 2, 0, 1>(display), shuffle4<0, 2, 0, 1>(sig), shuffle4<1, 3, 2, 3>(display),
+                        shuffle4<1, 3, 2, 3>(sig), eps);
 }
 
 // Physical TL, TR, BL, BR -> canonical A, B, C, D of orientation o (lattice.h).
 inline Rgb4 canonical_corners(const Rgb4& physical, Orientation o) {
+  mask4 vertical(o == Orientation::Vertical);
+  return select(vertical, shuffle4<2, 0, 3, 1>(physical), physical);
+}
+inline int4 canonical_corners(int4 physical, Orientation o) {
   mask4 vertical(o == Orientation::Vertical);
   return select(vertical, shuffle4<2, 0, 3, 1>(physical), physical);
 }
@@ -69,25 +82,47 @@ struct Level2 {
   int b, c0, c1; // the three masks
 };
 
+// `corners_sig`: the corners' signatures, physical order like the colours.
 template <SampleSource S>
 inline Level2 trace_level2(S& source, float4 px, float4 py, Orientation o, const Rgb4& corners_linear,
-                           const Rgb4& corners_display, const ToneMap& tonemap, float4 eps) {
+                           const Rgb4& corners_display, int4 corners_sig, const ToneMap& tonemap, float4 eps) {
   const PacketOffsets& off = kOrientationTables[int(o)].level2;
   Level2 r;
   r.orientation = o;
   r.corners = canonical_corners(corners_linear, o);
-  r.efgh = source.sample4(px + float4::load(off.x), py + float4::load(off.y));
+  int4 s;
+  r.efgh = sample4_signed(source, px + float4::load(off.x), py + float4::load(off.y), s);
   const Rgb4 d = tonemap.apply4(r.efgh);
   const Rgb4 k = canonical_corners(corners_display, o);
-  r.b = differs4(shuffle4<0, 1, 0, 2>(d), shuffle4<1, 3, 2, 3>(d), eps);   // EF FH EG GH
-  r.c0 = differs4(shuffle4<0, 3, 0, 3>(k), d, eps);                        // AE DF AG DH
-  r.c1 = differs4(k, shuffle4<1, 3, 0, 2>(d), eps);                        // AF BH CE DG
+  const int4 ks = canonical_corners(corners_sig, o);
+  r.b = discontinuous4(shuffle4<0, 1, 0, 2>(d), shuffle4<0, 1, 0, 2>(s), shuffle4<1, 3, 2, 3>(d),
+                       shuffle4<1, 3, 2, 3>(s), eps);                                           // EF FH EG GH
+  r.c0 = discontinuous4(shuffle4<0, 3, 0, 3>(k), shuffle4<0, 3, 0, 3>(ks), d, s, eps);          // AE DF AG DH
+  r.c1 = discontinuous4(k, ks, shuffle4<1, 3, 0, 2>(d), shuffle4<1, 3, 0, 2>(s), eps);          // AF BH CE DG
   return r;
 }
 
-// Zone set of a level-2 pixel: tables OR-ed; `full` (geo policy, refine_all) adds all.
-inline int zone_set(const TableSet& t, const Level2& l2, bool full) {
-  return t.zones(l2.b, l2.c0, l2.c1) | (-int(full) & kAllZones);
+// ---- the rule: one decision for the sampler and the tuner (§4, §5, §9, §11) ----------
+// So that the tuner (table_tuning.cpp) optimises exactly what the sampler ships.
+
+// Level 1: a pixel goes on to level 2 when its corner mask (colours and signatures) is a
+// case, when the visibility map flags it, or always with refine_all; the case orients it.
+struct Level1 {
+  bool refine;
+  Orientation orientation;
+};
+inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float4 eps, bool geo, bool refine_all) {
+  const PixelCase pcase = kCaseTable[corner_mask(corners_display, corners_sig, eps)];
+  return {pcase != PixelCase::None || geo || refine_all,
+          pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal};
+}
+
+// Level 2: the zones a level-2 pixel traces: the three tables OR-ed, and every zone with
+// refine_all or for a geo pixel under GeoPolicy::All or whose masks all stayed zero.
+inline int decide_zones(const TableSet& t, int b, int c0, int c1, bool geo, GeoPolicy policy, bool refine_all) {
+  const bool no_mask = (b | c0 | c1) == 0;
+  const bool full = refine_all || (geo && (policy == GeoPolicy::All || no_mask));
+  return t.zones(b, c0, c1) | (-int(full) & kAllZones);
 }
 
 // ---- level 3 (§6) -----------------------------------------------------------

@@ -36,6 +36,7 @@ namespace zz {
 struct AdaptiveScratch {
   std::vector<float4> corner_linear;   // (rw+1)*(rh+1) AoS (r, g, b, 0)
   std::vector<float4> corner_display;  // tone-mapped
+  std::vector<int32_t> corner_signature;  // signature.h (0 when the source has none)
   std::vector<float4> lattice;         // Mitchell: 25 per region pixel, by physical k
   std::vector<uint8_t> refined;        // Mitchell: per region pixel
 
@@ -61,11 +62,11 @@ inline size_t corner_count(const TileTarget& target, Filter filter) {
 }
 
 // Level 1 of a tile: the corner grid of its region in 2x2 packets into `corner_lin`
-// (linear) and `corner_disp` (tone-mapped), corner_count entries each. Needs no
-// visibility map, so it can run while the map is still being made.
+// (linear), `corner_disp` (tone-mapped) and `corner_sig` (signatures), corner_count
+// entries each. Needs no visibility map, so it can run while the map is still being made.
 template <SampleSource S>
 void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, float4* corner_lin,
-                   float4* corner_disp, AaStats& stats) {
+                   float4* corner_disp, int32_t* corner_sig, AaStats& stats) {
   const TileRect tile = target.rect;
   if (tile.width() <= 0 || tile.height() <= 0) return;
   const TileRect region = adaptive_region(tile, target.frame_width, target.frame_height, settings.filter);
@@ -82,18 +83,23 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
       const int i1 = std::min(i + 1, cw - 1);
       const float x0 = float(region.x0 + i), x1 = float(region.x0 + i1);
       const float y0 = float(region.y0 + j), y1 = float(region.y0 + j1);
-      const Rgb4 c = source.sample4(float4(x0, x1, x0, x1), float4(y0, y0, y1, y1));
+      int4 sig;
+      const Rgb4 c = sample4_signed(source, float4(x0, x1, x0, x1), float4(y0, y0, y1, y1), sig);
       const Rgb4 d = tonemap.apply4(c);
       float4 l[4], t[4];
+      alignas(16) int32_t g[4];
       aos_from_soa(c, l[0], l[1], l[2], l[3]);
       aos_from_soa(d, t[0], t[1], t[2], t[3]);
+      sig.store(g);
       // Write lanes back to front so a repeated lane never overwrites a distinct one.
       const int idx[4] = {j * cw + i, j * cw + i1, j1 * cw + i, j1 * cw + i1};
-      for (int lane = 3; lane >= 0; --lane) corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane];
+      for (int lane = 3; lane >= 0; --lane)
+        corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
     }
   }
   stats.rays[0] += corner_rays;
+  stats.padded_rays += 4 * uint64_t((cw + 1) / 2) * uint64_t((ch + 1) / 2) - corner_rays;
   stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -101,7 +107,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
 // Levels 2-3 and the filter of a tile whose corners trace_corners has traced.
 template <SampleSource S>
 void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
-                 const float4* corner_lin, const float4* corner_disp, AaStats& stats) {
+                 const float4* corner_lin, const float4* corner_disp, const int32_t* corner_sig, AaStats& stats) {
   const TileRect tile = target.rect;
   const int W = target.frame_width, H = target.frame_height;
   if (tile.width() <= 0 || tile.height() <= 0) return;
@@ -134,21 +140,20 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const float4 bl = corner_lin[ci + cw], br = corner_lin[ci + cw + 1];
       const Rgb4 disp = soa_from_aos(corner_disp[ci], corner_disp[ci + 1], corner_disp[ci + cw], corner_disp[ci + cw + 1]);
 
-      const PixelCase pcase = kCaseTable[corner_mask(disp, eps)];
+      const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
       const bool g = geo.at(x, y);
-      const bool refine = pcase != PixelCase::None || g || settings.refine_all;
+      const Level1 l1 = decide_level1(disp, sig, eps, g, settings.refine_all);
+      const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
       } else {
-        o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
+        o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
-        const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, tonemap, eps);
-        const bool no_mask = (l2.b | l2.c0 | l2.c1) == 0;
-        const bool full = settings.refine_all || (g && (settings.geo_policy == GeoPolicy::All || no_mask));
-        zones = zone_set(tables, l2, full);
+        const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);
@@ -255,9 +260,12 @@ void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo
   if (scratch.corner_linear.size() < n) {
     scratch.corner_linear.resize(n);
     scratch.corner_display.resize(n);
+    scratch.corner_signature.resize(n);
   }
-  trace_corners(source, target, settings, scratch.corner_linear.data(), scratch.corner_display.data(), stats);
-  refine_tile(source, target, geo, settings, scratch.corner_linear.data(), scratch.corner_display.data(), stats);
+  trace_corners(source, target, settings, scratch.corner_linear.data(), scratch.corner_display.data(),
+                scratch.corner_signature.data(), stats);
+  refine_tile(source, target, geo, settings, scratch.corner_linear.data(), scratch.corner_display.data(),
+              scratch.corner_signature.data(), stats);
 }
 
 }  // namespace zz

@@ -3,6 +3,7 @@
 
 #include <string_view>
 
+#include "aa/signature.h"
 #include "aa/table_set.h"
 #include "core/tonemap.h"
 
@@ -20,6 +21,9 @@ struct AdaptiveSettings {
   GeoPolicy geo_policy = GeoPolicy::Paper;
   Filter filter = Filter::Box;
   ToneMap tonemap;
+  // Parts of the sample signatures the sources return (signature.h, ALGORITHM.md §11);
+  // kSignatureNone is the paper's colour-only predicate.
+  unsigned signature = kSignatureNone;
   // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;

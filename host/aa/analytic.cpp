@@ -161,7 +161,7 @@ AnalyticRun adaptive_run(const char* method, const AnalyticImage& image, const G
   frame = Film(image.size, image.size);
   AnalyticRun r;
   r.method = method;
-  r.stats = render_frame_adaptive(AnalyticSource{&image}, frame, geo, settings, o.tile_size, o.threads);
+  r.stats = render_frame_adaptive(AnalyticSource{&image, settings.signature}, frame, geo, settings, o.tile_size, o.threads);
   r.rays_per_pixel = r.stats.rays_per_pixel();
   r.level2_fraction = r.stats.level2_fraction();
   r.level3_fraction = r.stats.level3_fraction();

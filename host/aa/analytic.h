@@ -37,9 +37,23 @@ struct AnalyticImage {
 AnalyticImage make_analytic_image(std::string_view name, int size);
 std::vector<std::string_view> analytic_image_names();
 
-// Each lane is one evaluation ("one ray").
+// Each lane is one evaluation ("one ray"). Its signature (signature.h) is the object
+// under the point when `signature` has kSignatureObject (images have no lights or mirrors).
 struct AnalyticSource {
   const AnalyticImage* image;
+  unsigned signature = kSignatureNone;
+
+  Rgb4 sample4(float4 px, float4 py, int4& sig) const {
+    alignas(16) float x[4], y[4];
+    alignas(16) int32_t id[4] = {0, 0, 0, 0};
+    if (signature & kSignatureObject) {
+      px.store(x);
+      py.store(y);
+      for (int i = 0; i < 4; ++i) id[i] = int32_t(image->object_id(x[i], y[i]));
+    }
+    sig = int4(id[0], id[1], id[2], id[3]);
+    return sample4(px, py);
+  }
 
   Rgb4 sample4(float4 px, float4 py) const {
     alignas(16) float x[4], y[4], r[4], g[4], b[4];
@@ -52,7 +66,7 @@ struct AnalyticSource {
     return {float4::load(r), float4::load(g), float4::load(b)};
   }
 };
-static_assert(SampleSource<AnalyticSource>);
+static_assert(SignedSampleSource<AnalyticSource>);
 
 // Mean of ss x ss regular supersamples per pixel (issue 4: ss >= 32).
 std::vector<glm::vec3> exact_reference(const AnalyticImage& image, int ss = 32, int threads = 0);

@@ -10,16 +10,17 @@
 
 namespace zz {
 
-float PixelPattern::eval(float x, float y) const {
+bool PixelPattern::inside_at(float x, float y) const {
   const float d = nx * x + ny * y - c;
-  bool in = false;
   switch (kind) {
-    case Edge: in = d >= 0.0f; break;
-    case ThinLine: in = std::fabs(d) < 0.5f * width; break;
-    case Wedge: in = d >= 0.0f && nx2 * x + ny2 * y - c2 >= 0.0f; break;
+    case Edge: return d >= 0.0f;
+    case ThinLine: return std::fabs(d) < 0.5f * width;
+    case Wedge: return d >= 0.0f && nx2 * x + ny2 * y - c2 >= 0.0f;
   }
-  return in ? inside : outside;
+  return false;
 }
+
+float PixelPattern::eval(float x, float y) const { return inside_at(x, y) ? inside : outside; }
 
 Rgb4 PixelPatternSource::sample4(float4 px, float4 py) const {
   alignas(16) float x[4], y[4], g[4];
@@ -28,6 +29,18 @@ Rgb4 PixelPatternSource::sample4(float4 px, float4 py) const {
   for (int i = 0; i < 4; ++i) g[i] = pattern->eval(x[i], y[i]);
   const float4 v = float4::load(g);
   return {v, v, v};
+}
+
+Rgb4 PixelPatternSource::sample4(float4 px, float4 py, int4& sig) const {
+  alignas(16) float x[4], y[4];
+  alignas(16) int32_t side[4] = {0, 0, 0, 0};
+  if (signatures) {
+    px.store(x);
+    py.store(y);
+    for (int i = 0; i < 4; ++i) side[i] = pattern->inside_at(x[i], y[i]) ? 2 : 1;
+  }
+  sig = int4(side[0], side[1], side[2], side[3]);
+  return sample4(px, py);
 }
 
 namespace {
@@ -87,23 +100,25 @@ Population make_population(int n, uint32_t seed) {
 }
 
 PatternRecord evaluate_pattern(const PixelPattern& p, const AdaptiveSettings& settings) {
-  PixelPatternSource source{&p};
+  PixelPatternSource source{&p, (settings.signature & kSignatureObject) != 0};
   const float4 eps(settings.eps);
   // Level 1: the pixel's 4 corners as one packet (TL, TR, BL, BR).
-  const Rgb4 lin = source.sample4(float4(0, 1, 0, 1), float4(0, 0, 1, 1));
+  int4 sig;
+  const Rgb4 lin = source.sample4(float4(0, 1, 0, 1), float4(0, 0, 1, 1), sig);
   const Rgb4 disp = settings.tonemap.apply4(lin);
   float4 tl, tr, bl, br;
   aos_from_soa(lin, tl, tr, bl, br);
-  const PixelCase pcase = kCaseTable[corner_mask(disp, eps)];
+  // The sampler's own rule (adaptive_pixel.h); the tuner's pixels have no visibility map.
+  const Level1 l1 = decide_level1(disp, sig, eps, /*geo=*/false, settings.refine_all);
 
   PatternRecord r;
   alignas(16) float4 lattice[kLatticePoints];
-  const Orientation o = pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
+  const Orientation o = l1.orientation;
   const float4 zero(0.0f);
-  const Level2 l2 = trace_level2(source, zero, zero, o, lin, disp, settings.tonemap, eps);
+  const Level2 l2 = trace_level2(source, zero, zero, o, lin, disp, sig, settings.tonemap, eps);
   trace_level3(source, zero, zero, l2, kAllZones, lattice);
   const float reference = box_lattice(tl, tr, bl, br, lattice)[0];
-  if (pcase == PixelCase::None) {
+  if (!l1.refine) {
     r.error.fill(std::fabs(corner_mean(tl, tr, bl, br)[0] - reference));
     return r;
   }
@@ -133,7 +148,7 @@ double rays_of(const PatternRecord& r, int zones) { return r.refined ? refined_r
 TableScore score_tables(const TableSet& t, const std::vector<PatternRecord>& records) {
   TableScore s;
   for (const PatternRecord& r : records) {
-    const int z = r.refined ? t.zones(r.b, r.c0, r.c1) : 0;
+    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, /*geo=*/false, GeoPolicy::Paper, false) : 0;
     s.error += r.error[z];
     s.rays += rays_of(r, z);
   }
@@ -152,6 +167,7 @@ TableSet tune_tables(const TableSet& start, const std::vector<PatternRecord>& re
       users[16 + records[i].c0].push_back(i);
       users[32 + records[i].c1].push_back(i);
     }
+  // The zones of a record: decide_zones without a geo flag, i.e. the three entries OR-ed.
   auto cost_of = [&](int entry) {
     double c = 0;
     for (uint32_t i : users[entry]) {

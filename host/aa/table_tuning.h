@@ -24,12 +24,17 @@ struct PixelPattern {
   float width = 0.3f;                  // thin line: |n.p - c| < width / 2
   float inside = 1, outside = 0;       // grey levels
 
+  bool inside_at(float x, float y) const;
   float eval(float x, float y) const;
 };
 
+// Signature (signature.h) with `signatures`: the side of the pattern (1 outside, 2 inside),
+// what an object id says at an edge.
 struct PixelPatternSource {
   const PixelPattern* pattern;
+  bool signatures = false;
   Rgb4 sample4(float4 px, float4 py) const;
+  Rgb4 sample4(float4 px, float4 py, int4& sig) const;
 };
 
 // One configuration evaluated for every zone set.

@@ -59,6 +59,7 @@ void run(const AnalyticArgs& a) {
   o.settings.tables = a.adaptive.tables;
   o.settings.geo_policy = a.adaptive.geo_policy;
   o.settings.filter = a.adaptive.filter;
+  o.settings.signature = a.adaptive.signature;
   o.geo_ss = a.geo_ss;
   o.threads = a.threads;
   const AnalyticReport report = run_analytic(o);
@@ -79,7 +80,8 @@ void run(const AnalyticArgs& a) {
   if (!a.json.empty()) {
     nlohmann::json j = {{"image", a.image},   {"size", a.size},           {"eps", a.adaptive.eps},
                         {"tables", tables},   {"geo_policy", geo_policy}, {"geo_ss", a.geo_ss},
-                        {"filter", filter},   {"runs", nlohmann::json::array()}};
+                        {"filter", filter},   {"signature", signature_name(a.adaptive.signature)},
+                        {"runs", nlohmann::json::array()}};
     for (const AnalyticRun& r : report.runs) j["runs"].push_back(to_json(r));
     write_text_atomically(a.json, j.dump(2) + "\n");
   }

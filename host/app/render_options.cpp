@@ -20,6 +20,20 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--geo-policy", o.geo_policy, kGeoPolicies,
              "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
   add_choice(cmd, "--filter", o.filter, kFilters, "Adaptive: reconstruction filter");
+  cmd->add_option_function<std::string>(
+         "--signature", [&o](const std::string& text) { o.signature = parse_signature(text); },
+         "Adaptive: samples also differ where they saw different things: none, all, or a comma list of "
+         "object (primary hit's material), lights (shadowed lights), secondary (first reflection/refraction "
+         "hits) (default " + signature_name(o.signature) + ")")
+      ->type_name("PARTS")
+      ->check([](const std::string& text) {
+        try {
+          parse_signature(text);
+          return std::string();
+        } catch (const Error& e) {
+          return std::string(e.what());
+        }
+      });
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
@@ -76,6 +90,7 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
     s.adaptive.tables = o.adaptive.tables;
     s.adaptive.geo_policy = o.adaptive.geo_policy;
     s.adaptive.filter = o.adaptive.filter;
+    s.adaptive.signature = o.adaptive.signature;
   } else if (o.aa == AaMode::Uniform) {
     s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }

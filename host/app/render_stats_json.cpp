@@ -34,7 +34,9 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"tables", o.adaptive.tables->name},
                      {"geo_policy", name_of(kGeoPolicies, o.adaptive.geo_policy)},
                      {"filter", name_of(kFilters, o.adaptive.filter)},
+                     {"signature", signature_name(o.adaptive.signature)},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
+                     {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},
                      {"level3_fraction", a.level3_fraction()},
                      {"vertical_fraction", a.per_pixel(a.vertical_pixels)},

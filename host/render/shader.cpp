@@ -22,6 +22,8 @@ struct SurfacePoint {
   glm::vec3 ng;        // geometric normal facing the incoming ray
   glm::vec3 ns;        // shading normal facing the incoming ray, same hemisphere as ng
   glm::vec3 wo;        // unit direction back towards the ray origin
+  glm::vec3 shadow_p;  // shadow-ray origin before the offset: hit.p lifted to the smooth surface
+  bool lifted = false; // shadow_p != hit.p (smooth shading bends the surface outward here)
   glm::vec3 albedo;    // diffuse reflectance (texture applied)
   glm::vec3 dir;       // the ray's direction as traced (not normalised)
   bool front = true;   // the ray hit the side the triangle's winding normal points to
@@ -136,6 +138,27 @@ glm::vec3 facing_shading_normal(const SurfacePoint& s, glm::vec3 ns) {
   if (!s.front) ns = -ns;
   // A shading normal pointing away from the viewer would shade a lit side black.
   return glm::dot(ns, s.wo) > 0.0f ? ns : s.ng;
+}
+
+// The shadow terminator: a coarse mesh with interpolated normals is shaded as the smooth
+// surface its vertex normals describe, but shadow rays leave the flat triangle, which lies
+// inside that surface, so near the terminator they are blocked by the triangle itself or
+// its neighbours and lit regions turn black facet by facet. Hanika, "Hacking the Shadow
+// Terminator" (Ray Tracing Gems II, 2021): start them from the point projected onto the
+// tangent plane of each vertex (normal n_i, the side the ray came from), interpolated with
+// the barycentrics, p' = sum b_i (p - min(0, (p - p_i).n_i) n_i): only outward moves,
+// so concave regions, where the planes lie below the triangle, keep p. Exact on flat
+// meshes (every n_i = ng gives p' = p).
+glm::vec3 lift_to_smooth_surface(glm::vec3 p, const glm::vec3* vertices, const glm::vec3* normals, float u, float v,
+                                 bool flip) {
+  const float b[3] = {1.0f - u - v, u, v};
+  glm::vec3 lifted = p;
+  for (int i = 0; i < 3; ++i) {
+    const glm::vec3 n = flip ? -normals[i] : normals[i];
+    const float height = glm::dot(p - vertices[i], n);  // signed, above the vertex's plane
+    if (height < 0.0f) lifted -= (b[i] * height) * n;
+  }
+  return lifted;
 }
 
 // Fills a packet lane by lane, then loads it once. Unused lanes stay harmless
@@ -357,7 +380,7 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 
 template <unsigned kEffects>
 Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                         RayCounters& counters) const {
+                         RayCounters& counters, PathSignature4* signature) const {
   constexpr bool kTextured = (kEffects & kTextures) != 0;
   constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
@@ -390,6 +413,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     SurfacePoint& s = sp[i];
     glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
+    if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
     if constexpr (kTextured) {
       const Material& gltf = scene_.materials[mat_index];
@@ -404,6 +428,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.material = &material_at<false>(scene_, mat_index, nullptr, s.local, s.albedo);
       if constexpr (kSeeThrough) s.alpha = coverage(scene_, scene_.materials[mat_index], Texcoords(scene_, t3, u, v));
     }
+    s.shadow_p = lift_to_smooth_surface(s.hit.p, &scene_.positions[t3], &scene_.normals[t3], u, v, !s.front);
+    s.lifted = s.shadow_p != s.hit.p;
     s.ns = facing_shading_normal(s, ns);
     out[0][i] = emission.r;
     out[1][i] = emission.g;
@@ -413,7 +439,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
 
   // Direct light: one shadow packet per light, lanes that face it.
   if constexpr ((kEffects & kShadows) != 0) {
-    for (const Light& light : scene_.lights) {
+    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+      const Light& light = scene_.lights[light_index];
+      const uint32_t light_bit = 1u << (light_index % 32);
       PacketBuilder shadow;
       glm::vec3 contribution[4];
       bool want[4] = {false, false, false, false};
@@ -424,7 +452,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         float dist;
         if (!light_towards(light, s.hit.p, wi, dist, scale)) continue;
         const float cos_s = glm::dot(s.ns, wi);
-        if (cos_s <= 0.0f || glm::dot(s.ng, wi) <= 0.0f) continue;
+        // Below the flat triangle's plane the light is blocked by the triangle itself,
+        // unless the shadow ray starts lifted off it (the shadow terminator, above).
+        if (cos_s <= 0.0f || (glm::dot(s.ng, wi) <= 0.0f && !s.lifted)) continue;
         const WhittedMaterial& m = *s.material;
         // Normalised Phong: (n+2)/(2 pi) cos^n(R, wo), energy-conserving lobe.
         const glm::vec3 r = 2.0f * glm::dot(s.ns, wi) * s.ns - wi;
@@ -433,7 +463,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const glm::vec3 f = s.albedo * kInvPi + m.specular * phong;
         contribution[i] = f * scale * cos_s;
         if (!(contribution[i].r > 0.0f || contribution[i].g > 0.0f || contribution[i].b > 0.0f)) continue;
-        const glm::vec3 origin = offset_ray_origin(s.hit, s.ng);
+        // The lifted point's rounding error is that of the hit plus a few ULPs of the lift.
+        const glm::vec3 lift = s.shadow_p - s.hit.p;
+        const SurfacePosition from{s.shadow_p, s.hit.error + glm::abs(lift) * 4e-7f};
+        const glm::vec3 origin = offset_ray_origin(from, s.ng);
         if (light.type == Light::Type::Directional)
           shadow.set(i, origin, wi, kInfinity);
         else
@@ -448,6 +481,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             scene_, bvh_, light, shadow, lanes.bits(), through, counters);
         for (int i = 0; i < 4; ++i) {
           if (!want[i]) continue;
+          if (signature && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
+            signature->shadowed[i] |= light_bit;
           out[0][i] += contribution[i].r * through[i].r;
           out[1][i] += contribution[i].g * through[i].g;
           out[2][i] += contribution[i].b * through[i].b;
@@ -456,6 +491,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         counters.shadow += uint64_t(count_lanes(lanes));
         const int blocked = bvh_.occluded4(shadow.packet(), lanes).bits();
         for (int i = 0; i < 4; ++i) {
+          if (signature && want[i] && ((blocked >> i) & 1)) signature->shadowed[i] |= light_bit;
           if (!want[i] || ((blocked >> i) & 1)) continue;
           out[0][i] += contribution[i].r;
           out[1][i] += contribution[i].g;
@@ -519,8 +555,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
+        PathSignature4 seen;  // the reflected rays' first hits, for a camera packet's signature
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                        float4::load(reflect_path), counters);
+                                        float4::load(reflect_path), counters, signature && depth == 0 ? &seen : nullptr);
+        if (signature && depth == 0)
+          for (int i = 0; i < 4; ++i) signature->reflected[i] = do_reflect[i] ? seen.object[i] : 0;
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];
@@ -532,8 +571,16 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
+          // A refracted ray's first hit is mostly the far side of the same glass; what the
+          // glass shows is the hit after that, so a camera packet's signature keeps both.
+          PathSignature4 seen;
+          const bool sign = signature && depth <= 1;
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters);
+                                        float4::load(refract_path), counters, sign ? &seen : nullptr);
+          if (sign)
+            for (int i = 0; i < 4; ++i)
+              signature->refracted[i] =
+                  !do_refract[i] ? 0u : depth == 0 ? (seen.object[i] * 0x9E3779B1u) ^ seen.refracted[i] : seen.object[i];
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];
@@ -569,7 +616,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (blend != 0) {
       counters.continuation += uint64_t(std::popcount(unsigned(blend)));
       const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
-                                           blend_layers + 1, throughput, counters);  // bounded by kMaxBlendLayers
+                                           blend_layers + 1, throughput, counters, nullptr);  // bounded by kMaxBlendLayers
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
         const float a = sp[i].alpha;

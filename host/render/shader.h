@@ -28,14 +28,26 @@ struct PrimaryHit4 {
   glm::vec3 albedo[4];  // base colour: glTF baseColorFactor x baseColorTexture (linear); 0 on a miss
 };
 
+// What each lane of a camera packet saw, for the sample signatures (aa/signature.h):
+// indices + 1 of the materials hit (0 = nothing: background, or no such ray).
+struct PathSignature4 {
+  uint32_t object[4] = {};     // the primary hit
+  uint32_t shadowed[4] = {};   // bit l % 32: light l's shadow ray was blocked or attenuated
+  uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
+  uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
+};
+
 class Shader {
  public:
   Shader(const Scene& scene, const Bvh& bvh);
 
   // Radiance arriving along the active lanes' rays (inactive lanes return 0).
   // `depth` counts the bounces already taken: 0 for camera rays.
-  Rgb4 trace4(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters) const {
-    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), counters);
+  // `signature`, if given (zero-initialised), receives what the lanes saw: integer
+  // bookkeeping only, the same rays are traced either way.
+  Rgb4 trace4(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters,
+              PathSignature4* signature = nullptr) const {
+    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), counters, signature);
   }
 
   // Throughput cutoff: a reflected or refracted ray is spawned only while the path's
@@ -62,9 +74,9 @@ class Shader {
   // `blend_layers` counts the BLEND surfaces already seen through along this ray.
   template <unsigned kEffects>
   Rgb4 trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                   RayCounters& counters) const;
+                   RayCounters& counters, PathSignature4* signature) const;
 
-  using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, RayCounters&) const;
+  using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, RayCounters&, PathSignature4*) const;
   template <unsigned... kE>
   static Kernel pick_kernel(unsigned effects, std::integer_sequence<unsigned, kE...>);
 

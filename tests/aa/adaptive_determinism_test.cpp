@@ -19,19 +19,22 @@ TEST(AdaptiveDeterminism, BitIdenticalAcrossTilesAndThreads) {
   const AnalyticImage star = make_analytic_image("star", 90);
   const GeoMap geo = analytic_geo_map(star, 4);
   for (Filter f : {Filter::Box, Filter::Mitchell})
-    for (GeoPolicy gp : {GeoPolicy::Paper, GeoPolicy::All}) {
-      AdaptiveSettings s;
-      s.filter = f;
-      s.geo_policy = gp;
-      s.tables = find_table_set("tuned");
-      const Film ref = test::render(AnalyticSource{&star}, 90, 90, s, 64, 1, geo);
-      for (int tile : {64, 13, 1, 90, 7})
-        for (int threads : {1, 2}) {
-          SCOPED_TRACE(testing::Message() << to_string(f) << " " << to_string(gp) << " tile " << tile << " threads "
-                                          << threads);
-          EXPECT_TRUE(same(ref, test::render(AnalyticSource{&star}, 90, 90, s, tile, threads, geo)));
-        }
-    }
+    for (GeoPolicy gp : {GeoPolicy::Paper, GeoPolicy::All})
+      for (unsigned sig : {kSignatureNone, kSignatureObject}) {  // signatures: corners carry one more array
+        AdaptiveSettings s;
+        s.filter = f;
+        s.geo_policy = gp;
+        s.signature = sig;
+        s.tables = find_table_set("tuned");
+        const AnalyticSource source{&star, sig};
+        const Film ref = test::render(source, 90, 90, s, 64, 1, geo);
+        for (int tile : {64, 13, 1, 90, 7})
+          for (int threads : {1, 2}) {
+            SCOPED_TRACE(testing::Message() << to_string(f) << " " << to_string(gp) << " signature "
+                                            << signature_name(sig) << " tile " << tile << " threads " << threads);
+            EXPECT_TRUE(same(ref, test::render(source, 90, 90, s, tile, threads, geo)));
+          }
+      }
 }
 
 TEST(AdaptiveDeterminism, TileOrderDoesNotMatter) {

@@ -71,7 +71,10 @@ TEST(Analytic, ZoneplateErrorWithinMeasuredBound) {
 TEST(Analytic, GradientAndPenumbra) {
   const AnalyticReport g = run("gradient", "paper");
   EXPECT_EQ(g.runs[0].stats.rays[1] + g.runs[0].stats.rays[2], 0u);
-  EXPECT_NEAR(g.runs[0].rays_per_pixel, 16.0 * 65 * 65 / (256.0 * 256.0), 1e-9);  // corners + tile rings
+  // Corners + tile rings, 65 x 65 per tile traced as 33 x 33 packets (the odd row and
+  // column padded: camera rays all the same).
+  EXPECT_NEAR(g.runs[0].rays_per_pixel, 16.0 * 33 * 33 * 4 / (256.0 * 256.0), 1e-9);
+  EXPECT_EQ(g.runs[0].stats.rays[0], 16u * 65 * 65);
   EXPECT_LT(g.runs[0].error.rmse, 1e-5);
   const AnalyticReport p = run("penumbra", "paper");
   EXPECT_LT(p.runs[0].error.rmse, 0.002);

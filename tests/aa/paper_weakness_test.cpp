@@ -29,7 +29,7 @@ double missed_fraction(const TableSet& tables, int* configurations = nullptr) {
       ++refined;
       const PixelPatternSource src{&p};
       const Rgb4 corners = src.sample4(float4(0, 1, 0, 1), float4(0, 0, 1, 1));
-      const PixelCase c = kCaseTable[corner_mask(s.tonemap.apply4(corners), float4(s.eps))];
+      const PixelCase c = kCaseTable[corner_mask(s.tonemap.apply4(corners), int4(0), float4(s.eps))];
       const Orientation o = c == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal;
       const int zones = tables.zones(r.b, r.c0, r.c1);
       bool miss = false;

@@ -69,7 +69,7 @@ TEST(ZoneTables, WorkedExampleThroughTheMaskCode) {
   const Rgb4 corners{float4(1, 0, 1, 0), float4(1, 0, 1, 0), float4(1, 0, 1, 0)};
   ToneMap tm;
   const Level2 l2 = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Horizontal, corners,
-                                 tm.apply4(corners), tm, float4(0.1f));
+                                 tm.apply4(corners), int4(0), tm, float4(0.1f));
   EXPECT_EQ(l2.b, 0b0101);
   EXPECT_EQ(l2.c1, 0b0001);  // d(A,F), !d(B,H), !d(C,E), !d(D,G)
 }

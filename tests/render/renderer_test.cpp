@@ -84,6 +84,54 @@ TEST(Renderer, BitIdenticalAcrossThreadsTileSizesAndOrder) {
   }
 }
 
+TEST(Renderer, AdaptiveIsBitIdenticalAcrossThreadsTileSizesAndOrderWithAndWithoutSignatures) {
+  const Scene scene = box_scene();
+  for (unsigned sig : {kSignatureNone, kSignatureAll})
+    for (Filter filter : {Filter::Box, Filter::Mitchell}) {
+      SCOPED_TRACE(testing::Message() << "signature " << signature_name(sig) << " " << to_string(filter));
+      RenderSettings s;
+      s.width = 97;
+      s.height = 70;
+      s.adaptive.signature = sig;
+      s.adaptive.filter = filter;
+      s.threads = 1;
+      RenderStats first;
+      const Film reference = render(scene, s, &first);
+      s.threads = 2;
+      EXPECT_TRUE(bit_identical(reference, render(scene, s)));
+      s.tile_size = 16;
+      s.centre_out = true;
+      EXPECT_TRUE(bit_identical(reference, render(scene, s)));
+      s.tile_size = 7;
+      RenderStats last;
+      EXPECT_TRUE(bit_identical(reference, render(scene, s, &last)));
+      EXPECT_GT(first.aa.level2_pixels, 0u);
+      // One definition of rays/px: the sampler's count is the camera rays traced.
+      EXPECT_EQ(first.aa.total_rays(), first.rays.primary);
+      EXPECT_EQ(last.aa.total_rays(), last.rays.primary);
+      EXPECT_GT(last.aa.padded_rays, 0u);  // 7-pixel tiles: 8 x 8 corners, but 97 x 70 leaves odd edges
+    }
+}
+
+TEST(Renderer, SignaturesRefineASupersetOfThePixels) {
+  // The same frame with all signature parts refines a superset of the pixels.
+  const Scene scene = box_scene();
+  RenderSettings s;
+  s.width = 97;
+  s.height = 70;
+  s.adaptive.eps = 0.2f;
+  RenderStats plain, with;
+  const Film a = render(scene, s, &plain);
+  s.adaptive.signature = kSignatureAll;
+  const Film b = render(scene, s, &with);
+  EXPECT_GT(with.aa.level2_pixels, plain.aa.level2_pixels);
+  for (size_t i = 0; i < a.level.size(); ++i) {
+    if (a.level[i] > 1) {
+      EXPECT_GT(b.level[i], 1) << "pixel " << i;
+    }
+  }
+}
+
 TEST(Renderer, LatticeTracesTwentyFiveRaysPerPixelPlusTheRing) {
   RenderSettings s;
   s.width = 64;
@@ -152,6 +200,7 @@ TEST(Renderer, PendingMapIsBitIdenticalToAFinishedOne) {
   for (int y = 0; y < s.height; ++y) geo.flags[size_t(y) * s.width + (y * 7) % s.width] = 1;  // a diagonal
   for (Filter filter : {Filter::Box, Filter::Mitchell}) {
     s.adaptive.filter = filter;
+    s.adaptive.signature = filter == Filter::Box ? kSignatureNone : kSignatureAll;  // both corner stashes
     Film a, b;
     RenderStats sa, sb;
     render_frame(shader, scene.cameras[0], geo, s, a, sa);

@@ -3,6 +3,8 @@
 
 #include <glm/glm.hpp>
 
+#include <cmath>
+
 #include "scene/scene.h"
 
 namespace zz::test {
@@ -31,6 +33,28 @@ inline void add_box(Scene& s, glm::vec3 lo, glm::vec3 hi, uint32_t material) {
   add_quad(s, p[3], p[7], p[6], p[2], material);  // +y
   add_quad(s, p[0], p[4], p[7], p[3], material);  // -x
   add_quad(s, p[1], p[2], p[6], p[5], material);  // +x
+}
+
+// A unit UV sphere at the origin of `segments` x `rings` quads, poles on y, turned by
+// `turn` radians about y; smooth shading (vertex normals are the sphere's).
+inline void add_uv_sphere(Scene& s, int segments, int rings, float turn, uint32_t material) {
+  const float pi = 3.14159265358979f;
+  auto at = [&](int i, int j) {
+    const float phi = 2.0f * pi * float(i) / float(segments) + turn, theta = pi * float(j) / float(rings);
+    return glm::vec3(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+  };
+  auto tri = [&](glm::vec3 a, glm::vec3 b, glm::vec3 c) {
+    if (glm::length(glm::cross(b - a, c - a)) < 1e-6f) return;  // the poles' degenerate halves
+    s.positions.insert(s.positions.end(), {a, b, c});
+    s.normals.insert(s.normals.end(), {glm::normalize(a), glm::normalize(b), glm::normalize(c)});
+    s.uvs.insert(s.uvs.end(), {glm::vec2(0), glm::vec2(0), glm::vec2(0)});
+    s.material_of.push_back(material);
+  };
+  for (int j = 0; j < rings; ++j)
+    for (int i = 0; i < segments; ++i) {  // outward winding
+      tri(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+      tri(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+    }
 }
 
 inline Material diffuse_material(glm::vec3 albedo) {

@@ -39,11 +39,19 @@ for scene in ("room", "glass"):
     check(float(ada["flip"]) < float(none["flip"]), f"{scene}: adaptive FLIP not below 1 ray/px")
     check(1.0 < float(ada["rays_per_px"]) < 25.0, f"{scene}: adaptive rays/px {ada['rays_per_px']}")
     check(abs(float(lat["rays_per_px"]) - 25.0) < 0.1, f"{scene}: lattice rays/px {lat['rays_per_px']}")
+    # Signatures only add refinements: never fewer rays than the same setting without them.
+    base = by.get((scene, "adaptive-eps0.05-vulkan-box-tuned-geoall"))
+    signed = by.get((scene, "adaptive-eps0.05-vulkan-box-tuned-geoall-sigall"))
+    check(base and signed, f"{scene}: missing the signature ablation rows")
+    if base and signed:
+        check(float(signed["rays_per_px"]) >= float(base["rays_per_px"]),
+              f"{scene}: --signature all traced fewer rays than none")
 star = [r for r in rows if r["scene"] == "star"]
 check(any(r["mode"] == "adaptive" for r in star) and any(r["setting"] == "uniform-lattice-25" for r in star),
       "star rows missing")
 report = (out / "REPORT.md").read_text()
-for needle in ("## Table 2", "## Targets of issue 5", "## Chosen defaults", "Recommended defaults"):
+for needle in ("## Table 2", "## Targets of issue 5", "## Chosen defaults", "Recommended defaults",
+               "## Sample signatures: ablation"):
     check(needle in report, f"REPORT.md lacks {needle!r}")
 for name in ("error_room.png", "error_star.png", "stages.png", "crops_room.png"):
     check((out / name).exists(), f"missing {name}")

@@ -4,7 +4,9 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from settings import CLI_DEFAULT, LATTICE25
+import dataclasses
+
+from settings import CLI_DEFAULT, LATTICE25, SIGNATURE_BASE, SIGNATURE_PARTS
 
 RAYS_TARGET, ERROR_TARGET, SPEEDUP_TARGET = 1.75, 1.1, 12.0
 
@@ -205,6 +207,37 @@ def config_table(choice: dict) -> list[str]:
     return lines
 
 
+def signature_ablation(rows: list[dict]) -> list[str]:
+    """Each signature part alone, and all of them, against the same setting without signatures:
+    the primary rays/px it adds and the share of the excess display error (adaptive MSE minus
+    the lattice's) it removes."""
+    lattice = by_scene(rows, LATTICE25.label)
+    base = by_scene(rows, SIGNATURE_BASE.label)
+    variants = [(p, dataclasses.replace(SIGNATURE_BASE, signature=p).label) for p in SIGNATURE_PARTS + ["all"]]
+    lines = []
+    for scene in sorted(base):
+        b, lat = base[scene], lattice.get(scene)
+        if not lat or not ok(b.get("rmse_display")) or not ok(lat.get("rmse_display")):
+            continue
+        excess = b["rmse_display"] ** 2 - lat["rmse_display"] ** 2
+        for part, label in variants:
+            v = by_scene(rows, label).get(scene)
+            if not v or not ok(v.get("rmse_display")):
+                continue
+            removed = (b["rmse_display"] ** 2 - v["rmse_display"] ** 2) / excess if excess > 0 else math.nan
+            lines.append(f"| {scene} | {part} | {v['rays_per_px'] - b['rays_per_px']:+.3f} | "
+                         f"{b['rmse_display'] / lat['rmse_display']:.3f} → {v['rmse_display'] / lat['rmse_display']:.3f} | "
+                         f"{fmt(removed, '.0%')} | {fmt(b['flip'] / lat['flip'], '.2f')} → {fmt(v['flip'] / lat['flip'], '.2f')} |")
+    if not lines:
+        return []
+    return ["## Sample signatures: ablation", "",
+            f"Against `{SIGNATURE_BASE.label}` (no signatures): each signature part alone and all of them "
+            "(ALGORITHM.md §11). *Removed* = the share of the excess display MSE (adaptive minus uniform 25 "
+            "lattice) that the part takes away; negative when it adds error.", "",
+            "| scene | signature | + rays/px | display RMSE × lattice | removed | FLIP × lattice |",
+            "|---|---|---:|---:|---:|---:|"] + lines + [""]
+
+
 def star_table(rows: list[dict]) -> list[str]:
     star = [r for r in rows if r["scene"] == "star"]
     if not star:
@@ -224,7 +257,7 @@ def recommendation(choice: dict) -> list[str]:
     if not c:
         return [f"No recommendation: {choice['why']}."]
     r = c["row"]
-    flags = f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} --edges {r['edges']}"
+    flags = f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} --edges {r['edges']} --signature {r.get('signature') or 'none'}"
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "
@@ -315,6 +348,7 @@ def write_report(path: Path, rows, env, refs, skipped, choice, figures, grid_doc
     lines += ["## Chosen defaults", ""] + recommendation(choice) + [""] + config_table(choice) + [""]
     lines += ["The Mitchell filter is at a disadvantage here: every reference (and the lattice) is a box-filtered "
               "pixel average, so a Mitchell image differs from it by the filter itself, not only by sampling error.", ""]
+    lines += signature_ablation(rows)
     lines += star_table(rows)
     lines += ["## Measured grid", "", grid_doc.strip(), "",
               "All rows are in `accuracy_vs_time.csv` (one per scene × setting).", "", "## Figures", ""]

@@ -105,6 +105,7 @@ def base_row(scene: str, s: Setting, stats: dict) -> dict:
         "eps": s.eps if s.eps is not None else "",
         "edges": s.edges if s.mode == "adaptive" else "", "filter": s.filter if s.mode == "adaptive" else "",
         "tables": s.tables if s.mode == "adaptive" else "", "geo_policy": s.geo if s.mode == "adaptive" else "",
+        "signature": s.signature if s.mode == "adaptive" else "",
         "width": stats.get("width"), "height": stats.get("height"),
         "threads": stats.get("threads"), "triangles": stats.get("triangles"),
         "lights": stats.get("lights"), "max_depth": stats.get("max_depth"),

@@ -6,6 +6,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     (edges vulkan, box filter, geo policy paper);
   * around eps 0.05 and 0.1, one factor changed at a time: --edges off, --filter mitchell,
     --tables all, --geo-policy all, tuned + geo all, tuned + edges off;
+  * sample signatures (ALGORITHM.md §11) around the CLI's adaptive defaults (eps 0.05,
+    tuned tables, geo policy all, edges vulkan, box): none, each part alone (object,
+    lights, secondary: the ablation table), all, and all at eps 0.1;
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -26,6 +29,7 @@ class Setting:
     filter: str = "box"
     tables: str = "paper"
     geo: str = "paper"
+    signature: str = "none"    # --signature: none | all | comma list of object, lights, secondary
 
     @property
     def label(self) -> str:
@@ -33,8 +37,9 @@ class Setting:
             return "none"
         if self.mode == "uniform":
             return f"uniform-{self.pattern}-{self.spp}"
+        sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (f"adaptive-eps{self.eps:g}-{self.edges}-{self.filter}"
-                f"-{self.tables}-geo{self.geo}")
+                f"-{self.tables}-geo{self.geo}{sig}")
 
     @property
     def family(self) -> str:
@@ -43,7 +48,8 @@ class Setting:
             return f"uniform {self.pattern}"
         if self.mode == "none":
             return "none"
-        return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}"
+        sig = "" if self.signature == "none" else f"/sig {self.signature}"
+        return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}"
 
     def timed_runs(self, runs: int) -> int:
         """Long uniform renders are timed once; the compared points `runs` times."""
@@ -55,13 +61,14 @@ class Setting:
         if self.mode == "uniform":
             return ["--aa", "uniform", "--spp", str(self.spp), "--pattern", self.pattern]
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
-                "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo]
+                "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
+                "--signature", self.signature]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
         ss = geo_ss if self.edges == "vulkan" else 0
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
-                "--geo-ss", str(ss), "--filter", self.filter]
+                "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature]
 
 
 # The renderer's current defaults (zigzag render --help / stats): the baseline of the variations.
@@ -69,6 +76,18 @@ CLI_DEFAULT = Setting("adaptive", eps=0.1, edges="vulkan", filter="box", tables=
                       geo="paper")
 
 LATTICE25 = Setting("uniform", spp=25, pattern="lattice")
+
+# The base of the signature ablation: the CLI's adaptive defaults without signatures.
+SIGNATURE_BASE = Setting("adaptive", eps=0.05, edges="vulkan", filter="box", tables="tuned", geo="all")
+SIGNATURE_PARTS = ["object", "lights", "secondary"]
+
+
+def signature_settings(quick: bool) -> list[Setting]:
+    r = dataclasses.replace
+    if quick:
+        return [SIGNATURE_BASE, r(SIGNATURE_BASE, signature="all")]
+    return ([SIGNATURE_BASE] + [r(SIGNATURE_BASE, signature=p) for p in SIGNATURE_PARTS]
+            + [r(SIGNATURE_BASE, signature="all"), r(SIGNATURE_BASE, eps=0.1, signature="all")])
 
 
 def uniform_settings(quick: bool) -> list[Setting]:
@@ -92,13 +111,13 @@ def adaptive_settings(quick: bool) -> list[Setting]:
     if quick:
         sweep = [0.05, 0.1, 0.2]
         points = [dataclasses.replace(CLI_DEFAULT, eps=e) for e in sweep]
-        return points + [dataclasses.replace(CLI_DEFAULT, edges="off")]
+        return _unique(points + [dataclasses.replace(CLI_DEFAULT, edges="off")] + signature_settings(True))
     sweep = [0.02, 0.05, 0.1, 0.2]
     points = [dataclasses.replace(CLI_DEFAULT, eps=e, tables=t)
               for t in ("paper", "tuned") for e in sweep]
     for eps in (0.05, 0.1):
         points += variations(dataclasses.replace(CLI_DEFAULT, eps=eps))
-    return _unique(points)
+    return _unique(points + signature_settings(False))
 
 
 def star_settings(quick: bool) -> list[Setting]:
