@@ -86,7 +86,11 @@ def remove_stale_temporaries(f: FrameJob) -> None:
     for path in [f.output] + [p.output for p in f.parts]:
         folder, name = os.path.split(path)
         stem, ext = os.path.splitext(name)
-        for tmp in glob.glob(os.path.join(glob.escape(folder), f".{glob.escape(stem)}.*.tmp{ext}*")):
+        # The job's temporaries (job.temporary_name), and zigzag's own temporaries of those
+        # (core/atomic_file: "." + stem + ".zz-PID-N" + ext), one more dot in front.
+        ours = f".{glob.escape(stem)}.*.tmp{glob.escape(ext)}*"
+        for tmp in glob.glob(os.path.join(glob.escape(folder), ours)) + \
+                glob.glob(os.path.join(glob.escape(folder), "." + ours)):
             try:
                 os.remove(tmp)
             except OSError:
