@@ -38,11 +38,11 @@ inline constexpr Choice<EdgeMode> kEdgeModes[] = {{"vulkan", EdgeMode::Vulkan}, 
 struct AdaptiveOptions {
   float eps = 0.05f;
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
-  GeoPolicy geo_policy = GeoPolicy::All;
+  GeoPolicy geo_policy = GeoPolicy::Paper;
   Filter filter = Filter::Box;
-  // Parts of the sample signatures (aa/signature.h). All: at 512² it has the lowest display
-  // error in each of room, glass and car, for +0.26 primary rays/px (docs/signatures.md).
-  unsigned signature = kSignatureAll;
+  // Parts of the sample signatures (aa/signature.h). None: every setting with signatures
+  // exceeds 1.75 rays/px over room, glass, car at 1024² (all: 1.91); docs/signatures.md.
+  unsigned signature = kSignatureNone;
 };
 
 struct RenderOptions {
