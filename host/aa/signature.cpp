@@ -41,8 +41,11 @@ std::string signature_name(unsigned parts) {
   if (parts == kSignatureNone) return "none";
   if (parts == kSignatureAll) return "all";
   std::string name;
-  for (const NamedPart& p : kParts)
-    if (parts & p.part) name += (name.empty() ? "" : ",") + std::string(p.name);
+  for (const NamedPart& p : kParts) {
+    if (!(parts & p.part)) continue;
+    if (!name.empty()) name += ',';
+    name += p.name;
+  }
   return name;
 }
 

@@ -54,8 +54,14 @@ fs::path temporary_for(const fs::path& target) {
   static std::atomic<unsigned> serial{0};
   // ".NAME.zz-PID-N.EXT": hidden, unique per process and call, and with the target's
   // extension so that OpenImageIO picks the same format.
-  const std::string name = "." + target.stem().string() + ".zz-" + std::to_string(::getpid()) + "-" +
-                           std::to_string(serial++) + target.extension().string();
+  // Appended piece by piece: GCC 12 warns falsely (-Wrestrict, PR 105329) on "." + string.
+  std::string name = ".";
+  name += target.stem().string();
+  name += ".zz-";
+  name += std::to_string(::getpid());
+  name += '-';
+  name += std::to_string(serial++);
+  name += target.extension().string();
   return target.parent_path() / name;
 }
 

@@ -33,8 +33,9 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(o.render.aa, AaMode::Adaptive);
   EXPECT_FLOAT_EQ(o.render.adaptive.eps, 0.05f);
   EXPECT_STREQ(o.render.adaptive.tables->name, "tuned");
-  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::All);
+  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::Paper);
   EXPECT_EQ(o.render.adaptive.filter, Filter::Box);
+  EXPECT_EQ(o.render.adaptive.signature, kSignatureNone);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
