@@ -22,8 +22,8 @@ struct SurfacePoint {
   glm::vec3 ng;        // geometric normal facing the incoming ray
   glm::vec3 ns;        // shading normal facing the incoming ray, same hemisphere as ng
   glm::vec3 wo;        // unit direction back towards the ray origin
-  glm::vec3 shadow_p;  // shadow-ray origin before the offset: hit.p lifted to the smooth surface
-  bool lifted = false; // shadow_p != hit.p (smooth shading bends the surface outward here)
+  glm::vec3 shadow_origin;  // hit.p lifted to the smooth surface, then offset: where shadow rays start
+  bool lifted = false;      // the lift moved the point (smooth shading bends the surface outward here)
   glm::vec3 albedo;    // diffuse reflectance (texture applied)
   glm::vec3 dir;       // the ray's direction as traced (not normalised)
   bool front = true;   // the ray hit the side the triangle's winding normal points to
@@ -428,8 +428,15 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.material = &material_at<false>(scene_, mat_index, nullptr, s.local, s.albedo);
       if constexpr (kSeeThrough) s.alpha = coverage(scene_, scene_.materials[mat_index], Texcoords(scene_, t3, u, v));
     }
-    s.shadow_p = lift_to_smooth_surface(s.hit.p, &scene_.positions[t3], &scene_.normals[t3], u, v, !s.front);
-    s.lifted = s.shadow_p != s.hit.p;
+    if constexpr ((kEffects & kShadows) != 0) {
+      // Once per hit, not per light: every shadow ray of this hit leaves from the same point.
+      const glm::vec3 shadow_p = lift_to_smooth_surface(s.hit.p, &scene_.positions[t3], &scene_.normals[t3], u, v,
+                                                        !s.front);
+      s.lifted = shadow_p != s.hit.p;
+      // The lifted point's rounding error is that of the hit plus a few ULPs of the lift.
+      const glm::vec3 lift = shadow_p - s.hit.p;
+      s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
+    }
     s.ns = facing_shading_normal(s, ns);
     out[0][i] = emission.r;
     out[1][i] = emission.g;
@@ -463,10 +470,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const glm::vec3 f = s.albedo * kInvPi + m.specular * phong;
         contribution[i] = f * scale * cos_s;
         if (!(contribution[i].r > 0.0f || contribution[i].g > 0.0f || contribution[i].b > 0.0f)) continue;
-        // The lifted point's rounding error is that of the hit plus a few ULPs of the lift.
-        const glm::vec3 lift = s.shadow_p - s.hit.p;
-        const SurfacePosition from{s.shadow_p, s.hit.error + glm::abs(lift) * 4e-7f};
-        const glm::vec3 origin = offset_ray_origin(from, s.ng);
+        const glm::vec3& origin = s.shadow_origin;
         if (light.type == Light::Type::Directional)
           shadow.set(i, origin, wi, kInfinity);
         else
