@@ -18,6 +18,7 @@
 #include <map>
 
 #include "cli.h"
+#include "../scratch_dir.h"
 #include "render/aov.h"
 #include "render/image_io.h"
 #include "scene/loader.h"
@@ -60,14 +61,7 @@ bool same_bits(const std::vector<float>& a, const std::vector<float>& b) {
 
 const char* kAllLayers = " --aov rays --aov level --aov geo --aov depth --aov normal --aov albedo ";
 
-struct AovExrTest : ::testing::Test {
-  fs::path dir;
-  void SetUp() override {
-    dir = fs::temp_directory_path() / ("zigzag_aov_exr_test_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
+struct AovExrTest : test::ScratchDirTest {
 
   // 150 x 130: partial tiles at both far edges.
   static constexpr int kW = 150, kH = 130;

@@ -13,6 +13,7 @@
 #include <iterator>
 
 #include "cli.h"
+#include "../scratch_dir.h"
 #include "render/image_io.h"
 
 namespace zz {
@@ -20,15 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RegionTest : ::testing::Test {
-  fs::path dir;
-  void SetUp() override {
-    dir = fs::temp_directory_path() /
-          ("zigzag_region_test_" + std::to_string(::getpid()) + "_" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
+struct RegionTest : test::ScratchDirTest {
 
   // 150 x 130: neither side a multiple of 64, so tiles are partial at both far edges.
   static constexpr const char* kFrame = " --width 150 --height 130 ";

@@ -14,21 +14,14 @@
 #include <limits>
 
 #include "core/error.h"
+#include "../scratch_dir.h"
 
 namespace zz {
 namespace {
 
 namespace fs = std::filesystem;
 
-struct FilmMergeTest : ::testing::Test {
-  fs::path dir;
-  void SetUp() override {
-    dir = fs::temp_directory_path() / ("zigzag_film_merge_test_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir);
-  }
-  void TearDown() override { fs::remove_all(dir); }
-};
+struct FilmMergeTest : test::ScratchDirTest {};
 
 // A film of `window` in a 7 x 5 frame whose values are a function of the frame position,
 // so the parts of one frame agree with the whole.
