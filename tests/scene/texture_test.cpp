@@ -84,24 +84,34 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   EXPECT_TRUE(s.effects().textures);
 }
 
+// A width x 1 grey + alpha PNG, stored as given (unassociated alpha, no un-premultiply).
+void write_grey_alpha_png(const std::filesystem::path& path, int width, OIIO::TypeDesc type, const void* pixels) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  OIIO::ImageSpec spec(width, 1, 2, type);
+  spec.alpha_channel = 1;
+  spec.attribute("oiio:UnassociatedAlpha", 1);
+  ASSERT_TRUE(out->open(path.string(), spec));
+  ASSERT_TRUE(out->write_image(type, pixels));
+  out->close();
+}
+
+// One triangle whose material's emissive texture is the image `uri` in `dir`.
+Scene load_emissive_textured(const std::filesystem::path& dir, const std::string& uri) {
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", uri}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
+  return load_scene(b.write(dir), LoadOptions{{}, true});
+}
+
 TEST(Texture, SixteenBitGreyAlphaImagesExpandToRgba) {
   auto dir = test::temp_dir("grey16");
   // 1 x 1 PNG, 16-bit grey + alpha: grey 0.5 (sRGB), alpha 0.25 (linear, never decoded).
   const uint16_t pixel[] = {32768, 16384};
-  auto out = OIIO::ImageOutput::create((dir / "g.png").string());
-  ASSERT_TRUE(out);
-  OIIO::ImageSpec spec(1, 1, 2, OIIO::TypeDesc::UINT16);
-  spec.alpha_channel = 1;
-  spec.attribute("oiio:UnassociatedAlpha", 1);  // store as given, no un-premultiply
-  ASSERT_TRUE(out->open((dir / "g.png").string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT16, pixel));
-  out->close();
-  test::GltfBuilder b;
-  b.doc["images"] = {{{"uri", "g.png"}}};
-  b.doc["textures"] = {{{"source", 0}}};
-  b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
-  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
-  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  ASSERT_NO_FATAL_FAILURE(write_grey_alpha_png(dir / "g.png", 1, OIIO::TypeDesc::UINT16, pixel));
+  Scene s = load_emissive_textured(dir, "g.png");
   ASSERT_EQ(s.materials[0].emissive_texture.index, 0);
   ASSERT_EQ(s.textures[0].texels.size(), 1u) << "16-bit images are stored as float";
   const glm::vec4 t = s.textures[0].texel(0);
@@ -142,20 +152,8 @@ TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
 TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
   auto dir = test::temp_dir("grey8a");
   const unsigned char pixels[] = {0, 255, 200, 0, 255, 128};  // 3 x 1 grey + alpha
-  auto out = OIIO::ImageOutput::create((dir / "ga.png").string());
-  ASSERT_TRUE(out);
-  OIIO::ImageSpec spec(3, 1, 2, OIIO::TypeDesc::UINT8);
-  spec.alpha_channel = 1;
-  spec.attribute("oiio:UnassociatedAlpha", 1);
-  ASSERT_TRUE(out->open((dir / "ga.png").string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
-  out->close();
-  test::GltfBuilder b;
-  b.doc["images"] = {{{"uri", "ga.png"}}};
-  b.doc["textures"] = {{{"source", 0}}};
-  b.doc["materials"] = {{{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", {{"index", 0}}}}};
-  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
-  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  ASSERT_NO_FATAL_FAILURE(write_grey_alpha_png(dir / "ga.png", 3, OIIO::TypeDesc::UINT8, pixels));
+  Scene s = load_emissive_textured(dir, "ga.png");
   const Texture& t = s.textures[0];
   ASSERT_EQ(t.texels8.size(), 3u);
   const float g200 = std::pow((200 / 255.0f + 0.055f) / 1.055f, 2.4f);
