@@ -26,17 +26,39 @@
 #include "aa/aa_stats.h"
 #include "aa/adaptive_pixel.h"
 #include "aa/adaptive_settings.h"
+#include "aa/highlight_flag.h"
 #include "aa/mitchell.h"
 #include "core/geo_map.h"
 #include "core/tile.h"
 
 namespace zz {
 
+// Level 1 of a tile's region, written by trace_corners and read by refine_tile: the
+// region's (w+1) x (h+1) corner samples, and per region pixel whether the source said
+// the corners may have missed something that shows (highlight_flag.h).
+struct CornerGrid {
+  std::vector<float4> linear;      // AoS (r, g, b, 0)
+  std::vector<float4> display;     // tone-mapped
+  std::vector<int32_t> signature;  // signature.h (0 when the source has none)
+  std::vector<uint8_t> hidden;     // per region pixel; empty when no source flags
+
+  // Grows (never shrinks, so per-thread grids are reused without allocating).
+  void reserve(size_t corners, size_t pixels) {
+    if (linear.size() < corners) {
+      linear.resize(corners);
+      display.resize(corners);
+      signature.resize(corners);
+    }
+    if (hidden.size() < pixels) hidden.resize(pixels);
+  }
+  size_t bytes() const {
+    return linear.size() * 2 * sizeof(float4) + signature.size() * sizeof(int32_t) + hidden.size();
+  }
+};
+
 // Per-thread buffers, grown on first use and then reused (no allocation per pixel).
 struct AdaptiveScratch {
-  std::vector<float4> corner_linear;   // (rw+1)*(rh+1) AoS (r, g, b, 0)
-  std::vector<float4> corner_display;  // tone-mapped
-  std::vector<int32_t> corner_signature;  // signature.h (0 when the source has none)
+  CornerGrid corners;
   std::vector<float4> lattice;         // Mitchell: 25 per region pixel, by physical k
   std::vector<uint8_t> refined;        // Mitchell: per region pixel
 
@@ -45,6 +67,25 @@ struct AdaptiveScratch {
     return s;
   }
 };
+
+// The probe type of a source's samples (highlight_flag.h); an empty one for the others.
+struct NoProbe {};
+template <class S>
+struct ProbeOf {
+  using type = NoProbe;
+};
+template <HighlightSource S>
+struct ProbeOf<S> {
+  using type = typename S::Probe;
+};
+
+// Per-thread probes of a tile's corner grid, one buffer per probe type.
+template <class Probe>
+Probe* corner_probes(size_t n) {
+  static thread_local std::vector<Probe> probes;
+  if (probes.size() < n) probes.resize(n);
+  return probes.data();
+}
 
 // The pixels a tile's sampler covers: the tile grown by the filter's margin (Mitchell
 // reads its neighbours' lattices), clipped to the frame. The visibility map is read
@@ -55,25 +96,44 @@ inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame
           std::min(frame_height, tile.y1 + m)};
 }
 
-// Entries of each corner buffer of a tile: the region's (w+1) x (h+1) pixel corners.
+// Entries of a tile's corner grid: the region's (w+1) x (h+1) pixel corners, and its pixels.
 inline size_t corner_count(const TileTarget& target, Filter filter) {
   const TileRect r = adaptive_region(target.rect, target.frame_width, target.frame_height, filter);
   return size_t(r.width() + 1) * size_t(r.height() + 1);
 }
+inline size_t region_pixel_count(const TileTarget& target, Filter filter) {
+  const TileRect r = adaptive_region(target.rect, target.frame_width, target.frame_height, filter);
+  return size_t(r.width()) * size_t(r.height());
+}
 
-// Level 1 of a tile: the corner grid of its region in 2x2 packets into `corner_lin`
-// (linear), `corner_disp` (tone-mapped) and `corner_sig` (signatures), corner_count
-// entries each. Needs no visibility map, so it can run while the map is still being made.
+// Whether a tile of `source` under `settings` fills CornerGrid::hidden.
 template <SampleSource S>
-void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, float4* corner_lin,
-                   float4* corner_disp, int32_t* corner_sig, AaStats& stats) {
+constexpr bool flags_hidden(const AdaptiveSettings& settings) {
+  if constexpr (HighlightSource<S>) return settings.highlights && !settings.refine_all;
+  return false;
+}
+
+// Level 1 of a tile: the corner grid of its region in 2x2 packets into `grid` (grown to
+// fit), and, where the source can say so, which pixels hide more than their corners show.
+// Needs no visibility map, so it can run while the map is still being made.
+template <SampleSource S>
+void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, CornerGrid& grid,
+                   AaStats& stats) {
   const TileRect tile = target.rect;
   if (tile.width() <= 0 || tile.height() <= 0) return;
   const TileRect region = adaptive_region(tile, target.frame_width, target.frame_height, settings.filter);
   const int cw = region.width() + 1, ch = region.height() + 1;
+  const bool probing = flags_hidden<S>(settings);
+  grid.reserve(size_t(cw) * ch, probing ? size_t(region.width()) * region.height() : 0);
+  float4* corner_lin = grid.linear.data();
+  float4* corner_disp = grid.display.data();
+  int32_t* corner_sig = grid.signature.data();
   const ToneMap& tonemap = settings.tonemap;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
+
+  using Probe = typename ProbeOf<S>::type;
+  Probe* probes = probing ? corner_probes<Probe>(size_t(cw) * ch) : nullptr;
 
   // ---- level 1: corner grid in 2x2 packets (odd edges repeat a lane, not counted) ----
   uint64_t corner_rays = 0;
@@ -81,10 +141,16 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
     const int j1 = std::min(j + 1, ch - 1);
     for (int i = 0; i < cw; i += 2) {
       const int i1 = std::min(i + 1, cw - 1);
-      const float x0 = float(region.x0 + i), x1 = float(region.x0 + i1);
-      const float y0 = float(region.y0 + j), y1 = float(region.y0 + j1);
+      const float4 px(float(region.x0 + i), float(region.x0 + i1), float(region.x0 + i), float(region.x0 + i1));
+      const float4 py(float(region.y0 + j), float(region.y0 + j), float(region.y0 + j1), float(region.y0 + j1));
       int4 sig;
-      const Rgb4 c = sample4_signed(source, float4(x0, x1, x0, x1), float4(y0, y0, y1, y1), sig);
+      Probe lanes[4];
+      Rgb4 c;
+      if constexpr (HighlightSource<S>) {
+        c = probing ? source.sample4(px, py, sig, lanes) : sample4_signed(source, px, py, sig);
+      } else {
+        c = sample4_signed(source, px, py, sig);
+      }
       const Rgb4 d = tonemap.apply4(c);
       float4 l[4], t[4];
       alignas(16) int32_t g[4];
@@ -93,9 +159,26 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
       sig.store(g);
       // Write lanes back to front so a repeated lane never overwrites a distinct one.
       const int idx[4] = {j * cw + i, j * cw + i1, j1 * cw + i, j1 * cw + i1};
-      for (int lane = 3; lane >= 0; --lane)
+      for (int lane = 3; lane >= 0; --lane) {
         corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
+        if (probing) probes[idx[lane]] = lanes[lane];
+      }
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
+    }
+  }
+
+  // ---- the highlight flag of every region pixel (highlight_flag.h) ----
+  if constexpr (HighlightSource<S>) {
+    if (probing) {
+      source.survey(probes, size_t(cw) * ch);
+      const float4 eps(settings.eps);
+      for (int ry = 0; ry + 1 < ch; ++ry)
+        for (int rx = 0; rx + 1 < cw; ++rx) {
+          const int ci = ry * cw + rx;
+          const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
+          const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
+          grid.hidden[size_t(ry) * (cw - 1) + rx] = hidden_radiance_shows(source, p, mean, tonemap, eps);
+        }
     }
   }
   stats.rays[0] += corner_rays;
@@ -107,7 +190,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
 // Levels 2-3 and the filter of a tile whose corners trace_corners has traced.
 template <SampleSource S>
 void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
-                 const float4* corner_lin, const float4* corner_disp, const int32_t* corner_sig, AaStats& stats) {
+                 const CornerGrid& grid, AaStats& stats) {
   const TileRect tile = target.rect;
   const int W = target.frame_width, H = target.frame_height;
   if (tile.width() <= 0 || tile.height() <= 0) return;
@@ -116,6 +199,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const TileRect region = adaptive_region(tile, W, H, settings.filter);
   const int rw = region.width(), rh = region.height();
   const int cw = rw + 1;
+  const float4* corner_lin = grid.linear.data();
+  const float4* corner_disp = grid.display.data();
+  const int32_t* corner_sig = grid.signature.data();
+  const uint8_t* hidden = flags_hidden<S>(settings) ? grid.hidden.data() : nullptr;
   AdaptiveScratch& scratch = AdaptiveScratch::local();
   if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
     scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
@@ -142,7 +229,9 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
 
       const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
       const bool g = geo.at(x, y);
-      const Level1 l1 = decide_level1(disp, sig, eps, g, settings.refine_all);
+      // A highlight the corners may have missed sends the pixel on like a geo flag.
+      const bool peak = hidden && hidden[size_t(ry) * rw + rx];
+      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all);
       const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;
@@ -153,7 +242,9 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
         const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
-        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all);
+        // A hidden highlight may be anywhere between E..H and smaller than the zones' spacing
+        // of the tables' edge model: every zone.
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all || peak);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);
@@ -183,6 +274,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       if (!own) continue;
       stats.pixels += 1;
       stats.geo_pixels += g;
+      stats.highlight_pixels += peak;
       const size_t fi = target.index(x, y);
       if (!mitchell) {
         alignas(16) float v[4];
@@ -250,22 +342,14 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   stats.seconds_filter += seconds_since(t0);
 }
 
-// One tile, levels 1-3 and the filter, with the per-thread corner buffers.
+// One tile, levels 1-3 and the filter, with the per-thread corner grid.
 template <SampleSource S>
 void render_tile_adaptive(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
                           AaStats& stats) {
   if (target.rect.width() <= 0 || target.rect.height() <= 0) return;
-  AdaptiveScratch& scratch = AdaptiveScratch::local();
-  const size_t n = corner_count(target, settings.filter);
-  if (scratch.corner_linear.size() < n) {
-    scratch.corner_linear.resize(n);
-    scratch.corner_display.resize(n);
-    scratch.corner_signature.resize(n);
-  }
-  trace_corners(source, target, settings, scratch.corner_linear.data(), scratch.corner_display.data(),
-                scratch.corner_signature.data(), stats);
-  refine_tile(source, target, geo, settings, scratch.corner_linear.data(), scratch.corner_display.data(),
-              scratch.corner_signature.data(), stats);
+  CornerGrid& grid = AdaptiveScratch::local().corners;
+  trace_corners(source, target, settings, grid, stats);
+  refine_tile(source, target, geo, settings, grid, stats);
 }
 
 }  // namespace zz

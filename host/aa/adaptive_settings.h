@@ -24,6 +24,9 @@ struct AdaptiveSettings {
   // Parts of the sample signatures the sources return (signature.h, ALGORITHM.md §11);
   // kSignatureNone is the paper's colour-only predicate.
   unsigned signature = kSignatureNone;
+  // The analytic highlight flag (highlight_flag.h, §11): pixels whose corners may have
+  // missed a highlight that shows go on to level 2. Only sources with probes flag.
+  bool highlights = false;
   // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;

@@ -34,6 +34,8 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
           return std::string(e.what());
         }
       });
+  add_choice(cmd, "--highlights", o.highlights, kOnOff,
+             "Adaptive: refine pixels whose corners may have missed a highlight peaking between them");
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
@@ -91,6 +93,7 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
     s.adaptive.geo_policy = o.adaptive.geo_policy;
     s.adaptive.filter = o.adaptive.filter;
     s.adaptive.signature = o.adaptive.signature;
+    s.adaptive.highlights = o.adaptive.highlights;
   } else if (o.aa == AaMode::Uniform) {
     s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }

@@ -31,6 +31,7 @@ inline constexpr Choice<Filter> kFilters[] = {{"box", Filter::Box}, {"mitchell",
 inline constexpr Choice<UniformPattern> kUniformPatterns[] = {
     {"grid", UniformPattern::Grid}, {"stratified", UniformPattern::Stratified}, {"lattice", UniformPattern::Lattice}};
 inline constexpr Choice<EdgeMode> kEdgeModes[] = {{"vulkan", EdgeMode::Vulkan}, {"off", EdgeMode::Off}};
+inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
 // The adaptive sampler's options, shared with `zigzag analytic`. Defaults chosen by the
 // accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): the lowest
@@ -43,6 +44,8 @@ struct AdaptiveOptions {
   // Parts of the sample signatures (aa/signature.h). None: every setting with signatures
   // exceeds 1.75 rays/px over room, glass, car at 1024² (all: 1.91); docs/signatures.md.
   unsigned signature = kSignatureNone;
+  // The analytic highlight flag (aa/highlight_flag.h, render/specular_peak.h).
+  bool highlights = false;
 };
 
 struct RenderOptions {
@@ -64,7 +67,7 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
-// Registers --eps --tables --geo-policy --filter --signature.
+// Registers --eps --tables --geo-policy --filter --signature --highlights.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // Registers the shared flags on a subcommand.

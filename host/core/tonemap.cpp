@@ -67,4 +67,15 @@ float4 ToneMap::apply4(float4 c) const {
   return srgb_encode4(y);
 }
 
+float4 ToneMap::slope4(float4 c) const {
+  // u = 1 - exp(-e c), du/dc = e (1 - u); sRGB: 12.92 below 0.0031308, else
+  // d/du (1.055 u^(1/2.4) - 0.055) = (T + 0.055) / (2.4 u).
+  const float4 e(exposure);
+  const float4 scaled = select(c > float4(0.0f), c * e, float4(0.0f));
+  const float4 rest = exp_neg4(-scaled);  // 1 - u
+  const float4 u = float4(1.0f) - rest;
+  const float4 power = (srgb_encode4(u) + float4(0.055f)) / (float4(2.4f) * max(u, float4(0.0031308f)));
+  return e * rest * select(u <= float4(0.0031308f), float4(12.92f), power);
+}
+
 }  // namespace zz

@@ -25,6 +25,9 @@ struct ToneMap {
   float4 apply4(float4 c) const;
   Rgb4 apply4(const Rgb4& c) const { return {apply4(c.r), apply4(c.g), apply4(c.b)}; }
   float apply(float c) const { return apply4(float4(c))[0]; }
+  // dT/dc, the display change per unit of radiance at c >= 0. T is concave, so
+  // T(c + x) - T(c) <= slope(c) x: an increment below eps / slope(c) cannot show.
+  float4 slope4(float4 c) const;
 };
 
 }  // namespace zz

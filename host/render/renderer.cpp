@@ -84,25 +84,21 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
 
   // Map pending: level 1 (which needs no map) of the first tiles overlaps it. Corners are
   // pure functions of their positions, so the image is the same as in one pass.
-  std::vector<std::vector<float4>> stash;  // per stashed tile: linear then display corners
-  std::vector<std::vector<int32_t>> stash_sig;  // and their signatures
+  std::vector<CornerGrid> stash;  // level 1 of the first tiles, in tile order
   if (pending && settings.aa == AaMode::Adaptive) {
-    size_t bytes = 0;
-    for (const TileRect& t : tiles) {
-      const size_t n = corner_count(film.target(t), adaptive.filter);
-      const size_t tile_bytes = n * (2 * sizeof(float4) + sizeof(int32_t));
-      if (bytes + tile_bytes > kCornerStashBytes) break;
-      bytes += tile_bytes;
-      stash.emplace_back(2 * n);
-      stash_sig.emplace_back(n);
+    size_t stashed = 0;
+    for (size_t bytes = 0; stashed < tiles.size(); ++stashed) {
+      const TileTarget target = film.target(tiles[stashed]);
+      bytes += corner_count(target, adaptive.filter) * (2 * sizeof(float4) + sizeof(int32_t)) +
+               (adaptive.highlights ? region_pixel_count(target, adaptive.filter) : 0);
+      if (bytes > kCornerStashBytes) break;
     }
+    stash.resize(stashed);
     for_tiles(stash.size(), [&](size_t index) {
       if (cancelled()) return;
       const ScopedFlushDenormals flush_denormals;
       SceneSource source(shader, rays, adaptive.signature);
-      float4* corners = stash[index].data();
-      trace_corners(source, film.target(tiles[index]), adaptive, corners, corners + stash[index].size() / 2,
-                    stash_sig[index].data(), results[index].aa);
+      trace_corners(source, film.target(tiles[index]), adaptive, stash[index], results[index].aa);
       results[index].rays = source.counters;
     });
   }
@@ -116,11 +112,8 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone);
     TileResult& result = results[index];
     if (settings.aa == AaMode::Adaptive && index < stash.size()) {
-      const float4* corners = stash[index].data();
-      refine_tile(source, target, geo, adaptive, corners, corners + stash[index].size() / 2, stash_sig[index].data(),
-                  result.aa);
-      std::vector<float4>().swap(stash[index]);
-      std::vector<int32_t>().swap(stash_sig[index]);
+      refine_tile(source, target, geo, adaptive, stash[index], result.aa);
+      stash[index] = CornerGrid();  // frees it
     } else if (settings.aa == AaMode::Adaptive) {
       render_tile_adaptive(source, target, geo, adaptive, result.aa);
     } else {

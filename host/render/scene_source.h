@@ -1,12 +1,16 @@
 // The renderer's SampleSource: a camera packet through 4 image-plane points, traced and
 // shaded. Each tile owns one (its ray counters are per tile, summed afterwards).
-// With signature parts switched on (aa/signature.h) it also says what each lane saw.
+// With signature parts switched on (aa/signature.h) it also says what each lane saw, and
+// for the highlight flag (aa/highlight_flag.h) which surface it hit.
 #pragma once
 
+#include "aa/highlight_flag.h"
 #include "aa/sample_source.h"
 #include "aa/signature.h"
 #include "render/shader.h"
 #include "scene/camera.h"
+
+#include <vector>
 
 namespace zz {
 
@@ -25,16 +29,31 @@ class SceneSource {
     }
     PathSignature4 seen;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
-    alignas(16) int32_t s[4];
-    for (int i = 0; i < 4; ++i) {
-      uint32_t h = 0;
-      if (parts_ & kSignatureObject) h = signature_mix(h, seen.object[i]);
-      if (parts_ & kSignatureLights) h = signature_mix(h ^ 0x4C494748u, seen.shadowed[i]);
-      if (parts_ & kSignatureSecondary) h = signature_mix(signature_mix(h ^ 0x53454344u, seen.reflected[i]), seen.refracted[i]);
-      s[i] = int32_t(h);
-    }
-    signature = int4(s[0], s[1], s[2], s[3]);
+    signature = hash(seen);
     return c;
+  }
+
+  // With the surfaces the lanes hit, for the highlight flag (aa/highlight_flag.h).
+  using Probe = SurfaceProbe;
+  Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
+    PathSignature4 seen;
+    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
+    signature = parts_ == kSignatureNone ? int4(0) : hash(seen);
+    for (int i = 0; i < 4; ++i) {
+      probes[i] = seen.surface[i];
+      probes[i].shadowed = seen.shadowed[i];
+    }
+    return c;
+  }
+
+  // Before hidden_radiance is asked about a tile's pixels: the tile's corner probes.
+  void survey(const Probe* probes, size_t count) { bound_light_reach(shader_.scene(), probes, count, reach_); }
+
+  // Highlight radiance the pixel with these corners (TL, TR, BL, BR) may hold unseen;
+  // `visible`: per channel, the smallest increment that could show.
+  float4 hidden_radiance(const Probe corners[4], float4 visible) const {
+    const glm::vec3 h = hidden_highlight(shader_.scene(), corners, reach_, glm::vec3(visible[0], visible[1], visible[2]));
+    return float4(h.r, h.g, h.b, 0.0f);
   }
 
   RayCounters counters;
@@ -51,11 +70,25 @@ class SceneSource {
     return rays;
   }
 
+  int4 hash(const PathSignature4& seen) const {
+    alignas(16) int32_t s[4];
+    for (int i = 0; i < 4; ++i) {
+      uint32_t h = 0;
+      if (parts_ & kSignatureObject) h = signature_mix(h, seen.object[i]);
+      if (parts_ & kSignatureLights) h = signature_mix(h ^ 0x4C494748u, seen.shadowed[i]);
+      if (parts_ & kSignatureSecondary) h = signature_mix(signature_mix(h ^ 0x53454344u, seen.reflected[i]), seen.refracted[i]);
+      s[i] = int32_t(h);
+    }
+    return int4(s[0], s[1], s[2], s[3]);
+  }
+
   const Shader& shader_;
   const CameraRays& camera_;
   unsigned parts_;
+  std::vector<glm::vec3> reach_;  // survey(): per light, bound_light_reach over the tile
 };
 
 static_assert(SignedSampleSource<SceneSource>);
+static_assert(HighlightSource<SceneSource>);
 
 }  // namespace zz

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <utility>
 
+#include "render/lighting.h"
+
 namespace zz {
 
 namespace {
@@ -180,37 +182,6 @@ struct PacketBuilder {
             float4::load(d[1]), float4::load(d[2]), float4::load(tmax)};
   }
 };
-
-// glTF KHR_lights_punctual: incident irradiance factor and unit direction to the light.
-bool light_towards(const Light& light, glm::vec3 p, glm::vec3& to_light, float& tmax, glm::vec3& radiance_scale) {
-  if (light.type == Light::Type::Directional) {
-    to_light = -glm::normalize(light.direction);
-    tmax = kInfinity;
-    radiance_scale = light.intensity;
-    return true;
-  }
-  glm::vec3 d = light.position - p;
-  float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return false;
-  float dist = std::sqrt(dist2);
-  to_light = d / dist;
-  tmax = dist;
-  float falloff = 1.0f / dist2;
-  if (light.range > 0.0f) {  // the glTF spec's recommended smooth window
-    float r = dist / light.range;
-    float w = std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
-    falloff *= w * w;
-  }
-  if (light.type == Light::Type::Spot) {
-    float cd = glm::dot(glm::normalize(light.direction), -to_light);
-    float cos_outer = std::cos(light.outer_cone), cos_inner = std::cos(light.inner_cone);
-    float scale = 1.0f / std::max(0.001f, cos_inner - cos_outer);
-    float t = std::clamp((cd - cos_outer) * scale, 0.0f, 1.0f);
-    falloff *= t * t;
-  }
-  radiance_scale = light.intensity * falloff;
-  return falloff > 0.0f;
-}
 
 // Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss.
 constexpr int kMaxSeeThroughLayers = 16;
@@ -438,6 +409,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
+    if (signature && depth == 0)
+      signature->surface[i] = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u};
     out[0][i] = emission.r;
     out[1][i] = emission.g;
     out[2][i] = emission.b;

@@ -15,6 +15,7 @@
 #include "accel/bvh.h"
 #include "core/color.h"
 #include "render/ray_counters.h"
+#include "render/specular_peak.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -35,6 +36,7 @@ struct PathSignature4 {
   uint32_t shadowed[4] = {};   // bit l % 32: light l's shadow ray was blocked or attenuated
   uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
   uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
+  SurfaceProbe surface[4];     // the primary hit's surface (specular 0 on a miss), for the highlight flag
 };
 
 class Shader {
@@ -66,6 +68,7 @@ class Shader {
   }
 
   const EffectSet& effects() const { return effects_; }
+  const Scene& scene() const { return scene_; }
 
   // Bits of the kernel specialisation.
   enum : unsigned { kShadows = 1, kReflection = 2, kRefraction = 4, kTextures = 8, kAlpha = 16, kAllEffects = 31 };

@@ -1,0 +1,185 @@
+#include "render/specular_peak.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "render/lighting.h"
+#include "scene/scene.h"
+
+namespace zz {
+
+namespace {
+
+constexpr float kPi = 3.14159265f;
+constexpr int kGrid = 4;  // per axis, the wide lobe's quadrature over the pixel
+
+float cross2(glm::vec2 a, glm::vec2 b) { return a.x * b.y - a.y * b.x; }
+
+// The origin inside (or on) the non-degenerate triangle abc.
+bool origin_in_triangle(glm::vec2 a, glm::vec2 b, glm::vec2 c) {
+  if (cross2(b - a, c - a) == 0.0f) return false;  // degenerate: the segments decide
+  const float d1 = cross2(b - a, -a), d2 = cross2(c - b, -b), d3 = cross2(a - c, -c);
+  const bool negative = d1 < 0.0f || d2 < 0.0f || d3 < 0.0f, positive = d1 > 0.0f || d2 > 0.0f || d3 > 0.0f;
+  return !(negative && positive);
+}
+
+float origin_distance_to_segment(glm::vec2 a, glm::vec2 b) {
+  const glm::vec2 ab = b - a;
+  const float len2 = glm::dot(ab, ab);
+  const float t = len2 > 0.0f ? std::clamp(-glm::dot(a, ab) / len2, 0.0f, 1.0f) : 0.0f;
+  return glm::length(a + t * ab);
+}
+
+// Any unit vector orthogonal to unit n (which one does not matter: the pixel's four
+// corners are projected on the same frame).
+glm::vec3 orthogonal(glm::vec3 n) {
+  const glm::vec3 axis = std::fabs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
+  return glm::normalize(glm::cross(n, axis));
+}
+
+// The Phong lobe where |n - h| = distance: |n - h| = 2 sin(theta / 2), and the mirror
+// direction turns by 2 theta.
+float lobe_at(float distance, float shininess) {
+  const float theta = 2.0f * std::asin(std::min(1.0f, 0.5f * distance));
+  return std::pow(std::cos(std::min(2.0f * theta, 0.5f * kPi)), shininess);
+}
+
+}  // namespace
+
+float origin_distance_to_hull(const glm::vec2 p[4]) {
+  for (int k = 0; k < 4; ++k)
+    if (!std::isfinite(p[k].x) || !std::isfinite(p[k].y)) return std::numeric_limits<float>::infinity();
+  // The two triangulations of four points together cover their convex hull.
+  if (origin_in_triangle(p[0], p[1], p[2]) || origin_in_triangle(p[0], p[1], p[3]) ||
+      origin_in_triangle(p[0], p[2], p[3]) || origin_in_triangle(p[1], p[2], p[3]))
+    return 0.0f;
+  float d = std::numeric_limits<float>::infinity();  // the hull's edges are among the six pairs
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) d = std::min(d, origin_distance_to_segment(p[i], p[j]));
+  return d;
+}
+
+float bilinear_quad_area(const glm::vec2 p[4]) {
+  return 0.5f * std::fabs(cross2(p[0], p[1]) + cross2(p[1], p[3]) + cross2(p[3], p[2]) + cross2(p[2], p[0]));
+}
+
+namespace {
+
+bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
+
+}  // namespace
+
+void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach) {
+  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
+  for (size_t i = 0; i < count; ++i)
+    if (has_highlight(probes[i])) {
+      lo = glm::min(lo, probes[i].position);
+      hi = glm::max(hi, probes[i].position);
+    }
+  reach.assign(scene.lights.size(), glm::vec3(0.0f));
+  if (!(lo.x <= hi.x)) return;  // nothing with a highlight
+  for (size_t l = 0; l < scene.lights.size(); ++l) {
+    const Light& light = scene.lights[l];
+    if (light.type == Light::Type::Directional) {
+      reach[l] = light.intensity;
+      continue;
+    }
+    // 1 / d^2 at the box's nearest point; the range window and spot cone only lower it.
+    const glm::vec3 gap = glm::max(glm::max(lo - light.position, light.position - hi), glm::vec3(0.0f));
+    const float d2 = glm::dot(gap, gap);
+    reach[l] = d2 > 0.0f ? light.intensity / d2 : glm::vec3(std::numeric_limits<float>::infinity());
+  }
+}
+
+glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const std::vector<glm::vec3>& reach,
+                           glm::vec3 visible) {
+  float shininess = 0.0f, most_shiny = 0.0f;
+  glm::vec3 specular(0.0f), most_specular(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    if (!has_highlight(c[k])) return glm::vec3(0.0f);
+    shininess += c[k].shininess;
+    specular += c[k].specular;
+    most_shiny = std::max(most_shiny, c[k].shininess);
+    most_specular = glm::max(most_specular, c[k].specular);
+  }
+  shininess *= 0.25f;
+  specular *= 0.25f;
+  // The largest highlight any light can make here is its peak, amplitude x 1.
+  const glm::vec3 largest_peak = most_specular * phong_normalisation(most_shiny);
+  const float lobe_integral = kPi / (2.0f * shininess);  // of exp(-2 s |d|^2) over the plane
+  const uint32_t shadowed_everywhere = c[0].shadowed & c[1].shadowed & c[2].shadowed & c[3].shadowed;
+
+  glm::vec3 hidden(0.0f);
+  for (size_t l = 0; l < scene.lights.size(); ++l) {
+    if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
+    if (glm::all(glm::lessThan(largest_peak * reach[l], visible))) continue;
+    const Light& light = scene.lights[l];
+    glm::vec3 wi[4], d3[4], incident(0.0f), strongest(0.0f);
+    float cos_n[4];
+    for (int k = 0; k < 4; ++k) {
+      glm::vec3 scale(0.0f);
+      float distance;
+      wi[k] = c[k].normal;
+      const bool lit = light_towards(light, c[k].position, wi[k], distance, scale);
+      cos_n[k] = lit ? glm::dot(c[k].normal, wi[k]) : 0.0f;
+      d3[k] = c[k].normal - glm::normalize(wi[k] + c[k].view);  // n - h
+      if (!(cos_n[k] > 0.0f)) continue;
+      incident += scale * cos_n[k];
+      strongest = glm::max(strongest, scale * cos_n[k]);
+    }
+    const glm::vec3 amplitude = specular * phong_normalisation(shininess) * strongest;
+    if (glm::all(glm::lessThan(amplitude, visible))) continue;
+    // Cheap bounds before the hull: the pixel's d values lie within `span` of each corner's.
+    float span2 = 0.0f, nearest = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 4; ++k) {
+      nearest = std::min(nearest, glm::length(d3[k]));
+      for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
+    }
+    if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
+    // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the
+    // corners' mean is within s span^2 / 2 of the true mean.
+    if (glm::all(glm::lessThan(amplitude * (0.5f * shininess * span2), visible))) continue;
+    // Nowhere in the pixel closer to the peak than `nearest - span`.
+    const float closest = std::max(0.0f, nearest - std::sqrt(span2));
+    if (glm::all(glm::lessThan(amplitude * lobe_at(closest, shininess), visible))) continue;
+
+    incident *= 0.25f;
+
+    // d = n - h on the plane orthogonal to the mean half vector.
+    const glm::vec3 mean_half = glm::normalize(c[0].normal + c[1].normal + c[2].normal + c[3].normal -
+                                               (d3[0] + d3[1] + d3[2] + d3[3]));
+    const glm::vec3 t1 = orthogonal(mean_half), t2 = glm::cross(mean_half, t1);
+    glm::vec2 d[4];
+    float corner_lobe = 0.0f;
+    for (int k = 0; k < 4; ++k) {
+      d[k] = {glm::dot(d3[k], t1), glm::dot(d3[k], t2)};
+      corner_lobe += cos_n[k] > 0.0f ? 0.25f * lobe_at(glm::length(d[k]), shininess) : 0.0f;
+    }
+    const float area = bilinear_quad_area(d);
+    float mean_lobe;
+    if (shininess * area < float(kGrid * kGrid) / 4.0f) {
+      // The lobe is wider than the grid's spacing (its sigma^2 = 1 / 4s): its mean over the
+      // pixel is the mean over a kGrid x kGrid grid of the bilinear patch.
+      mean_lobe = 0.0f;
+      for (int j = 0; j < kGrid; ++j)
+        for (int i = 0; i < kGrid; ++i) {
+          const float u = (float(i) + 0.5f) / float(kGrid), v = (float(j) + 0.5f) / float(kGrid);
+          const glm::vec2 q = (1.0f - v) * ((1.0f - u) * d[0] + u * d[1]) + v * ((1.0f - u) * d[2] + u * d[3]);
+          mean_lobe += lobe_at(glm::length(q), shininess);
+        }
+      mean_lobe /= float(kGrid * kGrid);
+    } else {
+      // Narrow: all of the lobe's integral, pi / 2s, that falls inside the pixel, spread over it.
+      const float distance = origin_distance_to_hull(d);
+      if (!std::isfinite(distance)) continue;
+      const float tail = distance == 0.0f ? 1.0f : 0.5f * std::erfc(distance * std::sqrt(2.0f * shininess));
+      mean_lobe = std::min(lobe_at(distance, shininess), lobe_integral * tail / area);
+    }
+    const float missed = mean_lobe - corner_lobe;
+    if (missed > 0.0f) hidden += specular * incident * (phong_normalisation(shininess) * missed);
+  }
+  return hidden;
+}
+
+}  // namespace zz

@@ -1,0 +1,60 @@
+// The analytic highlight flag (ALGORITHM.md §11, our extension of the paper): how much
+// highlight radiance a pixel may hold that none of its four corner rays saw.
+//
+// A normalised-Phong highlight peaks where the shading normal n equals the half vector
+// h = normalize(wi + wo). Over one pixel both vary smoothly, so d = n - h is close to the
+// bilinear interpolation of its four corner values, projected on the plane orthogonal to
+// the mean h. The peak lies inside the pixel when the origin lies inside the convex hull
+// of the four projected d; otherwise the largest lobe value the pixel can reach is at the
+// hull's distance from the origin. With the lobe cos^s(2 theta) ~ exp(-2 s |d|^2), whose
+// integral over the d plane is pi / (2 s), the pixel's mean lobe is at most
+//   min(peak, pi / (2 s) / area(hull) x tail),
+// where tail = 1 with the origin inside and the Gaussian tail beyond the hull's distance
+// otherwise. What the pixel may hold beyond its corners' mean lobe, times the light's
+// Phong amplitude, summed over lights that reach at least one corner, is returned.
+// Decided from geometry, so a pinpoint highlight between the corners is found whatever
+// its size; like the visibility map it only sends rays, it never colours a pixel.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace zz {
+
+struct Scene;
+
+// What the highlight test needs of a camera ray's first hit.
+struct SurfaceProbe {
+  glm::vec3 position{0.0f};  // the hit point
+  glm::vec3 normal{0.0f};    // shading normal, turned towards the camera
+  glm::vec3 view{0.0f};      // unit direction back to the camera
+  glm::vec3 specular{0.0f};  // Phong highlight colour; 0 where there is no highlight (a miss)
+  float shininess = 1.0f;    // Phong exponent
+  uint32_t shadowed = 0;     // bit l % 32: light l's shadow ray was blocked or attenuated
+};
+
+// Per light, an upper bound of its incident radiance factor (light_towards) over the hit
+// points of `count` probes: a tile's corner grid, surveyed once before its pixels are
+// tested, so a light too dim to leave a visible highlight anywhere in the tile costs one
+// comparison per pixel.
+void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach);
+
+// The highlight radiance (linear RGB) that the pixel whose corners are `corners`
+// (physical TL, TR, BL, BR) may hold beyond the mean of what the corners saw. Zero
+// unless all four corners hit a surface with a highlight. `reach` is bound_light_reach's
+// bound for the corners' tile; lights whose largest possible highlight stays below
+// `visible` (per channel: increments smaller than this cannot show on the display) are
+// not examined.
+glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], const std::vector<glm::vec3>& reach,
+                           glm::vec3 visible);
+
+// Geometry of the test, exposed for tests: distance from the origin to the convex hull of
+// four 2-D points (0 when inside), and the area of the quad p0 p1 p3 p2 (bilinear order:
+// TL, TR, BR, BL).
+float origin_distance_to_hull(const glm::vec2 p[4]);
+float bilinear_quad_area(const glm::vec2 p[4]);
+
+}  // namespace zz
