@@ -96,14 +96,27 @@ inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame
           std::min(frame_height, tile.y1 + m)};
 }
 
-// Entries of a tile's corner grid: the region's (w+1) x (h+1) pixel corners, and its pixels.
-inline size_t corner_count(const TileTarget& target, Filter filter) {
-  const TileRect r = adaptive_region(target.rect, target.frame_width, target.frame_height, filter);
-  return size_t(r.width() + 1) * size_t(r.height() + 1);
-}
-inline size_t region_pixel_count(const TileTarget& target, Filter filter) {
-  const TileRect r = adaptive_region(target.rect, target.frame_width, target.frame_height, filter);
-  return size_t(r.width()) * size_t(r.height());
+// Where a tile's corner grid lies: the region's (w+1) x (h+1) pixel corners, grown by a
+// ring of one corner on every side when the curvature correction needs its neighbours'
+// corners (adaptive_pixel.h); (x0, y0) is the grid's first corner in frame pixels.
+struct CornerLayout {
+  TileRect region;  // the pixels refined
+  int ring = 0;     // corners beyond the region's own on every side
+  int x0 = 0, y0 = 0, width = 0, height = 0;
+  size_t corners() const { return size_t(width) * size_t(height); }
+  size_t pixels() const { return size_t(region.width()) * size_t(region.height()); }
+  // Grid index of the corner at frame position (x, y).
+  int index(int x, int y) const { return (y - y0) * width + (x - x0); }
+};
+inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
+  CornerLayout l;
+  l.region = adaptive_region(target.rect, target.frame_width, target.frame_height, settings.filter);
+  l.ring = settings.curvature ? 1 : 0;
+  l.x0 = l.region.x0 - l.ring;
+  l.y0 = l.region.y0 - l.ring;
+  l.width = l.region.width() + 1 + 2 * l.ring;
+  l.height = l.region.height() + 1 + 2 * l.ring;
+  return l;
 }
 
 // Whether a tile of `source` under `settings` fills CornerGrid::hidden.
@@ -121,10 +134,11 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
                    AaStats& stats) {
   const TileRect tile = target.rect;
   if (tile.width() <= 0 || tile.height() <= 0) return;
-  const TileRect region = adaptive_region(tile, target.frame_width, target.frame_height, settings.filter);
-  const int cw = region.width() + 1, ch = region.height() + 1;
+  const CornerLayout layout = corner_layout(target, settings);
+  const TileRect region = layout.region;
+  const int cw = layout.width, ch = layout.height;
   const bool probing = flags_hidden<S>(settings);
-  grid.reserve(size_t(cw) * ch, probing ? size_t(region.width()) * region.height() : 0);
+  grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
   float4* corner_lin = grid.linear.data();
   float4* corner_disp = grid.display.data();
   int32_t* corner_sig = grid.signature.data();
@@ -141,8 +155,8 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
     const int j1 = std::min(j + 1, ch - 1);
     for (int i = 0; i < cw; i += 2) {
       const int i1 = std::min(i + 1, cw - 1);
-      const float4 px(float(region.x0 + i), float(region.x0 + i1), float(region.x0 + i), float(region.x0 + i1));
-      const float4 py(float(region.y0 + j), float(region.y0 + j), float(region.y0 + j1), float(region.y0 + j1));
+      const float4 px(float(layout.x0 + i), float(layout.x0 + i1), float(layout.x0 + i), float(layout.x0 + i1));
+      const float4 py(float(layout.y0 + j), float(layout.y0 + j), float(layout.y0 + j1), float(layout.y0 + j1));
       int4 sig;
       Probe lanes[4];
       Rgb4 c;
@@ -170,14 +184,14 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
   // ---- the highlight flag of every region pixel (highlight_flag.h) ----
   if constexpr (HighlightSource<S>) {
     if (probing) {
-      source.survey(probes, size_t(cw) * ch);
+      source.survey(probes, layout.corners());
       const float4 eps(settings.eps);
-      for (int ry = 0; ry + 1 < ch; ++ry)
-        for (int rx = 0; rx + 1 < cw; ++rx) {
-          const int ci = ry * cw + rx;
+      for (int ry = 0; ry < region.height(); ++ry)
+        for (int rx = 0; rx < region.width(); ++rx) {
+          const int ci = layout.index(region.x0 + rx, region.y0 + ry);
           const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
           const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
-          grid.hidden[size_t(ry) * (cw - 1) + rx] = hidden_radiance_shows(source, p, mean, tonemap, eps);
+          grid.hidden[size_t(ry) * region.width() + rx] = hidden_radiance_shows(source, p, mean, tonemap, eps);
         }
     }
   }
@@ -196,9 +210,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   if (tile.width() <= 0 || tile.height() <= 0) return;
   assert(geo.empty() || (geo.width == W && geo.height == H));
   const bool mitchell = settings.filter == Filter::Mitchell;
-  const TileRect region = adaptive_region(tile, W, H, settings.filter);
+  const CornerLayout layout = corner_layout(target, settings);
+  const TileRect region = layout.region;
   const int rw = region.width(), rh = region.height();
-  const int cw = rw + 1;
+  const int cw = layout.width;
   const float4* corner_lin = grid.linear.data();
   const float4* corner_disp = grid.display.data();
   const int32_t* corner_sig = grid.signature.data();
@@ -222,7 +237,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
     for (int rx = 0; rx < rw; ++rx) {
       const int x = region.x0 + rx;
       const bool own = x >= tile.x0 && x < tile.x1 && y >= tile.y0 && y < tile.y1;
-      const int ci = ry * cw + rx;
+      const int ci = layout.index(x, y);
       const float4 tl = corner_lin[ci], tr = corner_lin[ci + 1];
       const float4 bl = corner_lin[ci + cw], br = corner_lin[ci + cw + 1];
       const Rgb4 disp = soa_from_aos(corner_disp[ci], corner_disp[ci + 1], corner_disp[ci + cw], corner_disp[ci + cw + 1]);
@@ -238,6 +253,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
+        if (settings.curvature) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
       } else {
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
@@ -304,7 +320,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         for (int dx = -2; dx <= 2; ++dx) {
           const int qx = x + dx;
           if (qx < 0 || qx > W) continue;
-          const int ci = (qy - region.y0) * cw + (qx - region.x0);
+          const int ci = layout.index(qx, qy);
           const float* w = mw.point[dy + 2][dx + 2];
           if (qx == W || qy == H) {  // the frame's corner ring: only point k = 0 exists
             acc0 += corner_lin[ci] * float4(w[0]);

@@ -27,6 +27,9 @@ struct AdaptiveSettings {
   // The analytic highlight flag (highlight_flag.h, §11): pixels whose corners may have
   // missed a highlight that shows go on to level 2. Only sources with probes flag.
   bool highlights = false;
+  // Unrefined pixels take the box integral to second order (curvature_corrected in
+  // adaptive_pixel.h) instead of the corners' mean; needs a ring of corners around the tile.
+  bool curvature = false;
   // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;

@@ -36,6 +36,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
       });
   add_choice(cmd, "--highlights", o.highlights, kOnOff,
              "Adaptive: refine pixels whose corners may have missed a highlight peaking between them");
+  add_choice(cmd, "--curvature", o.curvature, kOnOff,
+             "Adaptive: unrefined pixels corrected for the shading's curvature (traces a ring of corners more "
+             "per tile)");
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
@@ -94,6 +97,7 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
     s.adaptive.filter = o.adaptive.filter;
     s.adaptive.signature = o.adaptive.signature;
     s.adaptive.highlights = o.adaptive.highlights;
+    s.adaptive.curvature = o.adaptive.curvature;
   } else if (o.aa == AaMode::Uniform) {
     s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }

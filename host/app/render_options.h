@@ -46,6 +46,8 @@ struct AdaptiveOptions {
   unsigned signature = kSignatureNone;
   // The analytic highlight flag (aa/highlight_flag.h, render/specular_peak.h).
   bool highlights = false;
+  // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
+  bool curvature = false;
 };
 
 struct RenderOptions {
@@ -67,7 +69,7 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
-// Registers --eps --tables --geo-policy --filter --signature --highlights.
+// Registers --eps --tables --geo-policy --filter --signature --highlights --curvature.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // Registers the shared flags on a subcommand.

@@ -36,6 +36,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"filter", name_of(kFilters, o.adaptive.filter)},
                      {"signature", signature_name(o.adaptive.signature)},
                      {"highlights", o.adaptive.highlights},
+                     {"curvature", o.adaptive.curvature},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},

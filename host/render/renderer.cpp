@@ -88,9 +88,8 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   if (pending && settings.aa == AaMode::Adaptive) {
     size_t stashed = 0;
     for (size_t bytes = 0; stashed < tiles.size(); ++stashed) {
-      const TileTarget target = film.target(tiles[stashed]);
-      bytes += corner_count(target, adaptive.filter) * (2 * sizeof(float4) + sizeof(int32_t)) +
-               (adaptive.highlights ? region_pixel_count(target, adaptive.filter) : 0);
+      const CornerLayout layout = corner_layout(film.target(tiles[stashed]), adaptive);
+      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (adaptive.highlights ? layout.pixels() : 0);
       if (bytes > kCornerStashBytes) break;
     }
     stash.resize(stashed);

@@ -53,5 +53,26 @@ TEST(ToneMap, KnownValue) {
   EXPECT_NEAR(tm.apply(std::log(2.0f)), 0.735357f, 3e-5f);
 }
 
+TEST(ToneMap, SlopeIsTheDerivative) {
+  // Against the derivative of the exact operator in double (finite differences of the float
+  // operator drown in the rounding of 1 - exp near 0 and near 1).
+  for (double exposure : {0.1, 1.0, 4.0})
+    for (double c : {1e-4, 2e-3, 0.05, 0.3, 1.0, 3.0}) {
+      const double u = 1.0 - std::exp(-exposure * c);
+      const double srgb_slope = u <= 0.0031308 ? 12.92 : 1.055 / 2.4 * std::pow(u, 1.0 / 2.4 - 1.0);
+      const double want = exposure * (1.0 - u) * srgb_slope;
+      const ToneMap tm{float(exposure)};
+      EXPECT_NEAR(tm.slope4(float4(float(c)))[0], want, 0.01 * want) << exposure << " " << c;
+    }
+}
+
+TEST(ToneMap, NoIncrementBelowEpsOverTheSlopeShows) {
+  // The highlight flag skips what cannot show: T(c + x) - T(c) <= 1.02 slope(c) x.
+  const ToneMap tm{1.0f};
+  for (float c = 0.0f; c < 20.0f; c = c * 1.3f + 1e-4f)
+    for (float x = 1e-5f; x < 10.0f; x *= 1.7f)
+      EXPECT_LE(tm.apply(c + x) - tm.apply(c), 1.02f * tm.slope4(float4(c))[0] * x + 1e-6f) << c << " " << x;
+}
+
 }  // namespace
 }  // namespace zz

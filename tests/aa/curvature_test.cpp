@@ -1,0 +1,80 @@
+// Unrefined pixels to second order (curvature_corrected in aa/adaptive_pixel.h).
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "test_sources.h"
+
+namespace zz {
+namespace {
+
+// f = base + k ((x - cx)^2 + (y - cy)^2), in every channel: smooth, curved, below eps
+// between neighbouring corners, so every pixel stays at level 1.
+struct BowlSource {
+  float base = 0.2f, k = 2e-5f, cx = 20.0f, cy = 13.0f;
+  Rgb4 sample4(float4 px, float4 py) const {
+    const float4 dx = px - float4(cx), dy = py - float4(cy);
+    const float4 v = float4(base) + float4(k) * (dx * dx + dy * dy);
+    return {v, v, v};
+  }
+  // The box integral over [x, x+1] x [y, y+1]: the mean of (t - c)^2 over a unit interval
+  // is (x - c)^2 + (x - c) + 1/3.
+  double pixel(int x, int y) const {
+    auto sq = [](double a) { return a * a + a + 1.0 / 3.0; };
+    return base + k * (sq(x - cx) + sq(y - cy));
+  }
+};
+
+TEST(Curvature, UnrefinedPixelsOfAQuadraticAreItsExactBoxIntegral) {
+  const BowlSource bowl;
+  AdaptiveSettings s;
+  AaStats plain_stats, corrected_stats;
+  const Film plain = test::render(bowl, 48, 40, s, 16, 1, {}, &plain_stats);
+  s.curvature = true;
+  const Film corrected = test::render(bowl, 48, 40, s, 16, 1, {}, &corrected_stats);
+  EXPECT_EQ(corrected_stats.level2_pixels, 0u);
+  double worst_plain = 0, worst_corrected = 0;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const double want = bowl.pixel(x, y);
+      worst_plain = std::max(worst_plain, std::abs(plain.radiance[size_t(y) * 48 + x].r - want));
+      worst_corrected = std::max(worst_corrected, std::abs(corrected.radiance[size_t(y) * 48 + x].r - want));
+    }
+  // The corner mean is off by f_xx + f_yy over 12 = 4k / 12 everywhere; the correction is
+  // exact for a quadratic up to float rounding.
+  EXPECT_NEAR(worst_plain, 4.0 * bowl.k / 12.0, 1e-6);
+  EXPECT_LT(worst_corrected, 2e-7);
+  // The ring: (w + 3)(h + 3) corners per w x h tile instead of (w + 1)(h + 1), i.e.
+  // 2w + 2h + 8 more, over the 3 x 3 tiles (16 wide; 16, 16, 8 high), counted as margin.
+  EXPECT_EQ(plain_stats.margin_rays, 0u);
+  EXPECT_EQ(corrected_stats.rays[0] - plain_stats.rays[0], uint64_t(9 * 8 + 2 * (9 * 16 + 3 * (16 + 16 + 8))));
+  EXPECT_EQ(corrected_stats.margin_rays, corrected_stats.rays[0] - plain_stats.rays[0]);
+}
+
+TEST(Curvature, AnEdgeBesideThePixelLeavesThePlainMean) {
+  // A step one pixel beyond: x < 10 is dark. Pixels 8 and 9 cross or touch it; pixel 10's
+  // left outer corner (x = 9) is across the step, so it keeps the corner mean (exactly the
+  // constant), while pixel 12, away from it, equals the constant too.
+  const test::AxisEdgeSource step{true, 9.5f, 0.0f, 0.5f};
+  AdaptiveSettings s;
+  s.curvature = true;
+  const Film f = test::render(step, 24, 8, s, 8);
+  EXPECT_EQ(f.radiance[3 * 24 + 10].r, 0.5f);
+  EXPECT_EQ(f.radiance[3 * 24 + 12].r, 0.5f);
+}
+
+TEST(Curvature, BitIdenticalAcrossTileSizesAndThreads) {
+  const BowlSource bowl{0.2f, 3e-5f, 7.3f, 30.1f};
+  AdaptiveSettings s;
+  s.curvature = true;
+  const Film a = test::render(bowl, 70, 45, s, 64, 1);
+  for (int tile : {7, 16})
+    for (int threads : {1, 2}) {
+      const Film b = test::render(bowl, 70, 45, s, tile, threads);
+      EXPECT_EQ(0, std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)))
+          << tile << " " << threads;
+    }
+}
+
+}  // namespace
+}  // namespace zz

@@ -1,0 +1,150 @@
+// The analytic highlight flag's geometry (render/specular_peak.h) and, through the
+// renderer, a pinpoint highlight between a pixel's corners.
+#include "render/specular_peak.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "render/lighting.h"
+#include "render/renderer.h"
+#include "test_scenes.h"
+
+namespace zz {
+namespace {
+
+TEST(SpecularPeak, DistanceFromTheOriginToTheHullOfFourPoints) {
+  const glm::vec2 around[4] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+  EXPECT_EQ(origin_distance_to_hull(around), 0.0f);
+  const glm::vec2 twisted[4] = {{-1, -1}, {1, 1}, {1, -1}, {-1, 1}};  // order does not matter
+  EXPECT_EQ(origin_distance_to_hull(twisted), 0.0f);
+  const glm::vec2 off[4] = {{1, 1}, {2, 1}, {1, 2}, {2, 2}};
+  EXPECT_NEAR(origin_distance_to_hull(off), std::sqrt(2.0f), 1e-6f);
+  const glm::vec2 edge[4] = {{-1, 3}, {1, 3}, {-1, 5}, {1, 5}};  // nearest point inside an edge
+  EXPECT_NEAR(origin_distance_to_hull(edge), 3.0f, 1e-6f);
+  const glm::vec2 point[4] = {{0, 2}, {0, 2}, {0, 2}, {0, 2}};  // degenerate: one point
+  EXPECT_NEAR(origin_distance_to_hull(point), 2.0f, 1e-6f);
+  const glm::vec2 line[4] = {{-1, 0}, {1, 0}, {-1, 0}, {1, 0}};  // degenerate through the origin
+  EXPECT_EQ(origin_distance_to_hull(line), 0.0f);
+  const glm::vec2 bad[4] = {{std::numeric_limits<float>::quiet_NaN(), 0}, {1, 0}, {0, 1}, {1, 1}};
+  EXPECT_TRUE(std::isinf(origin_distance_to_hull(bad)));
+}
+
+TEST(SpecularPeak, BilinearQuadArea) {
+  const glm::vec2 unit[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};  // TL, TR, BL, BR
+  EXPECT_FLOAT_EQ(bilinear_quad_area(unit), 1.0f);
+  const glm::vec2 sheared[4] = {{0, 0}, {2, 0}, {1, 3}, {3, 3}};
+  EXPECT_FLOAT_EQ(bilinear_quad_area(sheared), 6.0f);
+}
+
+// A glossy floor z = 0 (Phong exponent 10000, specular 0.04), one light and a viewer
+// placed so that the highlight's peak, the mirror point, is the origin.
+struct GlossyFloor {
+  Scene scene;
+  glm::vec3 eye{-1.0f, 0.0f, 1.0f};
+  GlossyFloor() {
+    Light light;
+    light.position = {1.0f, 0.0f, 1.0f};
+    scene.lights.push_back(light);
+  }
+  SurfaceProbe probe(glm::vec3 p) const {
+    return {p, {0, 0, 1}, glm::normalize(eye - p), glm::vec3(0.04f), 10000.0f, 0u};
+  }
+  // The pixel whose corners are (x0..x1) x (y0..y1) on the floor.
+  void corners(float x0, float x1, float y0, float y1, SurfaceProbe out[4]) const {
+    out[0] = probe({x0, y0, 0}), out[1] = probe({x1, y0, 0}), out[2] = probe({x0, y1, 0}), out[3] = probe({x1, y1, 0});
+  }
+  // The shader's highlight radiance at p (shader.cpp's per-light term, specular part).
+  float highlight(glm::vec3 p) const {
+    const SurfaceProbe s = probe(p);
+    glm::vec3 wi, scale;
+    float distance;
+    light_towards(scene.lights[0], p, wi, distance, scale);
+    const float cos_n = glm::dot(s.normal, wi);
+    const glm::vec3 r = 2.0f * cos_n * s.normal - wi;
+    const float lobe = std::pow(std::max(0.0f, glm::dot(r, s.view)), s.shininess);
+    return 0.04f * phong_normalisation(s.shininess) * lobe * scale.r * cos_n;
+  }
+  // Its true mean over the pixel, by brute force.
+  double true_mean(float x0, float x1, float y0, float y1) const {
+    const int n = 400;
+    double sum = 0;
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        sum += highlight({x0 + (x1 - x0) * (i + 0.5f) / n, y0 + (y1 - y0) * (j + 0.5f) / n, 0.0f});
+    return sum / (double(n) * n);
+  }
+};
+
+TEST(SpecularPeak, APinpointHighlightBetweenTheCornersIsFound) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(-0.02f, 0.025f, -0.03f, 0.02f, c);
+  const double corners = 0.25 * (f.highlight(c[0].position) + f.highlight(c[1].position) +
+                                 f.highlight(c[2].position) + f.highlight(c[3].position));
+  const double truth = f.true_mean(-0.02f, 0.025f, -0.03f, 0.02f);
+  ASSERT_LT(corners, 0.01 * truth);  // no corner sees it
+  std::vector<glm::vec3> reach;
+  bound_light_reach(f.scene, c, 4, reach);
+  const glm::vec3 hidden = hidden_highlight(f.scene, c, reach, glm::vec3(1e-3f));
+  // What the pixel misses, estimated from the corners alone, within 30 % of the truth.
+  EXPECT_NEAR(hidden.r, truth - corners, 0.3 * truth);
+  EXPECT_EQ(hidden.r, hidden.g);
+}
+
+TEST(SpecularPeak, NothingHiddenAwayFromThePeakInShadowOrBelowVisibility) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  std::vector<glm::vec3> reach;
+  f.corners(0.5f, 0.545f, -0.03f, 0.02f, c);  // the peak is far outside
+  bound_light_reach(f.scene, c, 4, reach);
+  EXPECT_EQ(hidden_highlight(f.scene, c, reach, glm::vec3(1e-6f)), glm::vec3(0.0f));
+
+  f.corners(-0.02f, 0.025f, -0.03f, 0.02f, c);
+  bound_light_reach(f.scene, c, 4, reach);
+  EXPECT_EQ(hidden_highlight(f.scene, c, reach, glm::vec3(1e6f)), glm::vec3(0.0f));  // nothing can show
+  for (SurfaceProbe& p : c) p.shadowed = 1u;  // light 0 blocked at every corner
+  EXPECT_EQ(hidden_highlight(f.scene, c, reach, glm::vec3(1e-3f)), glm::vec3(0.0f));
+  c[0].specular = glm::vec3(0.0f);  // a corner without a highlight (or a miss): no estimate
+  c[0].shadowed = c[1].shadowed = c[2].shadowed = c[3].shadowed = 0u;
+  EXPECT_EQ(hidden_highlight(f.scene, c, reach, glm::vec3(1e-3f)), glm::vec3(0.0f));
+}
+
+// Through the renderer: a glossy floor seen from above, the light placed so that its
+// mirror point is the centre of pixel (20, 20), where none of the corners sees it.
+TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
+  s.materials[0].roughness = 0.0f;  // Phong exponent 10000
+  s.finalize_materials();
+  const int size = 40;
+  const CameraRays camera(s.cameras[0], size, size);
+  const glm::vec3 dir = camera.direction(20.5f, 20.5f);
+  const glm::vec3 p = camera.origin - dir * (camera.origin.z / dir.z);
+  const glm::vec3 back = camera.origin - p;
+  s.lights[0].position = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
+    RenderSettings r;
+    r.width = r.height = size;
+    r.aa = aa;
+    r.uniform = {UniformPattern::Lattice, 25};
+    r.adaptive.highlights = highlights;
+    Film film;
+    render_frame(shader, s.cameras[0], GeoMap{}, r, film, stats);
+    return film.radiance[size_t(20) * size + 20].r;
+  };
+  RenderStats off_stats, on_stats, lattice_stats;
+  const float off = render(AaMode::Adaptive, false, off_stats);
+  const float on = render(AaMode::Adaptive, true, on_stats);
+  const float lattice = render(AaMode::Uniform, false, lattice_stats);
+  EXPECT_EQ(off_stats.aa.highlight_pixels, 0u);
+  EXPECT_GE(on_stats.aa.highlight_pixels, 1u);
+  EXPECT_LE(on_stats.aa.highlight_pixels, 4u);  // the peak's pixel and at most its neighbours
+  EXPECT_GT(lattice, 2.0f * off);               // the corners alone miss most of it
+  EXPECT_NEAR(on, lattice, 0.05f * lattice);    // refined: the lattice's 25 points
+}
+
+}  // namespace
+}  // namespace zz
