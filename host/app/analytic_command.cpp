@@ -55,11 +55,7 @@ void run(const AnalyticArgs& a) {
   AnalyticOptions o;
   o.image = a.image;
   o.size = a.size;
-  o.settings.eps = a.adaptive.eps;
-  o.settings.tables = a.adaptive.tables;
-  o.settings.geo_policy = a.adaptive.geo_policy;
-  o.settings.filter = a.adaptive.filter;
-  o.settings.signature = a.adaptive.signature;
+  apply_adaptive_options(a.adaptive, o.settings);
   o.geo_ss = a.geo_ss;
   o.threads = a.threads;
   const AnalyticReport report = run_analytic(o);

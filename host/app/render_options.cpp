@@ -41,6 +41,16 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
              "per tile)");
 }
 
+void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
+  s.eps = o.eps;
+  s.tables = o.tables;
+  s.geo_policy = o.geo_policy;
+  s.filter = o.filter;
+  s.signature = o.signature;
+  s.highlights = o.highlights;
+  s.curvature = o.curvature;
+}
+
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--width", o.width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
   cmd->add_option("--height", o.height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
@@ -91,13 +101,7 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
   s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
   s.aa = o.aa;
   if (o.aa == AaMode::Adaptive) {
-    s.adaptive.eps = o.adaptive.eps;
-    s.adaptive.tables = o.adaptive.tables;
-    s.adaptive.geo_policy = o.adaptive.geo_policy;
-    s.adaptive.filter = o.adaptive.filter;
-    s.adaptive.signature = o.adaptive.signature;
-    s.adaptive.highlights = o.adaptive.highlights;
-    s.adaptive.curvature = o.adaptive.curvature;
+    apply_adaptive_options(o.adaptive, s.adaptive);
   } else if (o.aa == AaMode::Uniform) {
     s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }

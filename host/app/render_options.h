@@ -72,6 +72,9 @@ struct RenderOptions {
 // Registers --eps --tables --geo-policy --filter --signature --highlights --curvature.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
+// The adaptive sampler's settings from its options (the tone map is the frame's, set apart).
+void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s);
+
 // Registers the shared flags on a subcommand.
 void add_render_options(CLI::App* cmd, RenderOptions& o);
 

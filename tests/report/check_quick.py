@@ -46,12 +46,19 @@ for scene in ("room", "glass"):
     if base and signed:
         check(float(signed["rays_per_px"]) >= float(base["rays_per_px"]),
               f"{scene}: --signature all traced fewer rays than none")
+    # The highlight flag and the curvature ring only add rays.
+    plain = by.get((scene, "adaptive-eps0.05-vulkan-box-tuned-geopaper"))
+    both = by.get((scene, "adaptive-eps0.05-vulkan-box-tuned-geopaper-hl-cv"))
+    check(plain and both, f"{scene}: missing the beyond-corners ablation rows")
+    if plain and both:
+        check(float(both["rays_per_px"]) > float(plain["rays_per_px"]),
+              f"{scene}: --highlights on --curvature on traced no more rays than without")
 star = [r for r in rows if r["scene"] == "star"]
 check(any(r["mode"] == "adaptive" for r in star) and any(r["setting"] == "uniform-lattice-25" for r in star),
       "star rows missing")
 report = (out / "REPORT.md").read_text()
 for needle in ("## Table 2", "## Targets of issue 5", "## Chosen defaults", "Recommended defaults",
-               "## Sample signatures: ablation"):
+               "## Sample signatures: ablation", "## Beyond corner colours: ablation"):
     check(needle in report, f"REPORT.md lacks {needle!r}")
 for name in ("error_room.png", "error_star.png", "stages.png", "crops_room.png"):
     check((out / name).exists(), f"missing {name}")

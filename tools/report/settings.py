@@ -6,9 +6,13 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     (edges vulkan, box filter, geo policy paper);
   * around eps 0.05 and 0.1, one factor changed at a time: --edges off, --filter mitchell,
     --tables all, --geo-policy all, tuned + geo all, tuned + edges off;
-  * sample signatures (ALGORITHM.md §11) around the CLI's adaptive defaults (eps 0.05,
-    tuned tables, geo policy all, edges vulkan, box): none, each part alone (object,
-    lights, secondary: the ablation table), all, and all at eps 0.1;
+  * sample signatures (ALGORITHM.md §11) around eps 0.05, tuned tables, geo policy all,
+    edges vulkan, box: none, each part alone (object, lights, secondary: the ablation
+    table), all, and all at eps 0.1;
+  * beyond corner colours (ALGORITHM.md §11 and our curvature correction) around eps 0.05,
+    tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
+    curvature correction alone, both, both with the `lights` signature and with all
+    signatures, and both at eps 0.1 (the second ablation table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -30,6 +34,8 @@ class Setting:
     tables: str = "paper"
     geo: str = "paper"
     signature: str = "none"    # --signature: none | all | comma list of object, lights, secondary
+    highlights: str = "off"    # --highlights on | off: the analytic highlight flag
+    curvature: str = "off"     # --curvature on | off: unrefined pixels to second order
 
     @property
     def label(self) -> str:
@@ -37,9 +43,14 @@ class Setting:
             return "none"
         if self.mode == "uniform":
             return f"uniform-{self.pattern}-{self.spp}"
-        sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (f"adaptive-eps{self.eps:g}-{self.edges}-{self.filter}"
-                f"-{self.tables}-geo{self.geo}{sig}")
+                f"-{self.tables}-geo{self.geo}{self.extras}")
+
+    @property
+    def extras(self) -> str:
+        """Label suffix of the options beyond the paper's (empty when all are off)."""
+        sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
+        return sig + ("-hl" if self.highlights == "on" else "") + ("-cv" if self.curvature == "on" else "")
 
     @property
     def family(self) -> str:
@@ -49,7 +60,8 @@ class Setting:
         if self.mode == "none":
             return "none"
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
-        return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}"
+        more = ("/hl" if self.highlights == "on" else "") + ("/cv" if self.curvature == "on" else "")
+        return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
         """Long uniform renders are timed once; the compared points `runs` times."""
@@ -62,13 +74,14 @@ class Setting:
             return ["--aa", "uniform", "--spp", str(self.spp), "--pattern", self.pattern]
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
-                "--signature", self.signature]
+                "--signature", self.signature, "--highlights", self.highlights, "--curvature", self.curvature]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
         ss = geo_ss if self.edges == "vulkan" else 0
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
-                "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature]
+                "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature,
+                "--curvature", self.curvature]
 
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
@@ -81,6 +94,22 @@ LATTICE25 = Setting("uniform", spp=25, pattern="lattice")
 # The base of the signature ablation: the CLI's adaptive defaults without signatures.
 SIGNATURE_BASE = Setting("adaptive", eps=0.05, edges="vulkan", filter="box", tables="tuned", geo="all")
 SIGNATURE_PARTS = ["object", "lights", "secondary"]
+
+
+# The base of the second ablation: eps 0.05, tuned tables, geo policy paper, nothing beyond.
+BEYOND_BASE = Setting("adaptive", eps=0.05, edges="vulkan", filter="box", tables="tuned", geo="paper")
+BOTH = {"highlights": "on", "curvature": "on"}
+BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvature": "on"}), ("both", BOTH),
+                   ("both + sig lights", {**BOTH, "signature": "lights"}),
+                   ("both + sig all", {**BOTH, "signature": "all"})]
+
+
+def beyond_settings(quick: bool) -> list[Setting]:
+    r = dataclasses.replace
+    if quick:
+        return [BEYOND_BASE, r(BEYOND_BASE, **BOTH)]
+    return ([BEYOND_BASE] + [r(BEYOND_BASE, **v) for _, v in BEYOND_VARIANTS]
+            + [r(BEYOND_BASE, eps=0.1, **BOTH)])
 
 
 def signature_settings(quick: bool) -> list[Setting]:
@@ -112,13 +141,14 @@ def adaptive_settings(quick: bool) -> list[Setting]:
     if quick:
         sweep = [0.05, 0.1, 0.2]
         points = [dataclasses.replace(CLI_DEFAULT, eps=e) for e in sweep]
-        return _unique(points + [dataclasses.replace(CLI_DEFAULT, edges="off")] + signature_settings(True))
+        return _unique(points + [dataclasses.replace(CLI_DEFAULT, edges="off")] + signature_settings(True)
+                       + beyond_settings(True))
     sweep = [0.02, 0.05, 0.1, 0.2]
     points = [dataclasses.replace(CLI_DEFAULT, eps=e, tables=t)
               for t in ("paper", "tuned") for e in sweep]
     for eps in (0.05, 0.1):
         points += variations(dataclasses.replace(CLI_DEFAULT, eps=eps))
-    return _unique(points + signature_settings(False))
+    return _unique(points + signature_settings(False) + beyond_settings(False))
 
 
 def star_settings(quick: bool) -> list[Setting]:
