@@ -23,7 +23,7 @@ struct AaStats {
   uint64_t zones_traced = 0;       // over own refined pixels
   uint64_t zones_interpolated = 0;
   uint64_t geo_pixels = 0;         // own pixels whose geo flag was set
-  uint64_t highlight_pixels = 0;   // own pixels flagged for a highlight between their corners
+  uint64_t hidden_pixels = 0;      // own pixels flagged for detail between their corners (hidden_detail.h)
   double seconds_corners = 0;      // level 1: tracing + tone mapping the corner grid
   double seconds_refine = 0;       // per-pixel levels 1–3 (+ box filter)
   double seconds_filter = 0;       // Mitchell pass
@@ -39,7 +39,7 @@ struct AaStats {
     zones_traced += o.zones_traced;
     zones_interpolated += o.zones_interpolated;
     geo_pixels += o.geo_pixels;
-    highlight_pixels += o.highlight_pixels;
+    hidden_pixels += o.hidden_pixels;
     seconds_corners += o.seconds_corners;
     seconds_refine += o.seconds_refine;
     seconds_filter += o.seconds_filter;

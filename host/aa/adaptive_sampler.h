@@ -26,7 +26,7 @@
 #include "aa/aa_stats.h"
 #include "aa/adaptive_pixel.h"
 #include "aa/adaptive_settings.h"
-#include "aa/highlight_flag.h"
+#include "aa/hidden_detail.h"
 #include "aa/mitchell.h"
 #include "core/geo_map.h"
 #include "core/tile.h"
@@ -35,7 +35,7 @@ namespace zz {
 
 // Level 1 of a tile's region, written by trace_corners and read by refine_tile: the
 // region's (w+1) x (h+1) corner samples, and per region pixel whether the source said
-// the corners may have missed something that shows (highlight_flag.h).
+// the corners may have missed something that shows (hidden_detail.h).
 struct CornerGrid {
   std::vector<float4> linear;      // AoS (r, g, b, 0)
   std::vector<float4> display;     // tone-mapped
@@ -68,13 +68,13 @@ struct AdaptiveScratch {
   }
 };
 
-// The probe type of a source's samples (highlight_flag.h); an empty one for the others.
+// The probe type of a source's samples (hidden_detail.h); an empty one for the others.
 struct NoProbe {};
 template <class S>
 struct ProbeOf {
   using type = NoProbe;
 };
-template <HighlightSource S>
+template <HiddenDetailSource S>
 struct ProbeOf<S> {
   using type = typename S::Probe;
 };
@@ -122,7 +122,7 @@ inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettin
 // Whether a tile of `source` under `settings` fills CornerGrid::hidden.
 template <SampleSource S>
 constexpr bool flags_hidden(const AdaptiveSettings& settings) {
-  if constexpr (HighlightSource<S>) return settings.highlights && !settings.refine_all;
+  if constexpr (HiddenDetailSource<S>) return (settings.highlights || settings.textures) && !settings.refine_all;
   return false;
 }
 
@@ -160,7 +160,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
       int4 sig;
       Probe lanes[4];
       Rgb4 c;
-      if constexpr (HighlightSource<S>) {
+      if constexpr (HiddenDetailSource<S>) {
         c = probing ? source.sample4(px, py, sig, lanes) : sample4_signed(source, px, py, sig);
       } else {
         c = sample4_signed(source, px, py, sig);
@@ -181,8 +181,8 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
     }
   }
 
-  // ---- the highlight flag of every region pixel (highlight_flag.h) ----
-  if constexpr (HighlightSource<S>) {
+  // ---- the hidden-detail flag of every region pixel (hidden_detail.h) ----
+  if constexpr (HiddenDetailSource<S>) {
     if (probing) {
       source.survey(probes, layout.corners());
       const float4 eps(settings.eps);
@@ -191,7 +191,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
           const int ci = layout.index(region.x0 + rx, region.y0 + ry);
           const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
           const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
-          grid.hidden[size_t(ry) * region.width() + rx] = hidden_radiance_shows(source, p, mean, tonemap, eps);
+          grid.hidden[size_t(ry) * region.width() + rx] = hidden_detail_shows(source, p, mean, tonemap, eps);
         }
     }
   }
@@ -244,7 +244,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
 
       const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
       const bool g = geo.at(x, y);
-      // A highlight the corners may have missed sends the pixel on like a geo flag.
+      // Detail the corners may have missed sends the pixel on like a geo flag.
       const bool peak = hidden && hidden[size_t(ry) * rw + rx];
       const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all);
       const bool refine = l1.refine;
@@ -258,8 +258,8 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
         const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
-        // A hidden highlight may be anywhere between E..H and smaller than the zones' spacing
-        // of the tables' edge model: every zone.
+        // Hidden detail may be anywhere between E..H and smaller than the zones' spacing of
+        // the tables' edge model: every zone.
         zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all || peak);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
@@ -290,7 +290,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       if (!own) continue;
       stats.pixels += 1;
       stats.geo_pixels += g;
-      stats.highlight_pixels += peak;
+      stats.hidden_pixels += peak;
       const size_t fi = target.index(x, y);
       if (!mitchell) {
         alignas(16) float v[4];

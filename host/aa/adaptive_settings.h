@@ -24,9 +24,11 @@ struct AdaptiveSettings {
   // Parts of the sample signatures the sources return (signature.h, ALGORITHM.md §11);
   // kSignatureNone is the paper's colour-only predicate.
   unsigned signature = kSignatureNone;
-  // The analytic highlight flag (highlight_flag.h, §11): pixels whose corners may have
-  // missed a highlight that shows go on to level 2. Only sources with probes flag.
+  // Flags for detail between the corners (hidden_detail.h, §11): pixels whose corners may
+  // have missed a highlight (highlights) or texture detail (textures) that shows go on to
+  // level 2. Only sources with probes flag.
   bool highlights = false;
+  bool textures = false;
   // Unrefined pixels take the box integral to second order (curvature_corrected in
   // adaptive_pixel.h) instead of the corners' mean; needs a ring of corners around the tile.
   bool curvature = false;

@@ -71,6 +71,7 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
                      {"filter", name_of(kFilters, r.adaptive.filter)},
                      {"signature", signature_name(r.adaptive.signature)},
                      {"highlights", r.adaptive.highlights},
+                     {"textures", r.adaptive.textures},
                      {"curvature", r.adaptive.curvature},
                      {"edges", name_of(kEdgeModes, r.edges)}};
   if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}};

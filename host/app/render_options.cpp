@@ -36,6 +36,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
       });
   add_choice(cmd, "--highlights", o.highlights, kOnOff,
              "Adaptive: refine pixels whose corners may have missed a highlight peaking between them");
+  add_choice(cmd, "--textures", o.textures, kOnOff,
+             "Adaptive: refine pixels whose texture, averaged over the pixel, differs from what the corners "
+             "sampled (emissive and base-colour detail between them)");
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
              "Adaptive: unrefined pixels corrected for the shading's curvature (traces a ring of corners more "
              "per tile)");
@@ -48,6 +51,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.filter = o.filter;
   s.signature = o.signature;
   s.highlights = o.highlights;
+  s.textures = o.textures;
   s.curvature = o.curvature;
 }
 

@@ -44,8 +44,10 @@ struct AdaptiveOptions {
   // Parts of the sample signatures (aa/signature.h). None: every setting with signatures
   // exceeds 1.75 rays/px over room, glass, car at 1024² (all: 1.91); docs/signatures.md.
   unsigned signature = kSignatureNone;
-  // The analytic highlight flag (aa/highlight_flag.h, render/specular_peak.h).
+  // Flags for detail between the corners (aa/hidden_detail.h): highlights
+  // (render/specular_peak.h) and texture detail (render/texture_detail.h).
   bool highlights = false;
+  bool textures = false;
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
   bool curvature = false;
 };
@@ -69,7 +71,7 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
-// Registers --eps --tables --geo-policy --filter --signature --highlights --curvature.
+// Registers --eps --tables --geo-policy --filter --signature --highlights --textures --curvature.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // The adaptive sampler's settings from its options (the tone map is the frame's, set apart).

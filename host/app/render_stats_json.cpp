@@ -36,6 +36,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"filter", name_of(kFilters, o.adaptive.filter)},
                      {"signature", signature_name(o.adaptive.signature)},
                      {"highlights", o.adaptive.highlights},
+                     {"textures", o.adaptive.textures},
                      {"curvature", o.adaptive.curvature},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
@@ -46,7 +47,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"zones_interpolated", a.zones_interpolated},
                      {"margin_rays", a.margin_rays},
                      {"geo_fraction", a.per_pixel(a.geo_pixels)},
-                     {"highlight_fraction", a.per_pixel(a.highlight_pixels)},
+                     {"hidden_fraction", a.per_pixel(a.hidden_pixels)},
                      // Summed over tiles (CPU seconds across threads): the split of render time.
                      {"time_s", {{"level1_corners", a.seconds_corners},
                                  {"levels_2_3", a.seconds_refine},

@@ -81,6 +81,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     });
   };
   auto cancelled = [&] { return callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed); };
+  const HiddenDetail detail = settings.aa == AaMode::Adaptive ? HiddenDetail(shader.scene(), adaptive) : HiddenDetail();
 
   // Map pending: level 1 (which needs no map) of the first tiles overlaps it. Corners are
   // pure functions of their positions, so the image is the same as in one pass.
@@ -89,14 +90,14 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     size_t stashed = 0;
     for (size_t bytes = 0; stashed < tiles.size(); ++stashed) {
       const CornerLayout layout = corner_layout(film.target(tiles[stashed]), adaptive);
-      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (adaptive.highlights ? layout.pixels() : 0);
+      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (adaptive.highlights || adaptive.textures ? layout.pixels() : 0);
       if (bytes > kCornerStashBytes) break;
     }
     stash.resize(stashed);
     for_tiles(stash.size(), [&](size_t index) {
       if (cancelled()) return;
       const ScopedFlushDenormals flush_denormals;
-      SceneSource source(shader, rays, adaptive.signature);
+      SceneSource source(shader, rays, adaptive.signature, &detail);
       trace_corners(source, film.target(tiles[index]), adaptive, stash[index], results[index].aa);
       results[index].rays = source.counters;
     });
@@ -108,7 +109,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     if (cancelled()) return;
     const ScopedFlushDenormals flush_denormals;  // MXCSR is per thread: set it in every task
     const TileTarget target = film.target(tiles[index]);
-    SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone);
+    SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone, &detail);
     TileResult& result = results[index];
     if (settings.aa == AaMode::Adaptive && index < stash.size()) {
       refine_tile(source, target, geo, adaptive, stash[index], result.aa);

@@ -1,23 +1,38 @@
 // The renderer's SampleSource: a camera packet through 4 image-plane points, traced and
 // shaded. Each tile owns one (its ray counters are per tile, summed afterwards).
 // With signature parts switched on (aa/signature.h) it also says what each lane saw, and
-// for the highlight flag (aa/highlight_flag.h) which surface it hit.
+// for the hidden-detail flags (aa/hidden_detail.h) which surface it hit.
 #pragma once
-
-#include "aa/highlight_flag.h"
-#include "aa/sample_source.h"
-#include "aa/signature.h"
-#include "render/shader.h"
-#include "scene/camera.h"
 
 #include <vector>
 
+#include "aa/adaptive_settings.h"
+#include "aa/hidden_detail.h"
+#include "aa/sample_source.h"
+#include "aa/signature.h"
+#include "render/shader.h"
+#include "render/texture_detail.h"
+#include "scene/camera.h"
+
 namespace zz {
+
+// What the source looks for between a pixel's corners, made once per frame.
+struct HiddenDetail {
+  bool highlights = false;               // render/specular_peak.h
+  bool textures = false;                 // render/texture_detail.h
+  std::vector<TexturePyramid> pyramids;  // with textures: texture_pyramids(scene)
+
+  HiddenDetail() = default;
+  HiddenDetail(const Scene& scene, const AdaptiveSettings& s) : highlights(s.highlights), textures(s.textures) {
+    if (textures) pyramids = texture_pyramids(scene);
+  }
+};
 
 class SceneSource {
  public:
-  SceneSource(const Shader& shader, const CameraRays& camera, unsigned signature_parts = kSignatureNone)
-      : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll) {}
+  SceneSource(const Shader& shader, const CameraRays& camera, unsigned signature_parts = kSignatureNone,
+              const HiddenDetail* detail = nullptr)
+      : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail) {}
 
   Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters); }
 
@@ -33,7 +48,7 @@ class SceneSource {
     return c;
   }
 
-  // With the surfaces the lanes hit, for the highlight flag (aa/highlight_flag.h).
+  // With the surfaces the lanes hit, for the hidden-detail flags (aa/hidden_detail.h).
   using Probe = SurfaceProbe;
   Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
     PathSignature4 seen;
@@ -47,12 +62,20 @@ class SceneSource {
   }
 
   // Before hidden_radiance is asked about a tile's pixels: the tile's corner probes.
-  void survey(const Probe* probes, size_t count) { bound_light_reach(shader_.scene(), probes, count, reach_); }
+  void survey(const Probe* probes, size_t count) {
+    if (detail_ && detail_->highlights) bound_light_reach(shader_.scene(), probes, count, reach_);
+  }
 
-  // Highlight radiance the pixel with these corners (TL, TR, BL, BR) may hold unseen;
-  // `visible`: per channel, the smallest increment that could show.
-  float4 hidden_radiance(const Probe corners[4], float4 visible) const {
-    const glm::vec3 h = hidden_highlight(shader_.scene(), corners, reach_, glm::vec3(visible[0], visible[1], visible[2]));
+  // Radiance by which the pixel with these corners (TL, TR, BL, BR; `mean` the mean of
+  // their radiance) may differ unseen; `visible`: per channel, the smallest increment that
+  // could show.
+  float4 hidden_radiance(const Probe corners[4], float4 mean, float4 visible) const {
+    if (!detail_) return float4(0.0f);
+    const glm::vec3 shown(visible[0], visible[1], visible[2]);
+    glm::vec3 h(0.0f);
+    if (detail_->highlights) h += hidden_highlight(shader_.scene(), corners, reach_, shown);
+    if (detail_->textures)
+      h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
     return float4(h.r, h.g, h.b, 0.0f);
   }
 
@@ -85,10 +108,11 @@ class SceneSource {
   const Shader& shader_;
   const CameraRays& camera_;
   unsigned parts_;
+  const HiddenDetail* detail_;
   std::vector<glm::vec3> reach_;  // survey(): per light, bound_light_reach over the tile
 };
 
 static_assert(SignedSampleSource<SceneSource>);
-static_assert(HighlightSource<SceneSource>);
+static_assert(HiddenDetailSource<SceneSource>);
 
 }  // namespace zz

@@ -409,8 +409,15 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
-    if (signature && depth == 0)
-      signature->surface[i] = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u};
+    if (signature && depth == 0) {
+      SurfaceProbe& probe = signature->surface[i];
+      probe = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u, mat_index};
+      if constexpr (kTextured) {
+        const Texcoords tc(scene_, t3, u, v);
+        probe.uv0 = tc.uv0;
+        probe.uv1 = tc.uv1;
+      }
+    }
     out[0][i] = emission.r;
     out[1][i] = emission.g;
     out[2][i] = emission.b;

@@ -34,6 +34,8 @@ struct SurfaceProbe {
   glm::vec3 specular{0.0f};  // Phong highlight colour; 0 where there is no highlight (a miss)
   float shininess = 1.0f;    // Phong exponent
   uint32_t shadowed = 0;     // bit l % 32: light l's shadow ray was blocked or attenuated
+  uint32_t material = ~0u;   // index of the material hit; ~0 on a miss
+  glm::vec2 uv0{0.0f}, uv1{0.0f};  // texture coordinates (TEXCOORD_0, _1) of the hit
 };
 
 // Per light, an upper bound of its incident radiance factor (light_towards) over the hit

@@ -139,9 +139,9 @@ TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
   const float off = render(AaMode::Adaptive, false, off_stats);
   const float on = render(AaMode::Adaptive, true, on_stats);
   const float lattice = render(AaMode::Uniform, false, lattice_stats);
-  EXPECT_EQ(off_stats.aa.highlight_pixels, 0u);
-  EXPECT_GE(on_stats.aa.highlight_pixels, 1u);
-  EXPECT_LE(on_stats.aa.highlight_pixels, 4u);  // the peak's pixel and at most its neighbours
+  EXPECT_EQ(off_stats.aa.hidden_pixels, 0u);
+  EXPECT_GE(on_stats.aa.hidden_pixels, 1u);
+  EXPECT_LE(on_stats.aa.hidden_pixels, 4u);  // the peak's pixel and at most its neighbours
   EXPECT_GT(lattice, 2.0f * off);               // the corners alone miss most of it
   EXPECT_NEAR(on, lattice, 0.05f * lattice);    // refined: the lattice's 25 points
 }

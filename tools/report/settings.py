@@ -11,8 +11,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     table), all, and all at eps 0.1;
   * beyond corner colours (ALGORITHM.md §11 and our curvature correction) around eps 0.05,
     tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
-    curvature correction alone, both, both with the `lights` signature and with all
-    signatures, and both at eps 0.1 (the second ablation table);
+    curvature correction alone, both, both with the texture detail flag, both with the
+    `lights` signature and with all signatures, and both at eps 0.1 (the second ablation
+    table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -35,6 +36,7 @@ class Setting:
     geo: str = "paper"
     signature: str = "none"    # --signature: none | all | comma list of object, lights, secondary
     highlights: str = "off"    # --highlights on | off: the analytic highlight flag
+    textures: str = "off"      # --textures on | off: the texture detail flag
     curvature: str = "off"     # --curvature on | off: unrefined pixels to second order
 
     @property
@@ -50,7 +52,8 @@ class Setting:
     def extras(self) -> str:
         """Label suffix of the options beyond the paper's (empty when all are off)."""
         sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
-        return sig + ("-hl" if self.highlights == "on" else "") + ("-cv" if self.curvature == "on" else "")
+        return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
+                + ("-cv" if self.curvature == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -60,7 +63,8 @@ class Setting:
         if self.mode == "none":
             return "none"
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
-        more = ("/hl" if self.highlights == "on" else "") + ("/cv" if self.curvature == "on" else "")
+        more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
+                + ("/cv" if self.curvature == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -74,7 +78,8 @@ class Setting:
             return ["--aa", "uniform", "--spp", str(self.spp), "--pattern", self.pattern]
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
-                "--signature", self.signature, "--highlights", self.highlights, "--curvature", self.curvature]
+                "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
+                "--curvature", self.curvature]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -100,6 +105,7 @@ SIGNATURE_PARTS = ["object", "lights", "secondary"]
 BEYOND_BASE = Setting("adaptive", eps=0.05, edges="vulkan", filter="box", tables="tuned", geo="paper")
 BOTH = {"highlights": "on", "curvature": "on"}
 BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvature": "on"}), ("both", BOTH),
+                   ("both + textures", {**BOTH, "textures": "on"}),
                    ("both + sig lights", {**BOTH, "signature": "lights"}),
                    ("both + sig all", {**BOTH, "signature": "all"})]
 

@@ -1,0 +1,49 @@
+// Flags for detail between a pixel's corners, on the antialiasing side (ALGORITHM.md §11,
+// ours). A source that can returns with each sample a probe of the surface it hit and, from
+// the four probes of a pixel's corners, the radiance by which the pixel may differ from
+// their mean because of something none of them saw: a highlight peaking between them
+// (render/specular_peak.h), texture detail between them (render/texture_detail.h). The
+// sampler flags the pixel when adding that radiance to the corners' mean would move the
+// displayed colour by more than eps: the same test on display values as every other
+// comparison (§2). Like the visibility map's geo flag it only sends a pixel to level 2; it
+// never colours one. Sources without probes (analytic images, the tuner's edges) never flag.
+#pragma once
+
+#include <concepts>
+#include <cstddef>
+
+#include "aa/signature.h"
+#include "core/simd.h"
+#include "core/tonemap.h"
+
+namespace zz {
+
+// sample4(px, py, sig, probes) fills 4 probes; survey(probes, n) sees a tile's corner
+// probes once; hidden_radiance(corners, corner_mean, visible) answers for one pixel
+// (corners TL, TR, BL, BR; the mean of their linear radiance in lanes 0-2), and may skip
+// whatever stays below `visible` per channel.
+template <class S>
+concept HiddenDetailSource =
+    SignedSampleSource<S> && requires(S& source, const S& csource, float4 px, float4 py, int4& sig,
+                                      typename S::Probe* probes, size_t n, float4 mean, float4 visible) {
+      { source.sample4(px, py, sig, probes) } -> std::same_as<Rgb4>;
+      { source.survey(probes, n) };
+      { csource.hidden_radiance(probes, mean, visible) } -> std::same_as<float4>;
+    };
+
+// Whether the pixel whose box-filtered value is `corner_mean` (linear RGB in lanes 0-2)
+// hides more than it shows: asks the source what the corners `probes` may have missed, and
+// flags the pixel when adding it would change a channel's tone-mapped value by more than
+// eps (a distance equal to eps is no discontinuity).
+template <HiddenDetailSource S>
+bool hidden_detail_shows(const S& source, const typename S::Probe probes[4], float4 corner_mean,
+                         const ToneMap& tonemap, float4 eps) {
+  // T is concave: nothing below eps / T'(mean) can show (2 % margin for the table's chords).
+  const float4 visible = eps / (tonemap.slope4(corner_mean) * float4(1.02f));
+  const float4 hidden = source.hidden_radiance(probes, corner_mean, visible);
+  if (!(hidden > float4(0.0f)).any()) return false;
+  const float4 moved = tonemap.apply4(corner_mean + hidden) - tonemap.apply4(corner_mean);
+  return ((moved > eps).bits() & 0x7) != 0;
+}
+
+}  // namespace zz
