@@ -227,8 +227,8 @@ def config_table(choice: dict) -> list[str]:
     return lines
 
 
-def ablation(rows: list[dict], base_setting, variants: list[tuple[str, object]]) -> list[str]:
-    """Table rows: each variant against `base_setting` per scene: the primary rays/px it adds
+def ablation(rows: list[dict], title: str, intro: str, base_setting, variants: list[tuple[str, object]]) -> list[str]:
+    """A section: each variant against `base_setting` per scene, the primary rays/px it adds
     and the share of the excess display error (adaptive MSE minus the lattice's) it removes."""
     lattice = by_scene(rows, LATTICE25.label)
     base = by_scene(rows, base_setting.label)
@@ -246,38 +246,31 @@ def ablation(rows: list[dict], base_setting, variants: list[tuple[str, object]])
             lines.append(f"| {scene} | {name} | {v['rays_per_px'] - b['rays_per_px']:+.3f} | "
                          f"{b['rmse_display'] / lat['rmse_display']:.3f} → {v['rmse_display'] / lat['rmse_display']:.3f} | "
                          f"{fmt(removed, '.0%')} | {fmt(b['flip'] / lat['flip'], '.2f')} → {fmt(v['flip'] / lat['flip'], '.2f')} |")
-    return lines
-
-
-ABLATION_HEADER = ["| scene | variant | + rays/px | display RMSE × lattice | removed | FLIP × lattice |",
-                   "|---|---|---:|---:|---:|---:|"]
+    if not lines:
+        return []
+    return [f"## {title}", "", f"Against `{base_setting.label}`: {intro}", "",
+            "| scene | variant | + rays/px | display RMSE × lattice | removed | FLIP × lattice |",
+            "|---|---|---:|---:|---:|---:|"] + lines + [""]
 
 
 def signature_ablation(rows: list[dict]) -> list[str]:
     """Each signature part alone, and all of them, against the same setting without signatures."""
     variants = [(p, dataclasses.replace(SIGNATURE_BASE, signature=p)) for p in SIGNATURE_PARTS + ["all"]]
-    lines = ablation(rows, SIGNATURE_BASE, variants)
-    if not lines:
-        return []
-    return ["## Sample signatures: ablation", "",
-            f"Against `{SIGNATURE_BASE.label}` (no signatures): each signature part alone and all of them "
-            "(ALGORITHM.md §11). *Removed* = the share of the excess display MSE (adaptive minus uniform 25 "
-            "lattice) that the part takes away; negative when it adds error.", ""] + ABLATION_HEADER + lines + [""]
+    return ablation(rows, "Sample signatures: ablation",
+                    "each signature part alone and all of them (ALGORITHM.md §11). *Removed* = the share of the "
+                    "excess display MSE (adaptive minus uniform 25 lattice) that the part takes away; negative when "
+                    "it adds error.", SIGNATURE_BASE, variants)
 
 
 def beyond_ablation(rows: list[dict]) -> list[str]:
-    """The highlight flag, the curvature correction, both, and both with signatures."""
+    """The highlight flag, the curvature correction, both, and both with more."""
     variants = [(name, dataclasses.replace(BEYOND_BASE, **v)) for name, v in BEYOND_VARIANTS]
-    lines = ablation(rows, BEYOND_BASE, variants)
-    if not lines:
-        return []
-    return ["## Beyond corner colours: ablation", "",
-            f"Against `{BEYOND_BASE.label}`: the analytic highlight flag (`--highlights on`, ALGORITHM.md §11: "
-            "pixels whose corners may have missed a highlight peaking between them trace every zone), the "
-            "curvature correction (`--curvature on`: unrefined pixels take the box integral to second order, "
-            "with a ring of corners more per tile), both, both with the texture detail flag (`--textures on`), and "
-            "both with sample signatures. *Removed* as above.",
-            ""] + ABLATION_HEADER + lines + [""]
+    return ablation(rows, "Beyond corner colours: ablation",
+                    "the analytic highlight flag (`--highlights on`, ALGORITHM.md §11: pixels whose corners may have "
+                    "missed a highlight peaking between them trace every zone), the curvature correction "
+                    "(`--curvature on`: unrefined pixels take the box integral to second order, with a ring of corners "
+                    "more per tile), both, both with the texture detail flag (`--textures on`), and both with sample "
+                    "signatures. *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
