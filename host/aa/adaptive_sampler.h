@@ -108,10 +108,14 @@ struct CornerLayout {
   // Grid index of the corner at frame position (x, y).
   int index(int x, int y) const { return (y - y0) * width + (x - x0); }
 };
+// The curvature correction is the box filter's (Mitchell weighs the corners as they are).
+inline bool curvature_applies(const AdaptiveSettings& settings) {
+  return settings.curvature && settings.filter == Filter::Box && !settings.refine_all;
+}
 inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
   CornerLayout l;
   l.region = adaptive_region(target.rect, target.frame_width, target.frame_height, settings.filter);
-  l.ring = settings.curvature ? 1 : 0;
+  l.ring = curvature_applies(settings) ? 1 : 0;
   l.x0 = l.region.x0 - l.ring;
   l.y0 = l.region.y0 - l.ring;
   l.width = l.region.width() + 1 + 2 * l.ring;
@@ -253,7 +257,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
-        if (settings.curvature) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
+        if (layout.ring) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
       } else {
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};

@@ -88,17 +88,16 @@ TEST(Renderer, AdaptiveIsBitIdenticalAcrossThreadsTileSizesAndOrderWithAndWithou
   const Scene scene = box_scene();
   for (unsigned sig : {kSignatureNone, kSignatureAll})
     for (Filter filter : {Filter::Box, Filter::Mitchell}) {
-      // The highlight flag and the curvature correction (with its ring of corners) on with
-      // the signatures, off without them.
-      const bool extras = sig != kSignatureNone;
+      // The hidden-detail flags and the curvature correction (the box filter's, with its ring
+      // of corners) on in two of the four cases: box with signatures, Mitchell without.
+      const bool extras = (sig != kSignatureNone) != (filter == Filter::Mitchell);
       SCOPED_TRACE(testing::Message() << "signature " << signature_name(sig) << " " << to_string(filter));
       RenderSettings s;
       s.width = 97;
       s.height = 70;
       s.adaptive.signature = sig;
       s.adaptive.filter = filter;
-      s.adaptive.highlights = extras;
-      s.adaptive.curvature = extras;
+      s.adaptive.highlights = s.adaptive.textures = s.adaptive.curvature = extras;
       s.threads = 1;
       RenderStats first;
       const Film reference = render(scene, s, &first);
@@ -206,7 +205,7 @@ TEST(Renderer, PendingMapIsBitIdenticalToAFinishedOne) {
   for (Filter filter : {Filter::Box, Filter::Mitchell}) {
     s.adaptive.filter = filter;
     s.adaptive.signature = filter == Filter::Box ? kSignatureNone : kSignatureAll;  // both corner stashes
-    s.adaptive.highlights = s.adaptive.curvature = filter == Filter::Mitchell;      // with flags and the ring
+    s.adaptive.highlights = s.adaptive.curvature = filter == Filter::Box;           // with flags and the ring
     Film a, b;
     RenderStats sa, sb;
     render_frame(shader, scene.cameras[0], geo, s, a, sa);
