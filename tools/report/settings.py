@@ -12,7 +12,7 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
   * beyond corner colours (ALGORITHM.md §11 and our curvature correction) around eps 0.05,
     tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
     curvature correction alone, both, both with the texture detail flag, both with the
-    `lights` signature and with all signatures, and both at eps 0.1 (the second ablation
+    `lights`, the `secondary` and all signatures, and both at eps 0.1 (the second ablation
     table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
@@ -107,6 +107,7 @@ BOTH = {"highlights": "on", "curvature": "on"}
 BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvature": "on"}), ("both", BOTH),
                    ("both + textures", {**BOTH, "textures": "on"}),
                    ("both + sig lights", {**BOTH, "signature": "lights"}),
+                   ("both + sig secondary", {**BOTH, "signature": "secondary"}),
                    ("both + sig all", {**BOTH, "signature": "all"})]
 
 
