@@ -110,11 +110,21 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
   const float lobe_integral = kPi / (2.0f * shininess);  // of exp(-2 s |d|^2) over the plane
   const uint32_t shadowed_everywhere = c[0].shadowed & c[1].shadowed & c[2].shadowed & c[3].shadowed;
 
+  // The pixel's hit points lie within `extent` of corner 0's.
+  float extent = 0.0f;
+  for (int k = 1; k < 4; ++k) extent = std::max(extent, glm::length(c[k].position - c[0].position));
+
   glm::vec3 hidden(0.0f);
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
     if (glm::all(glm::lessThan(largest_peak * reach[l], visible))) continue;
     const Light& light = scene.lights[l];
+    if (light.type != Light::Type::Directional) {  // the pixel's own 1 / d^2 bound, before 4 lights' worth of work
+      const float nearest = glm::length(light.position - c[0].position) - extent;
+      if (nearest > 0.0f &&
+          glm::all(glm::lessThan(largest_peak * light.intensity / (nearest * nearest), visible)))
+        continue;
+    }
     glm::vec3 wi[4], d3[4], incident(0.0f), strongest(0.0f);
     float cos_n[4];
     for (int k = 0; k < 4; ++k) {
