@@ -56,10 +56,29 @@ TEST(RenderOptions, NamesBecomeEnums) {
   EXPECT_STREQ(name_of(kFilters, o.render.adaptive.filter), "mitchell");
 }
 
+TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights"},
+                  o),
+            "");
+  AdaptiveSettings s;
+  apply_adaptive_options(o.render.adaptive, s);
+  EXPECT_TRUE(s.highlights);
+  EXPECT_TRUE(s.textures);
+  EXPECT_TRUE(s.curvature);
+  EXPECT_EQ(s.signature, unsigned(kSignatureLights));
+  EXPECT_FLOAT_EQ(s.eps, 0.05f);
+  BatchOptions off;
+  ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off"}, off), "");
+  apply_adaptive_options(off.render.adaptive, s);
+  EXPECT_FALSE(s.highlights || s.textures || s.curvature);
+}
+
 TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
   for (std::vector<std::string> bad : std::vector<std::vector<std::string>>{
            {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
-           {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"}}) {
+           {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"},
+           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}}) {
     BatchOptions o;
     bad.insert(bad.begin(), "a.json");
     const std::string e = parse(bad, o);
