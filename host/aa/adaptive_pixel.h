@@ -162,7 +162,8 @@ inline int refined_rays(int zones) { return 5 + 4 * std::popcount(unsigned(zones
 // differences come from the corners one step beyond the pixel (the grid's ring), two per
 // axis, each row's f(-1) - f(0) - f(1) + f(2) being the sum of two second differences.
 // Where an outer corner differs from the pixel's corner next to it (rho > eps: an edge, not
-// curvature) the pixel keeps the plain mean. `lin` and `disp` point at the pixel's
+// curvature), or the correction would move the pixel by a quarter of its value or more, the
+// pixel keeps the plain mean. `lin` and `disp` point at the pixel's
 // top-left corner in a grid of row stride `stride`.
 inline float4 curvature_corrected(float4 mean, const float4* lin, const float4* disp, int stride, float4 eps) {
   const int s = stride;
@@ -174,7 +175,11 @@ inline float4 curvature_corrected(float4 mean, const float4* lin, const float4* 
   const float4 rows = ((lin[-1] - lin[0]) - (lin[1] - lin[2])) + ((lin[s - 1] - lin[s]) - (lin[s + 1] - lin[s + 2]));
   const float4 cols = ((lin[-s] - lin[0]) - (lin[s] - lin[2 * s])) +
                       ((lin[1 - s] - lin[1]) - (lin[s + 1] - lin[2 * s + 1]));
-  return max(mean - (rows + cols) * float4(1.0f / 48.0f), float4(0.0f));
+  // Curvature moves a pixel by a small fraction of its value; a correction of a quarter or
+  // more is HDR values that the display saturates (1e3 beside 1e9 both show white), not shading.
+  const float4 correction = (rows + cols) * float4(1.0f / 48.0f);
+  if (((abs(correction) > mean * float4(0.25f)) | isnan(correction)).bits() & 0x7) return mean;
+  return max(mean - correction, float4(0.0f));
 }
 
 // ---- box filter (§8) -------------------------------------------------------

@@ -1,6 +1,7 @@
 // Unrefined pixels to second order (curvature_corrected in aa/adaptive_pixel.h).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "test_sources.h"
@@ -61,6 +62,34 @@ TEST(Curvature, AnEdgeBesideThePixelLeavesThePlainMean) {
   const Film f = test::render(step, 24, 8, s, 8);
   EXPECT_EQ(f.radiance[3 * 24 + 10].r, 0.5f);
   EXPECT_EQ(f.radiance[3 * 24 + 12].r, 0.5f);
+}
+
+// 1e9 on every third column of corners, 1e3 elsewhere: the display is white everywhere
+// (no two corners differ by eps), but the second differences are HDR steps, not shading.
+struct SaturatedColumns {
+  Rgb4 sample4(float4 px, float4) const {
+    alignas(16) float x[4], v[4];
+    px.store(x);
+    for (int i = 0; i < 4; ++i) v[i] = std::fmod(std::fabs(x[i]), 3.0f) == 0.0f ? 1e9f : 1e3f;
+    const float4 c = float4::load(v);
+    return {c, c, c};
+  }
+};
+
+TEST(Curvature, SaturatedHdrStepsAreNotCurvature) {
+  AdaptiveSettings s;
+  s.curvature = true;
+  const Film f = test::render(SaturatedColumns{}, 30, 8, s, 16);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 30; ++x) {
+      const float v = f.radiance[size_t(y) * 30 + x].r;
+      ASSERT_EQ(f.level[size_t(y) * 30 + x], 1);
+      // Between two 1e3 corners with 1e9 beyond both: the plain mean, not 1e3 - 8e7 -> 0.
+      if (x % 3 == 1) {
+        EXPECT_EQ(v, 1e3f) << x;
+      }
+      EXPECT_GE(v, 1e3f) << x;
+    }
 }
 
 TEST(Curvature, BitIdenticalAcrossTileSizesAndThreads) {
