@@ -2,7 +2,11 @@
 //
 // Level 1 traces the (w+1) x (h+1) corner grid of the tile (its pixels' corners plus the
 // ring it shares with its neighbours, traced again by them: the paper's one-pixel
-// overlap) in 2x2 packets. Every pixel then runs levels 1–3 of adaptive_pixel.h.
+// overlap) in 2x2 packets; with the curvature correction one more ring (the second
+// differences of the tile's border pixels need their neighbours' corners), and with the
+// hidden-detail flags the source's probes of every corner decide which pixels hide more
+// than their corners show (hidden_detail.h). Every pixel then runs levels 1–3 of
+// adaptive_pixel.h.
 //
 // Filters. Box needs only the pixel's own lattice. Mitchell (radius 2) needs the lattice
 // of the neighbouring pixels too, across tile borders. Design: the tile runs levels 1–3
@@ -50,9 +54,6 @@ struct CornerGrid {
       signature.resize(corners);
     }
     if (hidden.size() < pixels) hidden.resize(pixels);
-  }
-  size_t bytes() const {
-    return linear.size() * 2 * sizeof(float4) + signature.size() * sizeof(int32_t) + hidden.size();
   }
 };
 
