@@ -5,7 +5,7 @@
 #include <cmath>
 #include <utility>
 
-#include "render/lighting.h"
+#include "render/lighting4.h"
 
 namespace zz {
 
@@ -182,6 +182,44 @@ struct PacketBuilder {
             float4::load(d[1]), float4::load(d[2]), float4::load(tmax)};
   }
 };
+
+// The lanes' hit points as the per-light loop needs them, SoA; lanes not shaded hold zeros
+// (cos_s = 0: never lit).
+struct LitLanes {
+  vec3x4 p, ns, ng, wo, albedo, specular, origin;
+  float4 shininess;
+  mask4 shaded, lifted;
+  LitLanes(const SurfacePoint sp[4], const bool shaded_lanes[4]) {
+    alignas(16) float a[7][3][4] = {};
+    alignas(16) float shin[4] = {};
+    for (int i = 0; i < 4; ++i) {
+      if (!shaded_lanes[i]) continue;
+      const SurfacePoint& s = sp[i];
+      const glm::vec3* v[7] = {&s.hit.p, &s.ns, &s.ng, &s.wo, &s.albedo, &s.material->specular, &s.shadow_origin};
+      for (int k = 0; k < 7; ++k)
+        for (int c = 0; c < 3; ++c) a[k][c][i] = (*v[k])[c];
+      shin[i] = s.material->shininess;
+    }
+    vec3x4* dst[7] = {&p, &ns, &ng, &wo, &albedo, &specular, &origin};
+    for (int k = 0; k < 7; ++k) *dst[k] = {float4::load(a[k][0]), float4::load(a[k][1]), float4::load(a[k][2])};
+    shininess = float4::load(shin);
+    shaded = mask4(shaded_lanes[0], shaded_lanes[1], shaded_lanes[2], shaded_lanes[3]);
+    lifted = mask4(sp[0].lifted && shaded_lanes[0], sp[1].lifted && shaded_lanes[1], sp[2].lifted && shaded_lanes[2],
+                   sp[3].lifted && shaded_lanes[3]);
+  }
+};
+
+// cos_r^shininess on the lanes of `lanes` (others 0): std::pow, skipped where cos_r = 0
+// (the power is then 0 for the shininess >= 1 materials.cpp gives, as std::pow says).
+float4 phong_pow4(float4 cos_r, float4 shininess, mask4 lanes) {
+  const int todo = (lanes & ((cos_r > float4(0.0f)) | (shininess <= float4(0.0f)))).bits();
+  if (todo == 0) return float4(0.0f);
+  alignas(16) float c[4], n[4], out[4] = {};
+  cos_r.store(c), shininess.store(n);
+  for (int i = 0; i < 4; ++i)
+    if ((todo >> i) & 1) out[i] = std::pow(c[i], n[i]);
+  return float4::load(out);
+}
 
 // Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss.
 constexpr int kMaxSeeThroughLayers = 16;
@@ -424,64 +462,84 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     shaded[i] = true;
   }
 
-  // Direct light: one shadow packet per light, lanes that face it.
+  // Direct light: one shadow packet per light, lanes that face it. The lanes are shaded
+  // together (SoA float4), each with the scalar code's operations in its order.
   if constexpr ((kEffects & kShadows) != 0) {
-    for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
-      const Light& light = scene_.lights[light_index];
-      const uint32_t light_bit = 1u << (light_index % 32);
-      PacketBuilder shadow;
-      glm::vec3 contribution[4];
-      bool want[4] = {false, false, false, false};
-      for (int i = 0; i < 4; ++i) {
-        if (!shaded[i]) continue;
-        const SurfacePoint& s = sp[i];
-        glm::vec3 wi, scale;
-        float dist;
-        if (!light_towards(light, s.hit.p, wi, dist, scale)) continue;
-        const float cos_s = glm::dot(s.ns, wi);
+    if (!scene_.lights.empty()) {
+      const LitLanes lit(sp, shaded);
+      float4 out_r = float4::load(out[0]), out_g = float4::load(out[1]), out_b = float4::load(out[2]);
+      for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+        const Light& light = scene_.lights[light_index];
+        const uint32_t light_bit = 1u << (light_index % 32);
+        const LightConstants constants(light);
+        const LightSample4 ls = light_towards4(light, constants, lit.p);
+        const vec3x4& wi = ls.to_light;
+        const float4 cos_s = dot(lit.ns, wi);
         // Below the flat triangle's plane the light is blocked by the triangle itself,
         // unless the shadow ray starts lifted off it (the shadow terminator, above).
-        if (cos_s <= 0.0f || (glm::dot(s.ng, wi) <= 0.0f && !s.lifted)) continue;
-        const WhittedMaterial& m = *s.material;
+        const mask4 facing = lit.shaded & ls.lit &
+                             !((cos_s <= float4(0.0f)) | andnot(lit.lifted, dot(lit.ng, wi) <= float4(0.0f)));
+        if (facing.none()) continue;
         // Normalised Phong: (n+2)/(2 pi) cos^n(R, wo), energy-conserving lobe.
-        const glm::vec3 r = 2.0f * glm::dot(s.ns, wi) * s.ns - wi;
-        const float cos_r = std::max(0.0f, glm::dot(r, s.wo));
-        const float phong = (m.shininess + 2.0f) * 0.5f * kInvPi * std::pow(cos_r, m.shininess);
-        const glm::vec3 f = s.albedo * kInvPi + m.specular * phong;
-        contribution[i] = f * scale * cos_s;
-        if (!(contribution[i].r > 0.0f || contribution[i].g > 0.0f || contribution[i].b > 0.0f)) continue;
-        const glm::vec3& origin = s.shadow_origin;
-        if (light.type == Light::Type::Directional)
-          shadow.set(i, origin, wi, kInfinity);
-        else
-          shadow.set(i, origin, light.position - origin, 1.0f);  // t in (0, 1) reaches the light
-        want[i] = true;
-      }
-      const mask4 lanes(want[0], want[1], want[2], want[3]);
-      if (lanes.none()) continue;
-      if constexpr ((kEffects & (kAlpha | kRefraction)) != 0) {
-        glm::vec3 through[4];
-        shadow_transmittance<kTextured, kSeeThrough, (kEffects & kRefraction) != 0>(
-            scene_, bvh_, light, shadow, lanes.bits(), through, counters);
-        for (int i = 0; i < 4; ++i) {
-          if (!want[i]) continue;
-          if (signature && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
-            signature->shadowed[i] |= light_bit;
-          out[0][i] += contribution[i].r * through[i].r;
-          out[1][i] += contribution[i].g * through[i].g;
-          out[2][i] += contribution[i].b * through[i].b;
+        const vec3x4 r = lit.ns * (float4(2.0f) * cos_s) - wi;
+        const float4 cos_r = max(dot(r, lit.wo), float4(0.0f));
+        const float4 lobe = phong_pow4(cos_r, lit.shininess, facing);
+        const float4 phong = (lit.shininess + float4(2.0f)) * float4(0.5f) * float4(kInvPi) * lobe;
+        const vec3x4 f = lit.albedo * float4(kInvPi) + lit.specular * phong;
+        const vec3x4 contribution = (f * ls.scale) * cos_s;
+        const mask4 lanes = facing & ((contribution.x > float4(0.0f)) | (contribution.y > float4(0.0f)) |
+                                      (contribution.z > float4(0.0f)));
+        if (lanes.none()) continue;
+        // Unused lanes as PacketBuilder leaves them: zero origin, +z direction, tmax 0.
+        RayPacket4 shadow;
+        shadow.ox = select(lanes, lit.origin.x, float4(0.0f));
+        shadow.oy = select(lanes, lit.origin.y, float4(0.0f));
+        shadow.oz = select(lanes, lit.origin.z, float4(0.0f));
+        vec3x4 dir;
+        float4 tmax;
+        if (light.type == Light::Type::Directional) {
+          dir = wi;
+          tmax = float4(kInfinity);
+        } else {
+          dir = constants.position - lit.origin;  // t in (0, 1) reaches the light
+          tmax = float4(1.0f);
         }
-      } else {
-        counters.shadow += uint64_t(count_lanes(lanes));
-        const int blocked = bvh_.occluded4(shadow.packet(), lanes).bits();
-        for (int i = 0; i < 4; ++i) {
-          if (signature && want[i] && ((blocked >> i) & 1)) signature->shadowed[i] |= light_bit;
-          if (!want[i] || ((blocked >> i) & 1)) continue;
-          out[0][i] += contribution[i].r;
-          out[1][i] += contribution[i].g;
-          out[2][i] += contribution[i].b;
+        shadow.dx = select(lanes, dir.x, float4(0.0f));
+        shadow.dy = select(lanes, dir.y, float4(0.0f));
+        shadow.dz = select(lanes, dir.z, float4(1.0f));
+        shadow.tmax = select(lanes, tmax, float4(0.0f));
+        if constexpr ((kEffects & (kAlpha | kRefraction)) != 0) {
+          PacketBuilder builder;
+          shadow.ox.store(builder.o[0]), shadow.oy.store(builder.o[1]), shadow.oz.store(builder.o[2]);
+          shadow.dx.store(builder.d[0]), shadow.dy.store(builder.d[1]), shadow.dz.store(builder.d[2]);
+          shadow.tmax.store(builder.tmax);
+          glm::vec3 through[4];
+          shadow_transmittance<kTextured, kSeeThrough, (kEffects & kRefraction) != 0>(
+              scene_, bvh_, light, builder, lanes.bits(), through, counters);
+          alignas(16) float t[3][4];
+          for (int i = 0; i < 4; ++i) {
+            t[0][i] = through[i].r, t[1][i] = through[i].g, t[2][i] = through[i].b;
+            if (signature && lanes[i] && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
+              signature->shadowed[i] |= light_bit;
+          }
+          out_r = select(lanes, out_r + contribution.x * float4::load(t[0]), out_r);
+          out_g = select(lanes, out_g + contribution.y * float4::load(t[1]), out_g);
+          out_b = select(lanes, out_b + contribution.z * float4::load(t[2]), out_b);
+        } else {
+          counters.shadow += uint64_t(count_lanes(lanes));
+          const mask4 blocked = bvh_.occluded4(shadow, lanes);
+          if (signature) {
+            const int shadowed = (lanes & blocked).bits();
+            for (int i = 0; i < 4; ++i)
+              if ((shadowed >> i) & 1) signature->shadowed[i] |= light_bit;
+          }
+          const mask4 reached = andnot(blocked, lanes);
+          out_r = select(reached, out_r + contribution.x, out_r);
+          out_g = select(reached, out_g + contribution.y, out_g);
+          out_b = select(reached, out_b + contribution.z, out_b);
         }
       }
+      out_r.store(out[0]), out_g.store(out[1]), out_b.store(out[2]);
     }
   }
 
