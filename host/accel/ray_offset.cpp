@@ -5,7 +5,9 @@
 // lengths for a scene 1e5 of its lengths from the origin, and its fixed 1/65536 near 0 was
 // 15% of a 1e-4-sized scene. The error bound scales with the vertices themselves.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "accel/ray.h"
@@ -18,6 +20,24 @@ namespace {
 constexpr float gamma(int n) {
   constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
   return (float(n) * eps) / (1.0f - float(n) * eps);
+}
+
+// std::nextafter(x, +inf) and std::nextafter(x, -inf) on the bits, without the libm call
+// (glibc's nextafterf works on the bits too, so these return the same values: NaN and the
+// infinity in the stepping direction stay, +-0 steps to +-denorm_min, -denorm_min up to
+// -0, FLT_MAX up to inf). 1.6 % of glass.json's profile was the call to nextafterf.
+float next_up(float x) {
+  const uint32_t b = std::bit_cast<uint32_t>(x);
+  if ((b & 0x7fffffffu) > 0x7f800000u || b == 0x7f800000u) return x;  // NaN, +inf
+  if ((b & 0x7fffffffu) == 0) return std::bit_cast<float>(uint32_t(1));  // +-0 -> +denorm_min
+  return std::bit_cast<float>(b & 0x80000000u ? b - 1 : b + 1);
+}
+
+float next_down(float x) {
+  const uint32_t b = std::bit_cast<uint32_t>(x);
+  if ((b & 0x7fffffffu) > 0x7f800000u || b == 0xff800000u) return x;  // NaN, -inf
+  if ((b & 0x7fffffffu) == 0) return std::bit_cast<float>(0x80000001u);  // +-0 -> -denorm_min
+  return std::bit_cast<float>(b & 0x80000000u ? b + 1 : b - 1);
 }
 
 }  // namespace
@@ -47,9 +67,9 @@ glm::vec3 offset_ray_origin(const SurfacePosition& hit, glm::vec3 n) {
   // accepts t = 0, so an origin on the plane would shadow itself.
   for (int i = 0; i < 3; ++i) {
     if (n[i] > 0.0f)
-      po[i] = std::nextafter(po[i], std::numeric_limits<float>::infinity());
+      po[i] = next_up(po[i]);
     else if (n[i] < 0.0f)
-      po[i] = std::nextafter(po[i], -std::numeric_limits<float>::infinity());
+      po[i] = next_down(po[i]);
   }
   return po;
 }
