@@ -20,6 +20,9 @@ float reduce(float u, TextureWrap wrap) {
 
 // Texel index i wrapped into [0, n) (OpenGL 4.6 §8.14.2 wrap functions).
 int wrap_index(long i, int n, TextureWrap wrap) {
+  // Inside the texture every mode is the identity: the bilinear footprint of a reduced
+  // coordinate is there but at the border, and the 64-bit divisions below are not free.
+  if (i >= 0 && i < n) return int(i);
   switch (wrap) {
     case TextureWrap::Repeat: {
       long m = i % n;
