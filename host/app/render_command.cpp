@@ -135,6 +135,10 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     const OutputKey key{scene_name, std::to_string(camera_index), frame};
     const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
+    // The map's targets, flag buffer and pipeline are allocated (on lavapipe: and their
+    // pages touched) before the frame's clock starts: one-off work, like the upload.
+    if (visibility) visibility->prepare(settings.width, settings.height, make_visibility_settings(o.render));
+
     // The map is made on its own thread while level 1 traces (render_frame awaits it
     // before classifying); --edges-serial makes it first. The image is the same.
     const auto t_frame = std::chrono::steady_clock::now();

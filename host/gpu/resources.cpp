@@ -136,6 +136,17 @@ Image create_image_2d(VulkanContext& context, uint32_t width, uint32_t height, V
       context.memory_type(req.memoryTypeBits, 0, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
   vk_check(vkAllocateMemory(im.device, &alloc, nullptr, &im.memory), "vkAllocateMemory (image)");
   vk_check(vkBindImageMemory(im.device, im.image, im.memory, 0), "vkBindImageMemory");
+  // On a CPU device (lavapipe) the memory is fresh host memory that nothing has touched:
+  // the first pass writing the image then page-faults every 4 kB of it inside its own
+  // time (measured: the visibility raster of a 1024² frame at S = 4, 2 x 67 MB, ran
+  // 0.10 s with touched targets against 0.15-0.17 s on fresh ones). Touch it here, once
+  // per allocation, so a caller that allocates ahead of the frame takes that cost out of it.
+  if (context.is_cpu() && (context.memory_flags(alloc.memoryTypeIndex) & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)) {
+    void* mapped = nullptr;
+    vk_check(vkMapMemory(im.device, im.memory, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory (image)");
+    std::memset(mapped, 0, size_t(req.size));
+    vkUnmapMemory(im.device, im.memory);
+  }
   VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
   view.image = im.image;
   view.viewType = VK_IMAGE_VIEW_TYPE_2D;

@@ -164,6 +164,21 @@ uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySett
   return samples * 8 + words * 4;
 }
 
+void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
+  if (flags_.size >= bytes) return;
+  flags_.reset();
+  flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                         VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+}
+
+void VisibilityPass::prepare(int width, int height, const VisibilitySettings& settings) {
+  if (width <= 0 || height <= 0 || settings.supersample < 1 || settings.supersample > ZZ_MAX_SUPERSAMPLE) return;
+  const auto [tile_w, tile_h] = tile_size(width, height, settings);
+  ensure_targets(uint32_t(tile_w * settings.supersample + 2), uint32_t(tile_h * settings.supersample + 2));
+  ensure_flags(VkDeviceSize((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * height * sizeof(uint32_t));
+  flag_pipeline(settings.supersample);
+}
+
 void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
   if (ids_.image && ids_.width >= width && ids_.height >= height) return;
   context_.wait_idle();
@@ -327,12 +342,7 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   VkDevice d = context_.device();
   const VkPipeline flags_pipeline = flag_pipeline(f.s);
 
-  VkDeviceSize flag_bytes = VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t);
-  if (flags_.size < flag_bytes) {
-    flags_.reset();
-    flags_ = create_buffer(context_, flag_bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                           VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT, VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
-  }
+  ensure_flags(VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t));
   // The tiles' parts inside the area; tile edges are multiples of 4 pixels (but the last).
   std::vector<std::pair<Tile, Tile>> work;  // tile, area within it
   for (const Tile& tile : f.tiles) {

@@ -64,6 +64,13 @@ class VisibilityPass {
   GeoMap run(const Camera& camera, int width, int height, const VisibilitySettings& settings = {},
              VisibilityTimings* timings = nullptr, const std::optional<TileRect>& region = std::nullopt);
 
+  // Allocates (and on a CPU device touches) what run() needs for a frame of this size and
+  // these settings: the tile targets, the flag buffer and the flag pipeline. Optional:
+  // run() does it itself when needed; calling it before the frame keeps that one-off
+  // work (allocation, first-touch page faults, pipeline creation) out of the frame's time.
+  // Invalid settings are left for run() to report.
+  void prepare(int width, int height, const VisibilitySettings& settings = {});
+
   // The raw supersampled id image with its one-sample ring, (width*S + 2) x (height*S + 2)
   // row-major: entry [(gy + 1) * (width*S + 2) + gx + 1] is the triangle index + 1
   // (0 = background) seen at image point ((gx + 0.5)/S, (gy + 0.5)/S), gx in [-1, width*S].
@@ -89,6 +96,7 @@ class VisibilityPass {
   struct Frame;
   Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
   void ensure_targets(uint32_t width, uint32_t height);
+  void ensure_flags(VkDeviceSize bytes);
   void create_pipelines();  // visibility_pipelines.cpp
   // The flag pipeline specialised for S, made on first use.
   VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
