@@ -41,15 +41,18 @@ struct AdaptiveOptions {
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
   GeoPolicy geo_policy = GeoPolicy::Paper;
   Filter filter = Filter::Box;
-  // Parts of the sample signatures (aa/signature.h). None: every setting with signatures
-  // exceeds 1.75 rays/px over room, glass, car at 1024² (all: 1.91); docs/signatures.md.
-  unsigned signature = kSignatureNone;
+  // Parts of the sample signatures (aa/signature.h): the secondary part (what the first
+  // reflection and refraction rays hit) with the highlight flag and the curvature
+  // correction is the most accurate setting within 1.75 rays/px over room, glass, car at
+  // 1024²; lights and all exceed it (docs/signatures.md, docs/beyond_corners.md).
+  unsigned signature = kSignatureSecondary;
   // Flags for detail between the corners (aa/hidden_detail.h): highlights
-  // (render/specular_peak.h) and texture detail (render/texture_detail.h).
-  bool highlights = false;
+  // (render/specular_peak.h) and texture detail (render/texture_detail.h; off: it costs
+  // more rays than it removes error on the Khronos scenes).
+  bool highlights = true;
   bool textures = false;
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
-  bool curvature = false;
+  bool curvature = true;
 };
 
 struct RenderOptions {

@@ -35,7 +35,10 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_STREQ(o.render.adaptive.tables->name, "tuned");
   EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::Paper);
   EXPECT_EQ(o.render.adaptive.filter, Filter::Box);
-  EXPECT_EQ(o.render.adaptive.signature, kSignatureNone);
+  EXPECT_EQ(o.render.adaptive.signature, unsigned(kSignatureSecondary));
+  EXPECT_TRUE(o.render.adaptive.highlights);
+  EXPECT_FALSE(o.render.adaptive.textures);
+  EXPECT_TRUE(o.render.adaptive.curvature);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
