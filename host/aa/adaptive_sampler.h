@@ -30,6 +30,7 @@
 #include "aa/aa_stats.h"
 #include "aa/adaptive_pixel.h"
 #include "aa/adaptive_settings.h"
+#include "aa/filters.h"
 #include "aa/hidden_detail.h"
 #include "aa/mitchell.h"
 #include "core/geo_map.h"
@@ -211,9 +212,8 @@ template <SampleSource S>
 void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
                  const CornerGrid& grid, AaStats& stats) {
   const TileRect tile = target.rect;
-  const int W = target.frame_width, H = target.frame_height;
   if (tile.width() <= 0 || tile.height() <= 0) return;
-  assert(geo.empty() || (geo.width == W && geo.height == H));
+  assert(geo.empty() || (geo.width == target.frame_width && geo.height == target.frame_height));
   const bool mitchell = settings.filter == Filter::Mitchell;
   const CornerLayout layout = corner_layout(target, settings);
   const TileRect region = layout.region;
@@ -310,56 +310,16 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   if (!mitchell) return;
   t0 = Clock::now();
 
-  // ---- Mitchell: filter own pixels over the region's lattice (§8) ----
-  // Fixed summation order per output pixel (neighbours row by row, points in k order,
-  // four interleaved accumulators to shorten the add chain), so the result depends only
-  // on the pixel, never on the tiling.
-  const MitchellLatticeWeights& mw = mitchell_lattice_weights();
-  for (int y = tile.y0; y < tile.y1; ++y)
-    for (int x = tile.x0; x < tile.x1; ++x) {
-      float4 acc0(0.0f), acc1(0.0f), acc2(0.0f), acc3(0.0f);
-      float wsum = 0.0f;
-      for (int dy = -2; dy <= 2; ++dy) {
-        const int qy = y + dy;
-        if (qy < 0 || qy > H) continue;
-        for (int dx = -2; dx <= 2; ++dx) {
-          const int qx = x + dx;
-          if (qx < 0 || qx > W) continue;
-          const int ci = layout.index(qx, qy);
-          const float* w = mw.point[dy + 2][dx + 2];
-          if (qx == W || qy == H) {  // the frame's corner ring: only point k = 0 exists
-            acc0 += corner_lin[ci] * float4(w[0]);
-            wsum += w[0];
-            continue;
-          }
-          const size_t pi = size_t(qy - region.y0) * rw + (qx - region.x0);
-          if (scratch.refined[pi]) {
-            const float4* lat = &scratch.lattice[pi * kLatticePoints];
-            const uint8_t* nk = mw.nonzero_k[dy + 2][dx + 2];
-            const int n = mw.nonzero_count[dy + 2][dx + 2];
-            int j = 0;
-            for (; j + 3 < n; j += 4) {
-              acc0 += lat[nk[j]] * float4(w[nk[j]]);
-              acc1 += lat[nk[j + 1]] * float4(w[nk[j + 1]]);
-              acc2 += lat[nk[j + 2]] * float4(w[nk[j + 2]]);
-              acc3 += lat[nk[j + 3]] * float4(w[nk[j + 3]]);
-            }
-            for (; j < n; ++j) acc0 += lat[nk[j]] * float4(w[nk[j]]);
-          } else {
-            const float* c = mw.corner[dy + 2][dx + 2];
-            acc0 += corner_lin[ci] * float4(c[0]);
-            acc1 += corner_lin[ci + 1] * float4(c[1]);
-            acc2 += corner_lin[ci + cw] * float4(c[2]);
-            acc3 += corner_lin[ci + cw + 1] * float4(c[3]);
-          }
-          wsum += mw.sum[dy + 2][dx + 2];
-        }
-      }
-      // Negative lobes: clamp the output, never the weights (§8).
-      alignas(16) float v[4];
-      max(((acc0 + acc1) + (acc2 + acc3)) / float4(wsum), float4(0.0f)).store(v);
-      target.pixel(x, y) = glm::vec3(v[0], v[1], v[2]);
-    }
+  // ---- Mitchell: the filter stage over the region's samples (filters.h) ----
+  SampledRegion samples;
+  samples.region = region;
+  samples.corners = corner_lin;
+  samples.corner_x0 = layout.x0;
+  samples.corner_y0 = layout.y0;
+  samples.corner_stride = cw;
+  samples.refined = scratch.refined.data();
+  samples.lattice = scratch.lattice.data();
+  mitchell_filter(samples, target);
   stats.seconds_filter += seconds_since(t0);
 }
 
