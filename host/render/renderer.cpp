@@ -90,7 +90,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     size_t stashed = 0;
     for (size_t bytes = 0; stashed < tiles.size(); ++stashed) {
       const CornerLayout layout = corner_layout(film.target(tiles[stashed]), adaptive);
-      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (adaptive.highlights || adaptive.textures ? layout.pixels() : 0);
+      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (flags_hidden<SceneSource>(adaptive) ? layout.pixels() : 0);
       if (bytes > kCornerStashBytes) break;
     }
     stash.resize(stashed);

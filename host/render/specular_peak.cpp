@@ -45,6 +45,8 @@ float lobe_at(float distance, float shininess) {
   return std::pow(std::cos(std::min(2.0f * theta, 0.5f * kPi)), shininess);
 }
 
+bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
+
 }  // namespace
 
 float origin_distance_to_hull(const glm::vec2 p[4]) {
@@ -63,12 +65,6 @@ float origin_distance_to_hull(const glm::vec2 p[4]) {
 float bilinear_quad_area(const glm::vec2 p[4]) {
   return 0.5f * std::fabs(cross2(p[0], p[1]) + cross2(p[1], p[3]) + cross2(p[3], p[2]) + cross2(p[2], p[0]));
 }
-
-namespace {
-
-bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
-
-}  // namespace
 
 void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach) {
   glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
