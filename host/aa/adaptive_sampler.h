@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cassert>
 #include <chrono>
+#include <type_traits>
 #include <vector>
 
 #include "aa/aa_stats.h"
@@ -132,42 +133,26 @@ constexpr bool flags_hidden(const AdaptiveSettings& settings) {
   return false;
 }
 
-// Level 1 of a tile: the corner grid of its region in 2x2 packets into `grid` (grown to
-// fit), and, where the source can say so, which pixels hide more than their corners show.
-// Needs no visibility map, so it can run while the map is still being made.
-template <SampleSource S>
-void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, CornerGrid& grid,
-                   AaStats& stats) {
-  const TileRect tile = target.rect;
-  if (tile.width() <= 0 || tile.height() <= 0) return;
-  const CornerLayout layout = corner_layout(target, settings);
-  const TileRect region = layout.region;
-  const int cw = layout.width, ch = layout.height;
-  const bool probing = flags_hidden<S>(settings);
-  grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
-  float4* corner_lin = grid.linear.data();
-  float4* corner_disp = grid.display.data();
-  int32_t* corner_sig = grid.signature.data();
-  const ToneMap& tonemap = settings.tonemap;
-  using Clock = std::chrono::steady_clock;
-  const Clock::time_point t0 = Clock::now();
-
-  using Probe = typename ProbeOf<S>::type;
-  Probe* probes = probing ? corner_probes<Probe>(size_t(cw) * ch) : nullptr;
-
-  // ---- level 1: corner grid in 2x2 packets (odd edges repeat a lane, not counted) ----
+// Level 1 over a block of corners: the w x h corners from frame position (x0, y0) in 2x2
+// packets (an odd last row or column repeats a lane), written row by row with `stride`
+// into the arrays (probes only when non-null). Adds the distinct points to stats.rays[0]
+// and the repeated lanes to stats.padded_rays; returns the distinct points.
+template <SampleSource S, class Probe>
+uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, int w, int h, size_t stride,
+                            float4* corner_lin, float4* corner_disp, int32_t* corner_sig, Probe* probes,
+                            AaStats& stats) {
   uint64_t corner_rays = 0;
-  for (int j = 0; j < ch; j += 2) {
-    const int j1 = std::min(j + 1, ch - 1);
-    for (int i = 0; i < cw; i += 2) {
-      const int i1 = std::min(i + 1, cw - 1);
-      const float4 px(float(layout.x0 + i), float(layout.x0 + i1), float(layout.x0 + i), float(layout.x0 + i1));
-      const float4 py(float(layout.y0 + j), float(layout.y0 + j), float(layout.y0 + j1), float(layout.y0 + j1));
+  for (int j = 0; j < h; j += 2) {
+    const int j1 = std::min(j + 1, h - 1);
+    for (int i = 0; i < w; i += 2) {
+      const int i1 = std::min(i + 1, w - 1);
+      const float4 px(float(x0 + i), float(x0 + i1), float(x0 + i), float(x0 + i1));
+      const float4 py(float(y0 + j), float(y0 + j), float(y0 + j1), float(y0 + j1));
       int4 sig;
       Probe lanes[4];
       Rgb4 c;
       if constexpr (HiddenDetailSource<S>) {
-        c = probing ? source.sample4(px, py, sig, lanes) : sample4_signed(source, px, py, sig);
+        c = probes ? source.sample4(px, py, sig, lanes) : sample4_signed(source, px, py, sig);
       } else {
         c = sample4_signed(source, px, py, sig);
       }
@@ -178,31 +163,64 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
       aos_from_soa(d, t[0], t[1], t[2], t[3]);
       sig.store(g);
       // Write lanes back to front so a repeated lane never overwrites a distinct one.
-      const int idx[4] = {j * cw + i, j * cw + i1, j1 * cw + i, j1 * cw + i1};
+      const size_t idx[4] = {j * stride + i, j * stride + i1, j1 * stride + i, j1 * stride + i1};
       for (int lane = 3; lane >= 0; --lane) {
         corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
-        if (probing) probes[idx[lane]] = lanes[lane];
+        if constexpr (!std::is_same_v<Probe, NoProbe>) {
+          if (probes) probes[idx[lane]] = lanes[lane];
+        }
       }
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
     }
   }
-
-  // ---- the hidden-detail flag of every region pixel (hidden_detail.h) ----
-  if constexpr (HiddenDetailSource<S>) {
-    if (probing) {
-      source.survey(probes, layout.corners());
-      const float4 eps(settings.eps);
-      for (int ry = 0; ry < region.height(); ++ry)
-        for (int rx = 0; rx < region.width(); ++rx) {
-          const int ci = layout.index(region.x0 + rx, region.y0 + ry);
-          const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
-          const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
-          grid.hidden[size_t(ry) * region.width() + rx] = hidden_detail_shows(source, p, mean, tonemap, eps);
-        }
-    }
-  }
   stats.rays[0] += corner_rays;
-  stats.padded_rays += 4 * uint64_t((cw + 1) / 2) * uint64_t((ch + 1) / 2) - corner_rays;
+  stats.padded_rays += 4 * uint64_t((w + 1) / 2) * uint64_t((h + 1) / 2) - corner_rays;
+  return corner_rays;
+}
+
+// The hidden-detail flag of every region pixel (hidden_detail.h) from the probes of the
+// grid's corners (laid out as `layout`).
+template <HiddenDetailSource S>
+void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S::Probe* probes,
+                        const AdaptiveSettings& settings, CornerGrid& grid) {
+  using Probe = typename S::Probe;
+  const TileRect region = layout.region;
+  const int cw = layout.width;
+  const float4* corner_lin = grid.linear.data();
+  source.survey(probes, layout.corners());
+  const float4 eps(settings.eps);
+  for (int ry = 0; ry < region.height(); ++ry)
+    for (int rx = 0; rx < region.width(); ++rx) {
+      const int ci = layout.index(region.x0 + rx, region.y0 + ry);
+      const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
+      const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
+      grid.hidden[size_t(ry) * region.width() + rx] = hidden_detail_shows(source, p, mean, settings.tonemap, eps);
+    }
+}
+
+// Level 1 of a tile: the corner grid of its region in 2x2 packets into `grid` (grown to
+// fit), and, where the source can say so, which pixels hide more than their corners show.
+// Needs no visibility map, so it can run while the map is still being made.
+template <SampleSource S>
+void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& settings, CornerGrid& grid,
+                   AaStats& stats) {
+  const TileRect tile = target.rect;
+  if (tile.width() <= 0 || tile.height() <= 0) return;
+  const CornerLayout layout = corner_layout(target, settings);
+  const bool probing = flags_hidden<S>(settings);
+  grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point t0 = Clock::now();
+
+  using Probe = typename ProbeOf<S>::type;
+  Probe* probes = probing ? corner_probes<Probe>(layout.corners()) : nullptr;
+  const uint64_t corner_rays =
+      trace_corner_block(source, settings.tonemap, layout.x0, layout.y0, layout.width, layout.height,
+                         size_t(layout.width), grid.linear.data(), grid.display.data(), grid.signature.data(), probes,
+                         stats);
+  if constexpr (HiddenDetailSource<S>) {
+    if (probing) flag_hidden_pixels(source, layout, probes, settings, grid);
+  }
   stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }

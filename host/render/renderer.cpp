@@ -6,9 +6,11 @@
 #include <tbb/task_arena.h>
 
 #include <chrono>
+#include <memory>
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
+#include "aa/corner_field.h"
 #include "core/error.h"
 #include "core/fp_mode.h"
 #include "render/scene_source.h"
@@ -45,9 +47,10 @@ void check_geo_size(const GeoMap& geo, const RenderSettings& settings) {
                 " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
 }
 
-// Corner grids traced ahead while the map is pending: at most this many bytes (the first
-// tiles in order; 64² tiles take 135 kB each, so a 1024² frame fits whole).
-constexpr size_t kCornerStashBytes = size_t(64) << 20;
+// Level 1 of the whole region at once (aa/corner_field.h) up to this many bytes: 2048²
+// with the hidden-detail probes fits (470 MB); larger frames trace their corners per tile.
+constexpr size_t kCornerFieldBytes = size_t(512) << 20;
+constexpr int kCornerBlock = 64;  // corners per side of a block traced as one task
 
 // `geo` is the map when `pending` is null; else the map is `pending->get()`, awaited
 // after level 1 of the first tiles.
@@ -83,24 +86,29 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   auto cancelled = [&] { return callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed); };
   const HiddenDetail detail = settings.aa == AaMode::Adaptive ? HiddenDetail(shader.scene(), adaptive) : HiddenDetail();
 
-  // Map pending: level 1 (which needs no map) of the first tiles overlaps it. Corners are
-  // pure functions of their positions, so the image is the same as in one pass.
-  std::vector<CornerGrid> stash;  // level 1 of the first tiles, in tile order
-  if (pending && settings.aa == AaMode::Adaptive) {
-    size_t stashed = 0;
-    for (size_t bytes = 0; stashed < tiles.size(); ++stashed) {
-      const CornerLayout layout = corner_layout(film.target(tiles[stashed]), adaptive);
-      bytes += layout.corners() * (2 * sizeof(float4) + sizeof(int32_t)) + (flags_hidden<SceneSource>(adaptive) ? layout.pixels() : 0);
-      if (bytes > kCornerStashBytes) break;
+  // Level 1 of the whole region first: it needs no map, so a pending map is made alongside.
+  // Corners are pure functions of their positions, so the image is that of the per-tile path.
+  using Field = CornerFieldOf<SceneSource>;
+  std::unique_ptr<Field> field;
+  RayCounters field_rays;
+  AaStats field_stats;
+  if (settings.aa == AaMode::Adaptive && settings.corner_field) {
+    const CornerRect rect = corner_field_rect(region, settings.width, settings.height, adaptive);
+    if (corner_field_bytes<SceneSource>(rect, adaptive) <= kCornerFieldBytes) {
+      field = std::make_unique<Field>(rect, flags_hidden<SceneSource>(adaptive));
+      const std::vector<CornerRect> blocks = field->blocks(kCornerBlock);
+      std::vector<TileResult> traced(blocks.size());
+      for_tiles(blocks.size(), [&](size_t index) {
+        if (cancelled()) return;
+        const ScopedFlushDenormals flush_denormals;
+        SceneSource source(shader, rays, adaptive.signature, &detail);
+        trace_field_block(source, adaptive, blocks[index], *field, traced[index].aa);
+        traced[index].rays = source.counters;
+      });
+      for (const TileResult& t : traced) field_rays += t.rays, field_stats.merge(t.aa);
+      // Corners beyond the region's own (w+1) x (h+1): the curvature ring, the Mitchell margin.
+      field_stats.margin_rays += rect.count() - uint64_t(region.width() + 1) * uint64_t(region.height() + 1);
     }
-    stash.resize(stashed);
-    for_tiles(stash.size(), [&](size_t index) {
-      if (cancelled()) return;
-      const ScopedFlushDenormals flush_denormals;
-      SceneSource source(shader, rays, adaptive.signature, &detail);
-      trace_corners(source, film.target(tiles[index]), adaptive, stash[index], results[index].aa);
-      results[index].rays = source.counters;
-    });
   }
   const GeoMap& geo = ready ? *ready : pending->get();
   if (!ready) check_geo_size(geo, settings);
@@ -111,9 +119,10 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     const TileTarget target = film.target(tiles[index]);
     SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone, &detail);
     TileResult& result = results[index];
-    if (settings.aa == AaMode::Adaptive && index < stash.size()) {
-      refine_tile(source, target, geo, adaptive, stash[index], result.aa);
-      stash[index] = CornerGrid();  // frees it
+    if (field) {
+      CornerGrid& grid = AdaptiveScratch::local().corners;
+      gather_corners(source, *field, target, adaptive, grid, result.aa);
+      refine_tile(source, target, geo, adaptive, grid, result.aa);
     } else if (settings.aa == AaMode::Adaptive) {
       render_tile_adaptive(source, target, geo, adaptive, result.aa);
     } else {
@@ -129,6 +138,8 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   for_tiles(tiles.size(), render_tile);
 
   stats = {};
+  stats.rays = field_rays;
+  stats.aa = field_stats;
   for (const TileResult& r : results) {
     stats.rays += r.rays;
     stats.samples += r.samples;

@@ -35,6 +35,9 @@ struct RenderSettings {
   int threads = 0;  // 0 = all cores
   int tile_size = kTileSize;
   bool centre_out = false;  // tile order (no effect on the image)
+  // Adaptive: level 1 traced once for the whole region (aa/corner_field.h) when it fits in
+  // memory, else per tile; the same image either way, fewer rays with the field.
+  bool corner_field = true;
 };
 
 struct RenderStats {

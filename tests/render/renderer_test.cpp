@@ -6,6 +6,7 @@
 #include <cstring>
 #include <future>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 #include "test_scenes.h"
@@ -220,6 +221,44 @@ TEST(Renderer, PendingMapIsBitIdenticalToAFinishedOne) {
     EXPECT_EQ(sa.aa.rays[2], sb.aa.rays[2]);
     EXPECT_EQ(sa.aa.geo_pixels, sb.aa.geo_pixels);
     EXPECT_GT(sa.aa.geo_pixels, 0u);
+  }
+}
+
+// Level 1 for the whole region at once (aa/corner_field.h) gives the per-tile path's
+// image bit for bit, with both filters, the flags and the curvature ring, a region render
+// and odd sizes, while tracing fewer corners: each once, no shared rows, no ring per tile.
+TEST(Renderer, CornerFieldIsBitIdenticalToPerTileCorners) {
+  const Scene scene = box_scene();
+  RenderSettings s;
+  s.width = 93;
+  s.height = 67;
+  s.tile_size = 16;
+  s.threads = 2;
+  for (Filter filter : {Filter::Box, Filter::Mitchell}) {
+    for (bool region : {false, true}) {
+      SCOPED_TRACE(std::string(filter == Filter::Box ? "box" : "mitchell") + (region ? " region" : ""));
+      s.adaptive.filter = filter;
+      s.adaptive.signature = kSignatureAll;
+      s.adaptive.highlights = s.adaptive.curvature = filter == Filter::Box;
+      s.region = region ? TileRect{13, 7, 71, 50} : TileRect{};
+      s.corner_field = false;
+      RenderStats per_tile, whole;
+      const Film a = render(scene, s, &per_tile);
+      s.corner_field = true;
+      const Film b = render(scene, s, &whole);
+      EXPECT_TRUE(bit_identical(a, b));
+      EXPECT_EQ(per_tile.aa.rays[1], whole.aa.rays[1]);
+      EXPECT_EQ(per_tile.aa.rays[2], whole.aa.rays[2]);
+      EXPECT_EQ(per_tile.aa.hidden_pixels, whole.aa.hidden_pixels);
+      // Box over the frame: every corner of the frame and its ring once.
+      if (filter == Filter::Box && !region) {
+        EXPECT_EQ(whole.aa.rays[0], uint64_t(s.width + 3) * uint64_t(s.height + 3));
+      }
+      EXPECT_LT(whole.aa.rays[0], per_tile.aa.rays[0]);
+      EXPECT_LT(whole.rays.primary, per_tile.rays.primary);
+      EXPECT_EQ(whole.rays.primary, whole.aa.total_rays());
+      EXPECT_EQ(per_tile.rays.primary, per_tile.aa.total_rays());
+    }
   }
 }
 
