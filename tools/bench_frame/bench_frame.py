@@ -4,7 +4,9 @@ drifts hit all of them alike), medians of --reps runs, through the real `zigzag 
 path (times from its --stats JSON). The adaptive frame runs twice: as zigzag renders it
 (the map alongside level 1; frame = wall of both) and with --edges-serial (map, then
 render: the split). Prints the ratios of issue 11: the map's share of the serial adaptive
-frame, lattice / adaptive frame, adaptive 2 threads vs 1, and the frame's distance to the
+frame, lattice / adaptive frame, adaptive 2 threads vs 1 (`--threads 1`, whose map still runs on
+its own thread and lavapipe's) and vs the same run confined to one core (sched_setaffinity: what
+a second core buys), and the frame's distance to the
 ray-throughput limit: its rays by type / bench_traversal's 4-ray-packet throughput for
 that type at the same thread count.
 
@@ -25,16 +27,19 @@ CONFIGS = {  # name -> (zigzag options, uses the thread count given)
     "adaptive": [],
     "serial": ["--edges-serial"],
     "adaptive_1t": [],
+    "adaptive_1core": [],
     "lattice": ["--aa", "uniform", "--spp", "25", "--pattern", "lattice"],
 }
 
 
-def render(zigzag, scene, size, threads, options, workdir):
+def render(zigzag, scene, size, threads, options, workdir, cpus=None):
     stats = os.path.join(workdir, "stats.json")
     cmd = [zigzag, "render", scene, "-q", "--width", str(size), "--height", str(size), "--threads", str(threads),
            "-o", os.path.join(workdir, "frame.png"), "--stats", stats] + options
     env = dict(os.environ, LP_NUM_THREADS=str(threads))  # lavapipe's workers too
-    subprocess.run(cmd, check=True, env=env)
+    # cpus: the process and every thread it starts (the map's, lavapipe's) on these cores only.
+    pin = (lambda: os.sched_setaffinity(0, cpus)) if cpus else None
+    subprocess.run(cmd, check=True, env=env, preexec_fn=pin)
     with open(stats) as f:
         j = json.load(f)
     edges = j["time_s"].get("edges", {}).get("total", 0.0)
@@ -72,12 +77,14 @@ def main():
     zigzag = os.path.join(a.build, "zigzag")
     names = [os.path.splitext(os.path.basename(s))[0] for s in scenes]
     runs = {(n, c): [] for n in names for c in CONFIGS}
+    one_core = min(os.sched_getaffinity(0))
     with tempfile.TemporaryDirectory() as work:
         for rep in range(a.reps):
             for scene, name in zip(scenes, names):
                 for config, options in CONFIGS.items():
-                    threads = 1 if config == "adaptive_1t" else a.threads
-                    runs[(name, config)].append(render(zigzag, scene, a.size, threads, options, work))
+                    threads = 1 if config in ("adaptive_1t", "adaptive_1core") else a.threads
+                    cpus = {one_core} if config == "adaptive_1core" else None
+                    runs[(name, config)].append(render(zigzag, scene, a.size, threads, options, work, cpus))
             print(f"repetition {rep + 1}/{a.reps} done", file=sys.stderr)
         rates = {}
         if not a.no_traversal:
@@ -87,18 +94,21 @@ def main():
     def med(name, config, key):
         return statistics.median(r[key] for r in runs[(name, config)])
 
-    print(f"\nframe benchmark: {a.size}x{a.size}, {a.threads} threads (adaptive_1t: 1), medians of {a.reps}, seconds")
+    print(f"\nframe benchmark: {a.size}x{a.size}, {a.threads} threads (adaptive_1t: 1 thread; adaptive_1core: 1 thread"
+          f" on 1 core, map and lavapipe included), medians of {a.reps}, seconds")
     head = ("scene", "1 ray/px", "serial: render", "serial: map", "map share", "adaptive frame",
-            "lattice", "lattice/frame", "frame 1t", "2t speed-up")
+            "lattice", "lattice/frame", "frame 1t", "2t speed-up", "frame 1 core", "vs 1 core")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for n in names:
         adaptive, one = med(n, "adaptive", "frame"), med(n, "adaptive_1t", "frame")
+        core = med(n, "adaptive_1core", "frame")
         lattice = med(n, "lattice", "render")
         share = statistics.median(r["map"] / (r["render"] + r["map"]) for r in runs[(n, "serial")])
         print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'serial', 'render'):.3f} | "
               f"{med(n, 'serial', 'map'):.3f} | {100 * share:.0f} % | {adaptive:.3f} | "
-              f"{lattice:.3f} | {lattice / adaptive:.1f}x | {one:.3f} | {one / adaptive:.2f}x |")
+              f"{lattice:.3f} | {lattice / adaptive:.1f}x | {one:.3f} | {one / adaptive:.2f}x | {core:.3f} | "
+              f"{core / adaptive:.2f}x |")
     if not rates:
         return
     print(f"\nray-throughput limit ({a.threads} threads): rays by type / bench_traversal ours4 Mrays/s;"
