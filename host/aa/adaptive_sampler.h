@@ -6,7 +6,8 @@
 // differences of the tile's border pixels need their neighbours' corners), and with the
 // hidden-detail flags the source's probes of every corner decide which pixels hide more
 // than their corners show (hidden_detail.h). Every pixel then runs levels 1–3 of
-// adaptive_pixel.h.
+// adaptive_pixel.h. The renderer traces level 1 of a whole frame at once instead
+// (corner_field.h: each corner once) and hands each tile its grid; same image.
 //
 // Filters. Box needs only the pixel's own lattice. Mitchell (radius 2) needs the lattice
 // of the neighbouring pixels too, across tile borders. Design: the tile runs levels 1–3

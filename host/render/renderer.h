@@ -65,8 +65,8 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});
 
 // The same frame with the visibility map still being made (e.g. by the Vulkan pass on
-// another thread): level 1 of the first tiles (up to 64 MB of corners) is traced while
-// it is pending, the map is awaited before the first classification. Bit-identical to
+// another thread): level 1 of the whole region (aa/corner_field.h) is traced while it
+// is pending, the map is awaited before the first classification. Bit-identical to
 // the overload above; an exception from the map's producer is rethrown here.
 void render_frame(const Shader& shader, const Camera& camera, const std::shared_future<GeoMap>& geo,
                   const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});
