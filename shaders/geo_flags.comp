@@ -1,7 +1,10 @@
 #version 450
 // Geometric discontinuity flags (ALGORITHM.md §7). A pixel is flagged when two
 // 4-adjacent supersamples, at least one of them inside the pixel (the others form the
-// ring), differ by: background vs geometry; camera-facing geometric normals more than
+// ring), differ by: background vs geometry; with the material rule on, materials, for
+// pairs of samples both inside the pixel (a material boundary that crosses the pixel's
+// border separates its corners, which level 1 compares anyway; the rule is for what lies
+// between them: a checker square's tip, a sliver); camera-facing geometric normals more than
 // the angle threshold apart; or distances more than the relative threshold apart, where
 // both triangles' planes are intersected exactly with the SAME sample ray, so surfaces
 // that meet along an edge (smooth or coplanar tessellation) compare equal however
@@ -28,6 +31,7 @@ layout(push_constant) uniform Push { FlagPush p; };
 // The tile's id attachment (ring included), read directly: no copy into a buffer.
 layout(binding = ZZ_BIND_IDS, r32ui) uniform readonly uimage2D ids;
 layout(std430, binding = ZZ_BIND_PLANES) readonly buffer Planes { vec4 planes[]; };
+layout(std430, binding = ZZ_BIND_NORMALS) readonly buffer Normals { vec4 normals[]; };  // w: material tag
 layout(std430, binding = ZZ_BIND_FLAGS) writeonly buffer Flags { uint words[]; };
 
 
@@ -50,9 +54,11 @@ bool far_apart(float a, float b) {
   return !(diff <= lim);
 }
 
-bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb) {
+// `inner`: both samples inside the pixel, where the material rule applies.
+bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb, bool inner) {
   if (ia == ib) return false;
   if (ia == 0u || ib == 0u) return true;
+  if (inner && p.limits.z != 0.0 && normals[ia - 1u].w != normals[ib - 1u].w) return true;
   vec4 pa = planes[ia - 1u];
   vec4 pb = planes[ib - 1u];
   vec3 na = pa.xyz, nb = pb.xyz;
@@ -105,7 +111,7 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
         int i = findLSB(hk);
         hk &= hk - 1u;
         ivec2 a = ck + ivec2(i, 0), b = a + ivec2(1, 0);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0)) {
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, i >= 1 && i < S)) {
           flags |= 1u << uint(k);
           break;
         }
@@ -114,7 +120,7 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
         int i = findLSB(vk);
         vk &= vk - 1u;
         ivec2 b = ck + ivec2(i, 0), a = b - ivec2(0, 1);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0)) flags |= 1u << uint(k);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, j >= 2 && j <= S)) flags |= 1u << uint(k);
       }
     }
     for (int i = 0; i < ROW; ++i) above[i] = row[i];

@@ -24,7 +24,7 @@ using mat4 = glm::mat4;
 // One descriptor set for both compute passes.
 #define ZZ_BIND_IDS 0        // r32ui storage image: the id attachment
 #define ZZ_BIND_POSITIONS 1  // vec4 per vertex
-#define ZZ_BIND_NORMALS 2    // vec4 per triangle: unit geometric normal
+#define ZZ_BIND_NORMALS 2    // vec4 per triangle: unit geometric normal, material tag (float) in w
 #define ZZ_BIND_PLANES 3     // vec4 per triangle per frame: normal, n.(v0 - origin)
 #define ZZ_BIND_FLAGS 4      // packed flag words
 
@@ -46,7 +46,7 @@ struct FlagPush {
   vec4 dv;       // direction step per supersample downwards
   ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
   ivec4 frame;   // frame width, height in pixels, S, uints per output row
-  vec4 limits;   // cos(normal angle threshold), relative distance threshold, 0, 0
+  vec4 limits;   // cos(normal angle threshold), relative distance threshold, material rule (1 on, 0 off), 0
   ivec4 area;    // frame pixels x0, y0, width, height flagged by this dispatch (x0 % 4 == 0)
 };
 

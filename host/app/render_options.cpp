@@ -40,8 +40,8 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
              "Adaptive: refine pixels whose texture, averaged over the pixel, differs from what the corners "
              "sampled (emissive and base-colour detail between them)");
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
-             "Adaptive: unrefined pixels corrected for the shading's curvature (traces a ring of corners more "
-             "per tile)");
+             "Adaptive: unrefined pixels corrected for the shading's curvature (reads a ring of corners around "
+             "each tile)");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -69,6 +69,9 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
       ->check(CLI::Range(0.0f, 180.0f));
   cmd->add_option("--edge-depth", o.edge_depth, "Visibility map: relative distance threshold")
       ->check(CLI::Range(1e-6f, 100.0f));
+  add_choice(cmd, "--edge-material", o.edge_material, kOnOff,
+             "Visibility map: samples on different materials are an edge too (material boundaries on flat "
+             "surfaces)");
   cmd->add_option("--vk-device", o.vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
   cmd->add_flag("--vk-validate", o.vk_validate, "Vulkan validation layers; exit non-zero if they report anything");
   cmd->add_flag("--edges-serial", o.edges_serial,
@@ -117,6 +120,7 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o) {
   vs.supersample = o.edge_ss;
   vs.normal_angle_deg = o.edge_angle;
   vs.depth_rel = o.edge_depth;
+  vs.material_edges = o.edge_material;
   return vs;
 }
 

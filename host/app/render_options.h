@@ -65,6 +65,7 @@ struct RenderOptions {
   int edge_ss = VisibilitySettings{}.supersample;
   float edge_angle = VisibilitySettings{}.normal_angle_deg;
   float edge_depth = VisibilitySettings{}.depth_rel;
+  bool edge_material = VisibilitySettings{}.material_edges;
   int vk_device = -1;
   bool vk_validate = false;
   bool edges_serial = false;  // the map before level 1 instead of alongside it

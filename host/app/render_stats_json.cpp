@@ -88,7 +88,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                             {"readback", r.edge_times->readback_s},
                             {"total", r.edge_times->total_s}};
     j["geo_fraction"] = double(flagged) / pixels;
-    j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}};
+    j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}, {"material", o.edge_material}};
     j["vulkan_device"] = r.vulkan_device;
   }
   if (!r.aov_channels.empty())

@@ -34,6 +34,7 @@ struct BitRows {
 struct Rule {
   const std::vector<glm::vec4>& planes;
   const gpu::FlagPush& p;
+  const std::vector<glm::vec4>* normals;  // w: material tag; with the material rule on
 
   glm::vec3 ray_dir(int gx, int gy) const {
     glm::vec3 d = glm::vec3(p.dir00) + float(gx) * glm::vec3(p.du);
@@ -44,9 +45,10 @@ struct Rule {
     float lim = p.limits.y * std::min(a, b);
     return !(diff <= lim);
   }
-  // Ids known to differ.
-  bool differs(uint32_t ia, int gxa, int gya, uint32_t ib, int gxb, int gyb) const {
+  // Ids known to differ; `inner`: both samples in one pixel (the material rule's pairs).
+  bool differs(uint32_t ia, int gxa, int gya, uint32_t ib, int gxb, int gyb, bool inner) const {
     if (ia == 0 || ib == 0) return true;
+    if (inner && p.limits.z != 0.0f && (*normals)[ia - 1].w != (*normals)[ib - 1].w) return true;
     const glm::vec4 pa = planes[ia - 1], pb = planes[ib - 1];
     const glm::vec3 na(pa), nb(pb);
     const glm::vec3 da = ray_dir(gxa, gya), db = ray_dir(gxb, gyb);
@@ -79,11 +81,13 @@ std::vector<glm::vec4> triangle_planes(const std::vector<glm::vec3>& positions,
 }
 
 GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::vec4>& planes,
-                     const gpu::FlagPush& p) {
+                     const gpu::FlagPush& p, const std::vector<glm::vec4>* normals) {
   const int W = p.frame.x, H = p.frame.y, S = p.frame.z;
   const int gw = W * S, gh = H * S, stride = gw + 2;
   if (ids.size() != size_t(stride) * (gh + 2)) throw Error("geo_flags_cpu: id image size does not match the frame");
-  const Rule rule{planes, p};
+  if (p.limits.z != 0.0f && (!normals || normals->size() != planes.size()))
+    throw Error("geo_flags_cpu: the material rule needs the triangles' normals (material tags in w)");
+  const Rule rule{planes, p, normals};
 
   // Horizontal pairs in core rows gy = iy - 1 in [0, gh): pair ix = (ix, ix + 1), ix in [0, gw].
   BitRows horizontal(gh, gw + 1);
@@ -91,7 +95,8 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
     const uint32_t* row = &ids[size_t(gy + 1) * stride];
     uint64_t* bits = horizontal.row(gy);
     auto visit = [&](int ix) {
-      if (rule.differs(row[ix], ix - 1, gy, row[ix + 1], ix, gy)) BitRows::set(bits, ix);
+      // Samples gx = ix - 1 and ix share a pixel unless ix starts one.
+      if (rule.differs(row[ix], ix - 1, gy, row[ix + 1], ix, gy, ix % S != 0)) BitRows::set(bits, ix);
     };
     int ix = 0;
     for (; ix + 4 < stride; ix += 4)
@@ -106,7 +111,7 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
     const uint32_t* b = a + stride;
     uint64_t* bits = vertical.row(iy);
     auto visit = [&](int gx) {
-      if (rule.differs(a[gx], gx, iy - 1, b[gx], gx, iy)) BitRows::set(bits, gx);
+      if (rule.differs(a[gx], gx, iy - 1, b[gx], gx, iy, iy % S != 0)) BitRows::set(bits, gx);
     };
     int gx = 0;
     for (; gx + 4 <= gw; gx += 4)
@@ -116,7 +121,8 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
   }
 
   // Pixel (x, y): horizontal pairs ix in [xS, xS + S] of rows yS..yS+S-1, vertical pairs
-  // gx in [xS, xS + S) of rows iy = yS..yS+S.
+  // gx in [xS, xS + S) of rows iy = yS..yS+S. A pair the material rule set lies inside one
+  // pixel, so no other pixel's window holds it.
   GeoMap map;
   map.width = W;
   map.height = H;

@@ -29,6 +29,11 @@ struct VisibilityPass::Frame {
   uint32_t image_w = 0, image_h = 0;  // largest tile image, ring included
 };
 
+float material_tag(const Scene& scene, size_t triangle) {
+  const uint32_t m = triangle < scene.material_of.size() ? scene.material_of[triangle] : 0u;
+  return float(m % (1u << 24));  // exact in a float; materials 2^24 apart share a tag
+}
+
 std::vector<glm::vec4> geometric_normals(const Scene& scene) {
   size_t n = scene.positions.size() / 3;
   std::vector<glm::vec4> normals(n, glm::vec4(0.0f));
@@ -38,6 +43,7 @@ std::vector<glm::vec4> geometric_normals(const Scene& scene) {
     double len = glm::length(c);
     // Degenerate triangles keep a zero normal: any pair with one flags (cos 0 < limit).
     if (len > 0.0) normals[t] = glm::vec4(glm::vec3(c / len), 0.0f);
+    normals[t].w = material_tag(scene, t);
   }
   return normals;
 }
@@ -56,7 +62,7 @@ gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
   p.frame = glm::ivec4(width, height, settings.supersample,
                        (width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
   p.limits = glm::vec4(std::cos(double(settings.normal_angle_deg) * M_PI / 180.0), settings.depth_rel,
-                       0.0f, 0.0f);
+                       settings.material_edges ? 1.0f : 0.0f, 0.0f);
   return p;
 }
 

@@ -24,6 +24,9 @@ struct VisibilitySettings {
   int supersample = 4;            // S per axis: 4 normal, 6 high quality
   float normal_angle_deg = 25.0f; // camera-facing geometric normals further apart flag
   float depth_rel = 0.02f;        // |t_a - t_b| > depth_rel * min(t_a, t_b) flags
+  // Samples on different materials flag too (ours, beyond §7): material boundaries on
+  // flat surfaces (a checker floor), whose sub-pixel tips no corner sees.
+  bool material_edges = false;
   // Budget for one tile, in supersamples (8 bytes each: the id attachment, which the
   // compute pass reads directly, and depth); larger frames are split into bands / tiles.
   int64_t max_tile_samples = int64_t(32) << 20;
@@ -40,7 +43,10 @@ struct VisibilityTimings {
   int tiles = 0;
 };
 
-// Unit geometric normals, one per triangle, exactly as uploaded (zero if degenerate).
+// The triangle's material index as the flag rule compares it (w of geometric_normals).
+float material_tag(const Scene& scene, size_t triangle);
+// Unit geometric normals, one per triangle, exactly as uploaded (zero if degenerate), with
+// the triangle's material_tag in w.
 std::vector<glm::vec4> geometric_normals(const Scene& scene);
 
 // The compute pass's per-frame constants (tile left zero): the sample rays and the

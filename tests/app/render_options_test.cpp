@@ -77,11 +77,22 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   EXPECT_FALSE(s.highlights || s.textures || s.curvature);
 }
 
+TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json"}, o), "");
+  EXPECT_EQ(make_visibility_settings(o.render).material_edges, VisibilitySettings{}.material_edges);
+  for (const char* v : {"on", "off"}) {
+    BatchOptions p;
+    ASSERT_EQ(parse({"a.json", "--edge-material", v}, p), "");
+    EXPECT_EQ(make_visibility_settings(p.render).material_edges, std::string(v) == "on");
+  }
+}
+
 TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
   for (std::vector<std::string> bad : std::vector<std::vector<std::string>>{
            {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
            {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"},
-           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}}) {
+           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--edge-material", "yes"}}) {
     BatchOptions o;
     bad.insert(bad.begin(), "a.json");
     const std::string e = parse(bad, o);

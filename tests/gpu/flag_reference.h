@@ -32,9 +32,11 @@ struct FlagReference {
     float lim = p.limits.y * std::min(a, b);
     return !(diff <= lim);
   }
-  bool differs(uint32_t ia, glm::ivec2 ga, uint32_t ib, glm::ivec2 gb) const {
+  // `inner`: both samples inside the pixel, where the material rule applies.
+  bool differs(uint32_t ia, glm::ivec2 ga, uint32_t ib, glm::ivec2 gb, bool inner) const {
     if (ia == ib) return false;
     if (ia == 0 || ib == 0) return true;
+    if (inner && p.limits.z != 0.0f && normals[ia - 1].w != normals[ib - 1].w) return true;
     glm::vec3 na(normals[ia - 1]), nb(normals[ib - 1]);
     glm::vec3 da = ray_dir(ga), db = ray_dir(gb);
     float sa = dot3(na, da), sb = dot3(nb, db);
@@ -53,13 +55,13 @@ struct FlagReference {
   }
   bool pixel(int x, int y) const {
     int s = p.frame.z;
-    auto pair = [&](glm::ivec2 a, glm::ivec2 b) { return differs(id(a), a, id(b), b); };
+    auto pair = [&](glm::ivec2 a, glm::ivec2 b, bool inner) { return differs(id(a), a, id(b), b, inner); };
     for (int j = 0; j < s; ++j)
       for (int i = -1; i < s; ++i)
-        if (pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j})) return true;
+        if (pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s)) return true;
     for (int i = 0; i < s; ++i)
       for (int j = -1; j < s; ++j)
-        if (pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1})) return true;
+        if (pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s)) return true;
     return false;
   }
   GeoMap map() const {

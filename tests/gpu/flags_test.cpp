@@ -104,5 +104,53 @@ TEST_F(FlagsTest, RepeatedRunsAreDeterministicAndTimed) {
   EXPECT_LE(t.raster_s + t.compute_s, t.total_s * 1.5 + 1e-3);
 }
 
+TEST_F(FlagsTest, ShaderMatchesCpuRuleWithTheMaterialRule) {
+  Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilitySettings s;
+  s.material_edges = true;
+  expect_matches_reference(context(), busy_checker_scene(), camera, 96, 72, s);
+  s.supersample = 6;
+  s.max_tile_dim = 6 * 16 + 2;  // 16-pixel tiles: the rule is the same across tile seams
+  expect_matches_reference(context(), busy_checker_scene(), camera, 53, 41, s);
+}
+
+// The material rule adds exactly the pixels whose own samples (not the ring) fall on two
+// materials: a coplanar checker's boundaries, which the geometric rule cannot see. On a
+// scene of one material it changes nothing.
+TEST_F(FlagsTest, TheMaterialRuleFlagsPixelsWhoseOwnSamplesSeeTwoMaterials) {
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  const int w = 80, h = 60, S = 4;
+  VisibilitySettings off, on;
+  on.material_edges = true;
+  const Scene checker = busy_checker_scene();
+  VisibilityPass pass(context(), checker);
+  const GeoMap a = pass.run(camera, w, h, off), b = pass.run(camera, w, h, on);
+  const std::vector<uint32_t> ids = pass.render_ids(camera, w, h, on);
+  const std::vector<glm::vec4> normals = geometric_normals(checker);
+  size_t added = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      ASSERT_TRUE(!a.flags[i] || b.flags[i]) << x << "," << y;
+      if (a.flags[i] || !b.flags[i]) continue;
+      ++added;
+      bool two = false;  // two materials among the pixel's S x S samples
+      float first = -1.0f;
+      for (int j = 0; j < S; ++j)
+        for (int k = 0; k < S; ++k) {
+          const uint32_t id = ids[size_t(y * S + j + 1) * (w * S + 2) + size_t(x * S + k + 1)];
+          ASSERT_NE(id, 0u);  // added flags lie on the floor, never at a silhouette
+          const float tag = normals[id - 1].w;
+          if (first < 0.0f) first = tag;
+          two = two || tag != first;
+        }
+      EXPECT_TRUE(two) << "pixel " << x << "," << y << " flagged by its ring alone";
+    }
+  EXPECT_GT(added, size_t(w));  // the checker's boundaries cross the view
+
+  VisibilityPass plain(context(), busy_scene());
+  EXPECT_EQ(plain.run(camera, w, h, off).flags, plain.run(camera, w, h, on).flags);
+}
+
 }  // namespace
 }  // namespace zz::test

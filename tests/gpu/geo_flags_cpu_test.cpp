@@ -1,6 +1,7 @@
 // The host SSE flag rule equals the scalar reference and the compute shader bit for bit.
 #include <gtest/gtest.h>
 
+#include "core/error.h"
 #include "flag_reference.h"
 #include "gpu/geo_flags_cpu.h"
 #include "gpu/visibility.h"
@@ -12,15 +13,16 @@ namespace {
 
 using GeoFlagsCpuTest = GpuTest;
 
-void expect_all_agree(VulkanContext& context, const Camera& camera, int w, int h, const VisibilitySettings& s) {
-  const Scene scene = busy_scene();
+void expect_all_agree(VulkanContext& context, const Camera& camera, int w, int h, const VisibilitySettings& s,
+                      const Scene& scene = busy_scene()) {
   VisibilityPass pass(context, scene);
   const GeoMap gpu = pass.run(camera, w, h, s);
   const std::vector<uint32_t> ids = pass.render_ids(camera, w, h, s);
   const std::vector<glm::vec4> normals = geometric_normals(scene);
   const gpu::FlagPush push = make_flag_push(camera, w, h, s);
   const GeoMap reference = FlagReference{ids, scene.positions, normals, push}.map();
-  const GeoMap sse = geo_flags_cpu(ids, triangle_planes(scene.positions, normals, glm::vec3(push.origin)), push);
+  const GeoMap sse = geo_flags_cpu(ids, triangle_planes(scene.positions, normals, glm::vec3(push.origin)), push,
+                                   &normals);
   ASSERT_EQ(sse.width, w);
   ASSERT_EQ(sse.height, h);
   EXPECT_EQ(sse.flags, reference.flags);
@@ -49,6 +51,22 @@ TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderS12) {
   VisibilitySettings s;
   s.supersample = 12;
   expect_all_agree(context(), camera, 37, 29, s);
+}
+
+TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderWithTheMaterialRule) {
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilitySettings s;
+  s.material_edges = true;
+  expect_all_agree(context(), camera, 96, 72, s, busy_checker_scene());
+  s.supersample = 6;
+  expect_all_agree(context(), camera, 53, 41, s, busy_checker_scene());
+}
+
+TEST(GeoFlagsCpu, TheMaterialRuleNeedsTheNormals) {
+  gpu::FlagPush p{};
+  p.frame = glm::ivec4(1, 1, 1, 1);
+  p.limits = glm::vec4(0.9f, 0.02f, 1.0f, 0.0f);
+  EXPECT_THROW(geo_flags_cpu(std::vector<uint32_t>(9, 0), {}, p), Error);
 }
 
 }  // namespace

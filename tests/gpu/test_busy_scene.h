@@ -17,6 +17,18 @@ inline Scene busy_scene() {
   return b.done();
 }
 
+// The busy scene with its floor grid in two materials, checkered by quad: coplanar
+// material boundaries for the visibility map's material rule.
+inline Scene busy_checker_scene() {
+  Scene s = busy_scene();
+  s.materials.push_back(s.materials[0]);
+  // The grid's 10 x 10 quads (2 triangles each) follow the sphere and the boxes.
+  const size_t grid_first = s.material_of.size() - 2 * 100 - 2 * 2;
+  for (size_t q = 0; q < 100; ++q)
+    s.material_of[grid_first + 2 * q] = s.material_of[grid_first + 2 * q + 1] = uint32_t((q / 10 + q % 10) % 2);
+  return s;
+}
+
 inline size_t flagged(const GeoMap& m) {
   size_t n = 0;
   for (uint8_t f : m.flags) n += f != 0;

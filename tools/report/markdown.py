@@ -269,8 +269,9 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "the analytic highlight flag (`--highlights on`, ALGORITHM.md §11: pixels whose corners may have "
                     "missed a highlight peaking between them trace every zone), the curvature correction "
                     "(`--curvature on`: unrefined pixels take the box integral to second order, with a ring of corners "
-                    "more per tile), both, both with the texture detail flag (`--textures on`), and both with sample "
-                    "signatures. *Removed* as above.", BEYOND_BASE, variants)
+                    "around each tile), both, both with the texture detail flag (`--textures on`), both with sample "
+                    "signatures, and with the visibility map's material rule (`--edge-material on`: samples inside a "
+                    "pixel on different materials flag it). *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -295,7 +296,7 @@ def recommendation(choice: dict) -> list[str]:
     flags = (f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} "
              f"--edges {r['edges']} --signature {r.get('signature') or 'none'} "
              f"--highlights {r.get('highlights') or 'off'} --textures {r.get('textures') or 'off'} "
-             f"--curvature {r.get('curvature') or 'off'}")
+             f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

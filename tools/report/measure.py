@@ -109,6 +109,7 @@ def base_row(scene: str, s: Setting, stats: dict) -> dict:
         "highlights": s.highlights if s.mode == "adaptive" else "",
         "textures": s.textures if s.mode == "adaptive" else "",
         "curvature": s.curvature if s.mode == "adaptive" else "",
+        "material": s.material if s.mode == "adaptive" else "",
         "hidden_fraction": ad.get("hidden_fraction", ""),
         "width": stats.get("width"), "height": stats.get("height"),
         "threads": stats.get("threads"), "triangles": stats.get("triangles"),

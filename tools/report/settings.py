@@ -12,8 +12,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
   * beyond corner colours (ALGORITHM.md §11 and our curvature correction) around eps 0.05,
     tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
     curvature correction alone, both, both with the texture detail flag, both with the
-    `lights`, the `secondary` and all signatures, and both at eps 0.1 (the second ablation
-    table);
+    `lights`, the `secondary` and all signatures, both with the `secondary` and all
+    signatures and the map's material rule (--edge-material on), and both at eps 0.1 (the
+    second ablation table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -38,6 +39,7 @@ class Setting:
     highlights: str = "off"    # --highlights on | off: the analytic highlight flag
     textures: str = "off"      # --textures on | off: the texture detail flag
     curvature: str = "off"     # --curvature on | off: unrefined pixels to second order
+    material: str = "off"      # --edge-material on | off: the visibility map flags material boundaries
 
     @property
     def label(self) -> str:
@@ -53,7 +55,7 @@ class Setting:
         """Label suffix of the options beyond the paper's (empty when all are off)."""
         sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
-                + ("-cv" if self.curvature == "on" else ""))
+                + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -64,7 +66,7 @@ class Setting:
             return "none"
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
-                + ("/cv" if self.curvature == "on" else ""))
+                + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -79,7 +81,7 @@ class Setting:
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
-                "--curvature", self.curvature]
+                "--curvature", self.curvature, "--edge-material", self.material]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -108,7 +110,9 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + textures", {**BOTH, "textures": "on"}),
                    ("both + sig lights", {**BOTH, "signature": "lights"}),
                    ("both + sig secondary", {**BOTH, "signature": "secondary"}),
-                   ("both + sig all", {**BOTH, "signature": "all"})]
+                   ("both + sig all", {**BOTH, "signature": "all"}),
+                   ("both + sig secondary + material", {**BOTH, "signature": "secondary", "material": "on"}),
+                   ("both + sig all + material", {**BOTH, "signature": "all", "material": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
