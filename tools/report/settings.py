@@ -112,7 +112,9 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + sig secondary", {**BOTH, "signature": "secondary"}),
                    ("both + sig all", {**BOTH, "signature": "all"}),
                    ("both + sig secondary + material", {**BOTH, "signature": "secondary", "material": "on"}),
-                   ("both + sig all + material", {**BOTH, "signature": "all", "material": "on"})]
+                   ("both + sig all + material", {**BOTH, "signature": "all", "material": "on"}),
+                   ("both + sig all + material + textures",
+                    {**BOTH, "signature": "all", "material": "on", "textures": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
