@@ -1,6 +1,8 @@
 """Merging the `--stats` JSON of a frame's region jobs into one JSON for the frame.
 
-Counts (rays, zones, margin rays) and times add up; per-pixel values and fractions are
+Counts (rays, zones, margin rays) and times are summed (the parts' rays exceed a whole
+frame's by the level-1 corners along their seams, which each part traces for itself);
+per-pixel values and fractions are
 averaged weighted by each region's pixel count; everything else (scene, camera, settings,
 triangle and light counts, BVH shape) is the same in every part and taken from the first.
 The result also says how the frame was made (`farm`: regions, job times, workers).

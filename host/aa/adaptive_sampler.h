@@ -6,8 +6,9 @@
 // differences of the tile's border pixels need their neighbours' corners), and with the
 // hidden-detail flags the source's probes of every corner decide which pixels hide more
 // than their corners show (hidden_detail.h). Every pixel then runs levels 1–3 of
-// adaptive_pixel.h. The renderer traces level 1 of a whole frame at once instead
-// (corner_field.h: each corner once) and hands each tile its grid; same image.
+// adaptive_pixel.h. The renderer and render_frame_adaptive trace level 1 of a whole frame
+// at once instead (corner_field.h: each corner once) and hand each tile its grid; same
+// image.
 //
 // Filters. Box needs only the pixel's own lattice. Mitchell (radius 2) needs the lattice
 // of the neighbouring pixels too, across tile borders. Design: the tile runs levels 1–3
@@ -17,10 +18,9 @@
 // rest follows from them), so the image is bit-identical for any tile size, thread
 // count or order. Memory is one region buffer per thread ((64+4)² pixels x 25 points x
 // 16 B = 1.9 MB), independent of the frame size (a frame-wide lattice would need
-// 25 x 16 B per pixel: 6.7 GB at 4096²). Cost: margin pixels are traced twice; for 64²
-// tiles that is (68² - 64²)/64² ≈ 12.5 % more of every kind of ray (measured: a constant
-// image 1.031 -> 1.158 rays/px, the 256² star 2.19 -> 2.45), all counted in
-// AaStats::rays and reported in AaStats::margin_rays.
+// 25 x 16 B per pixel: 6.7 GB at 4096²). Cost: margin pixels run levels 2-3 twice; for
+// 64² tiles that is (68² - 64²)/64² ≈ 12.5 % more of the refinement rays (per tile, level 1
+// of the margin too), all counted in AaStats::rays and reported in AaStats::margin_rays.
 #pragma once
 
 #include <algorithm>
@@ -40,7 +40,8 @@
 
 namespace zz {
 
-// Level 1 of a tile's region, written by trace_corners and read by refine_tile: the
+// Level 1 of a tile's region, written by trace_corners (or gather_corners, from a whole
+// frame's field: corner_field.h) and read by refine_tile: the
 // region's (w+1) x (h+1) corner samples, and per region pixel whether the source said
 // the corners may have missed something that shows (hidden_detail.h).
 struct CornerGrid {
@@ -126,6 +127,9 @@ inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettin
   l.height = l.region.height() + 1 + 2 * l.ring;
   return l;
 }
+
+// The pixel corners of `r`, (w + 1) x (h + 1): what level 1 of `r` needs at the least.
+inline uint64_t own_corners(const TileRect& r) { return uint64_t(r.width() + 1) * uint64_t(r.height() + 1); }
 
 // Whether a tile of `source` under `settings` fills CornerGrid::hidden.
 template <SampleSource S>
@@ -222,11 +226,12 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
   if constexpr (HiddenDetailSource<S>) {
     if (probing) flag_hidden_pixels(source, layout, probes, settings, grid);
   }
-  stats.margin_rays += corner_rays - uint64_t(tile.width() + 1) * uint64_t(tile.height() + 1);
+  stats.margin_rays += corner_rays - own_corners(tile);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-// Levels 2-3 and the filter of a tile whose corners trace_corners has traced.
+// Levels 2-3 and the filter of a tile whose corners trace_corners (or gather_corners) has
+// put into `grid`.
 template <SampleSource S>
 void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const AdaptiveSettings& settings,
                  const CornerGrid& grid, AaStats& stats) {

@@ -8,22 +8,31 @@
 // per pixel before any refinement, against 1.00 here. Corners are pure functions of their
 // positions, so the image is bit-identical to the per-tile path, for any block or tile
 // size, thread count or order. Memory: 36 bytes per corner, plus the source's probe when
-// the hidden-detail flags are on (SurfaceProbe, 76 bytes): 117 MB at 1024²; callers fall
-// back to the per-tile path above a budget (corner_field_bytes).
+// the hidden-detail flags are on (SurfaceProbe, 76 bytes): 117 MB at 1024². Callers keep
+// the per-tile path above kCornerFieldBudget (with probes, frames beyond about 2150²).
 #pragma once
 
+#include <cassert>
 #include <chrono>
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
 
 namespace zz {
 
+// Largest field the callers allocate; larger frames trace their corners per tile.
+inline constexpr size_t kCornerFieldBudget = size_t(512) << 20;
+// Corners per side of a block traced as one task (even: only the field's own odd last row
+// or column pads a packet).
+inline constexpr int kCornerBlock = 64;
+
 // Corners (x, y), x in [x0, x0 + width), y in [y0, y0 + height), frame pixel positions.
 struct CornerRect {
   int x0 = 0, y0 = 0, width = 0, height = 0;
   size_t count() const { return size_t(width) * size_t(height); }
+  bool contains(int x, int y) const { return x >= x0 && x < x0 + width && y >= y0 && y < y0 + height; }
 };
 
 // The corners every tile of `region` reads (corner_layout of each, united): the pixel
@@ -39,39 +48,64 @@ inline CornerRect corner_field_rect(const TileRect& region, int frame_width, int
   return {l.x0, l.y0, l.width, l.height};
 }
 
-// Bytes a field over `rect` takes for a source of `S` under `settings`.
-template <SampleSource S>
-size_t corner_field_bytes(const CornerRect& rect, const AdaptiveSettings& settings) {
-  size_t per_corner = 2 * sizeof(float4) + sizeof(int32_t);
-  if (flags_hidden<S>(settings)) per_corner += sizeof(typename ProbeOf<S>::type);
-  return rect.count() * per_corner;
+// `rect` cut into blocks of `size`² corners (the last row and column of blocks smaller),
+// to trace in parallel.
+inline std::vector<CornerRect> corner_blocks(const CornerRect& rect, int size = kCornerBlock) {
+  assert(size > 0 && size % 2 == 0);
+  std::vector<CornerRect> out;
+  for (int y = 0; y < rect.height; y += size)
+    for (int x = 0; x < rect.width; x += size)
+      out.push_back({rect.x0 + x, rect.y0 + y, std::min(size, rect.width - x), std::min(size, rect.height - y)});
+  return out;
 }
 
 template <class Probe>
 struct CornerField {
   CornerRect rect;
-  std::vector<float4> linear;      // AoS (r, g, b, 0)
-  std::vector<float4> display;     // tone-mapped
-  std::vector<int32_t> signature;  // signature.h
-  std::vector<Probe> probes;       // empty unless the hidden-detail flags are on
+  // Left uninitialised (every entry is traced before it is read): a 1024² field is 40 MB
+  // of corners that zero-filling would write once more, on one thread.
+  std::unique_ptr<float4[]> linear;      // AoS (r, g, b, 0)
+  std::unique_ptr<float4[]> display;     // tone-mapped
+  std::unique_ptr<int32_t[]> signature;  // signature.h
+  std::vector<Probe> probes;             // empty unless the hidden-detail flags are on
 
   CornerField(const CornerRect& r, bool with_probes)
-      : rect(r), linear(r.count()), display(r.count()), signature(r.count()), probes(with_probes ? r.count() : 0) {}
-  size_t index(int x, int y) const { return size_t(y - rect.y0) * size_t(rect.width) + size_t(x - rect.x0); }
+      : rect(r),
+        linear(std::make_unique_for_overwrite<float4[]>(r.count())),
+        display(std::make_unique_for_overwrite<float4[]>(r.count())),
+        signature(std::make_unique_for_overwrite<int32_t[]>(r.count())),
+        probes(with_probes ? r.count() : 0) {}
 
-  // The field cut into blocks of about `size`² corners (even sides, so only the field's own
-  // odd last row or column pads a packet), to trace in parallel.
-  std::vector<CornerRect> blocks(int size) const {
-    std::vector<CornerRect> out;
-    for (int y = 0; y < rect.height; y += size)
-      for (int x = 0; x < rect.width; x += size)
-        out.push_back({rect.x0 + x, rect.y0 + y, std::min(size, rect.width - x), std::min(size, rect.height - y)});
-    return out;
+  static size_t bytes(const CornerRect& r, bool with_probes) {
+    return r.count() * (2 * sizeof(float4) + sizeof(int32_t) + (with_probes ? sizeof(Probe) : 0));
+  }
+  size_t index(int x, int y) const {
+    assert(rect.contains(x, y));
+    return size_t(y - rect.y0) * size_t(rect.width) + size_t(x - rect.x0);
   }
 };
 
 template <SampleSource S>
 using CornerFieldOf = CornerField<typename ProbeOf<S>::type>;
+
+// Bytes of the field over `rect` for a source of `S` under `settings`; 0 when it would
+// exceed `budget` (the caller then traces per tile) or there is nothing to trace.
+template <SampleSource S>
+size_t corner_field_bytes(const CornerRect& rect, const AdaptiveSettings& settings,
+                          size_t budget = kCornerFieldBudget) {
+  const size_t bytes = CornerFieldOf<S>::bytes(rect, flags_hidden<S>(settings));
+  return rect.count() == 0 || bytes > budget ? 0 : bytes;
+}
+
+// The field a frame region of a source of `S` under `settings` traces, or null (see
+// corner_field_bytes).
+template <SampleSource S>
+std::unique_ptr<CornerFieldOf<S>> make_corner_field(const TileRect& region, int frame_width, int frame_height,
+                                                    const AdaptiveSettings& settings) {
+  const CornerRect rect = corner_field_rect(region, frame_width, frame_height, settings);
+  if (region.empty() || corner_field_bytes<S>(rect, settings) == 0) return nullptr;
+  return std::make_unique<CornerFieldOf<S>>(rect, flags_hidden<S>(settings));
+}
 
 // Level 1 of one block of the field.
 template <SampleSource S>
@@ -81,10 +115,16 @@ void trace_field_block(S& source, const AdaptiveSettings& settings, const Corner
   const Clock::time_point t0 = Clock::now();
   const size_t first = field.index(block.x0, block.y0);
   trace_corner_block(source, settings.tonemap, block.x0, block.y0, block.width, block.height,
-                     size_t(field.rect.width), field.linear.data() + first, field.display.data() + first,
-                     field.signature.data() + first, field.probes.empty() ? nullptr : field.probes.data() + first,
+                     size_t(field.rect.width), field.linear.get() + first, field.display.get() + first,
+                     field.signature.get() + first, field.probes.empty() ? nullptr : field.probes.data() + first,
                      stats);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// What the field's corners beyond `region`'s own pixel corners cost (the curvature ring,
+// the Mitchell margin), in AaStats::margin_rays.
+inline uint64_t field_margin_corners(const CornerRect& rect, const TileRect& region) {
+  return rect.count() - own_corners(region);
 }
 
 // A tile's corner grid (and its hidden-detail flags) from the field, as trace_corners
@@ -96,15 +136,17 @@ void gather_corners(S& source, const CornerFieldOf<S>& field, const TileTarget& 
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
   const CornerLayout layout = corner_layout(target, settings);
+  assert(field.rect.contains(layout.x0, layout.y0) &&
+         field.rect.contains(layout.x0 + layout.width - 1, layout.y0 + layout.height - 1));
   const bool probing = flags_hidden<S>(settings);
   grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
   using Probe = typename ProbeOf<S>::type;
   Probe* probes = probing ? corner_probes<Probe>(layout.corners()) : nullptr;
   for (int j = 0; j < layout.height; ++j) {
     const size_t from = field.index(layout.x0, layout.y0 + j), to = size_t(j) * size_t(layout.width);
-    std::copy_n(field.linear.begin() + from, layout.width, grid.linear.begin() + to);
-    std::copy_n(field.display.begin() + from, layout.width, grid.display.begin() + to);
-    std::copy_n(field.signature.begin() + from, layout.width, grid.signature.begin() + to);
+    std::copy_n(field.linear.get() + from, layout.width, grid.linear.begin() + to);
+    std::copy_n(field.display.get() + from, layout.width, grid.display.begin() + to);
+    std::copy_n(field.signature.get() + from, layout.width, grid.signature.begin() + to);
     if (probing) std::copy_n(field.probes.begin() + from, layout.width, probes + to);
   }
   if constexpr (HiddenDetailSource<S>) {

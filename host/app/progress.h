@@ -1,5 +1,6 @@
 // Render progress on stderr: a live bar with rays/s and ETA on a terminal, nothing
-// otherwise. tile_done is called from worker threads.
+// otherwise. A step is a tile, or a block of level-1 corners traced before the tiles
+// (render/renderer.h); step_done is called from worker threads.
 #pragma once
 
 #include <atomic>
@@ -13,11 +14,11 @@ double seconds_since(std::chrono::steady_clock::time_point t);
 
 class Progress {
  public:
-  Progress(int tiles, bool live);
-  void tile_done(uint64_t tile_rays);
+  Progress(int steps, bool live);
+  void step_done(uint64_t step_rays);
 
  private:
-  int tiles_;
+  int steps_;
   bool live_;
   std::atomic<int> done_{0};
   std::atomic<uint64_t> rays_{0};

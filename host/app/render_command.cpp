@@ -113,13 +113,15 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
                                                      std::to_string(settings.height) + " frame"
                                                : "a " + std::to_string(region.width()) + "x" +
                                                      std::to_string(region.height()) + " region";
-    // The film's own memory (region-sized; display image, scratch) and the visibility
-    // raster and readback (full-frame tiles, a full-size map) on top of what the process
-    // holds now (libraries, Vulkan, scene, BVH).
+    // The film's own memory (region-sized; display image, scratch), the visibility raster
+    // and readback (full-frame tiles, a full-size map) and the level-1 corner field on top
+    // of what the process holds now (libraries, Vulkan, scene, BVH).
+    const CornerFieldPlan corner_plan = corner_field_plan(settings);
     uint64_t frame_need =
         frame_bytes(region.width(), region.height(),
                     settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
-        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0) +
+        corner_plan.bytes;
     // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
     // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
     size_t layer_count = 0;
@@ -160,10 +162,12 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
 
     Film film;
     RenderStats stats;
-    Progress progress(int(make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
+    // Steps: the level-1 blocks traced before the tiles, then the tiles.
+    Progress progress(int(corner_plan.blocks + make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
-    callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.tile_done(rays.total()); };
+    callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.step_done(rays.total()); };
+    callbacks.corners_done = [&](const RayCounters& rays) { progress.step_done(rays.total()); };
     callbacks.cancel = &interrupt_flag();
     {
       CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written

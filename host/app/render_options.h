@@ -41,11 +41,12 @@ struct AdaptiveOptions {
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
   GeoPolicy geo_policy = GeoPolicy::Paper;
   Filter filter = Filter::Box;
-  // Parts of the sample signatures (aa/signature.h): the secondary part (what the first
-  // reflection and refraction rays hit) with the highlight flag and the curvature
-  // correction is the most accurate setting within 1.75 rays/px over room, glass, car at
-  // 1024²; lights and all exceed it (docs/signatures.md, docs/beyond_corners.md).
-  unsigned signature = kSignatureSecondary;
+  // Parts of the sample signatures (aa/signature.h): all of them (object, shadowed lights,
+  // what the first reflection and refraction rays hit), with the highlight flag, the
+  // curvature correction and the map's material rule, is the most accurate setting within
+  // 1.75 rays/px over room, glass, car at 1024², since level 1 is traced once per frame
+  // (aa/corner_field.h) (docs/signatures.md, docs/beyond_corners.md).
+  unsigned signature = kSignatureAll;
   // Flags for detail between the corners (aa/hidden_detail.h): highlights
   // (render/specular_peak.h) and texture detail (render/texture_detail.h; off: it costs
   // more rays than it removes error on the Khronos scenes).
@@ -65,7 +66,9 @@ struct RenderOptions {
   int edge_ss = VisibilitySettings{}.supersample;
   float edge_angle = VisibilitySettings{}.normal_angle_deg;
   float edge_depth = VisibilitySettings{}.depth_rel;
-  bool edge_material = VisibilitySettings{}.material_edges;
+  // The visibility map's material rule (gpu/visibility.h), the report's choice; the
+  // library's VisibilitySettings default stays the paper's geometric rule.
+  bool edge_material = true;
   int vk_device = -1;
   bool vk_validate = false;
   bool edges_serial = false;  // the map before level 1 instead of alongside it

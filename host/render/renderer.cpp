@@ -47,13 +47,14 @@ void check_geo_size(const GeoMap& geo, const RenderSettings& settings) {
                 " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
 }
 
-// Level 1 of the whole region at once (aa/corner_field.h) up to this many bytes: 2048²
-// with the hidden-detail probes fits (470 MB); larger frames trace their corners per tile.
-constexpr size_t kCornerFieldBytes = size_t(512) << 20;
-constexpr int kCornerBlock = 64;  // corners per side of a block traced as one task
+// Level 1 of the whole region at once (aa/corner_field.h), or null for the per-tile path.
+std::unique_ptr<CornerFieldOf<SceneSource>> corner_field(const RenderSettings& settings) {
+  if (settings.aa != AaMode::Adaptive || !settings.corner_field) return nullptr;
+  return make_corner_field<SceneSource>(render_region(settings), settings.width, settings.height, settings.adaptive);
+}
 
 // `geo` is the map when `pending` is null; else the map is `pending->get()`, awaited
-// after level 1 of the first tiles.
+// after level 1.
 void render(const Shader& shader, const Camera& camera, const GeoMap* ready, const std::shared_future<GeoMap>* pending,
             const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {
   const auto start = std::chrono::steady_clock::now();
@@ -88,27 +89,22 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
 
   // Level 1 of the whole region first: it needs no map, so a pending map is made alongside.
   // Corners are pure functions of their positions, so the image is that of the per-tile path.
-  using Field = CornerFieldOf<SceneSource>;
-  std::unique_ptr<Field> field;
+  const std::unique_ptr<CornerFieldOf<SceneSource>> field = corner_field(settings);
   RayCounters field_rays;
   AaStats field_stats;
-  if (settings.aa == AaMode::Adaptive && settings.corner_field) {
-    const CornerRect rect = corner_field_rect(region, settings.width, settings.height, adaptive);
-    if (corner_field_bytes<SceneSource>(rect, adaptive) <= kCornerFieldBytes) {
-      field = std::make_unique<Field>(rect, flags_hidden<SceneSource>(adaptive));
-      const std::vector<CornerRect> blocks = field->blocks(kCornerBlock);
-      std::vector<TileResult> traced(blocks.size());
-      for_tiles(blocks.size(), [&](size_t index) {
-        if (cancelled()) return;
-        const ScopedFlushDenormals flush_denormals;
-        SceneSource source(shader, rays, adaptive.signature, &detail);
-        trace_field_block(source, adaptive, blocks[index], *field, traced[index].aa);
-        traced[index].rays = source.counters;
-      });
-      for (const TileResult& t : traced) field_rays += t.rays, field_stats.merge(t.aa);
-      // Corners beyond the region's own (w+1) x (h+1): the curvature ring, the Mitchell margin.
-      field_stats.margin_rays += rect.count() - uint64_t(region.width() + 1) * uint64_t(region.height() + 1);
-    }
+  if (field) {
+    const std::vector<CornerRect> blocks = corner_blocks(field->rect);
+    std::vector<TileResult> traced(blocks.size());
+    for_tiles(blocks.size(), [&](size_t index) {
+      if (cancelled()) return;
+      const ScopedFlushDenormals flush_denormals;
+      SceneSource source(shader, rays, adaptive.signature, &detail);
+      trace_field_block(source, adaptive, blocks[index], *field, traced[index].aa);
+      traced[index].rays = source.counters;
+      if (callbacks.corners_done) callbacks.corners_done(source.counters);
+    });
+    for (const TileResult& t : traced) field_rays += t.rays, field_stats.merge(t.aa);
+    field_stats.margin_rays += field_margin_corners(field->rect, region);
   }
   const GeoMap& geo = ready ? *ready : pending->get();
   if (!ready) check_geo_size(geo, settings);
@@ -151,6 +147,15 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
 }
 
 }  // namespace
+
+CornerFieldPlan corner_field_plan(const RenderSettings& settings) {
+  if (settings.aa != AaMode::Adaptive || !settings.corner_field) return {};
+  const TileRect region = render_region(settings);
+  const CornerRect rect = corner_field_rect(region, settings.width, settings.height, settings.adaptive);
+  const uint64_t bytes = corner_field_bytes<SceneSource>(rect, settings.adaptive);
+  if (region.empty() || bytes == 0) return {};
+  return {bytes, corner_blocks(rect).size()};
+}
 
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
                   Film& film, RenderStats& stats, const RenderCallbacks& callbacks) {

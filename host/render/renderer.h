@@ -53,9 +53,21 @@ struct RenderCallbacks {
   // Called from a worker thread as soon as a tile's pixels are final, with the rays the
   // tile traced (for progress and rays/s).
   std::function<void(const TileRect&, const RayCounters&)> tile_done;
+  // Called from a worker thread after each block of level-1 corners traced for the whole
+  // region before any tile (corner_field_plan(settings).blocks of them), with its rays.
+  std::function<void(const RayCounters&)> corners_done;
   // Set by another thread to stop promptly; unfinished tiles are left as they were.
   const std::atomic<bool>* cancel = nullptr;
 };
+
+// Level 1 for the whole region at once (aa/corner_field.h): the memory it takes and the
+// blocks it is traced in before the tiles; zeros when the renderer traces corners per
+// tile instead (not adaptive, corner_field off, or above kCornerFieldBudget).
+struct CornerFieldPlan {
+  uint64_t bytes = 0;
+  size_t blocks = 0;
+};
+CornerFieldPlan corner_field_plan(const RenderSettings& settings);
 
 // The region a render covers: settings.region, or the whole frame if it is empty.
 // Throws zz::Error if the region is not a non-empty rect inside the frame.
@@ -66,7 +78,8 @@ void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo,
 
 // The same frame with the visibility map still being made (e.g. by the Vulkan pass on
 // another thread): level 1 of the whole region (aa/corner_field.h) is traced while it
-// is pending, the map is awaited before the first classification. Bit-identical to
+// is pending, the map is awaited before the first classification (on the per-tile path,
+// frames above the field's budget, it is awaited first). Bit-identical to
 // the overload above; an exception from the map's producer is rethrown here.
 void render_frame(const Shader& shader, const Camera& camera, const std::shared_future<GeoMap>& geo,
                   const RenderSettings& settings, Film& film, RenderStats& stats, const RenderCallbacks& callbacks = {});

@@ -1,6 +1,8 @@
 // Smooth images cost exactly the corner rays; unrefined pixels are the corner mean.
 #include <gtest/gtest.h>
 
+#include <string>
+
 #include "aa/analytic.h"
 #include "test_sources.h"
 
@@ -20,11 +22,13 @@ TEST(AdaptiveSmooth, ConstantAndGradientCostOnlyCorners) {
   for (Filter f : {Filter::Box, Filter::Mitchell}) {
     AdaptiveSettings s;
     s.filter = f;
-    for (int which = 0; which < 2; ++which) {
+    for (int which = 0; which < 4; ++which) {
       AaStats st;
-      const Film fb = which == 0 ? test::render(test::ConstantSource{}, 100, 100, s, 64, 1, {}, &st)
-                                         : test::render(AnalyticSource{&gradient}, 100, 100, s, 64, 1, {}, &st);
-      SCOPED_TRACE(which == 0 ? "constant" : "gradient");
+      const bool field = which < 2;  // level 1 for the frame at once, or per tile
+      const Film fb = which % 2 == 0
+                          ? test::render(test::ConstantSource{}, 100, 100, s, 64, 1, {}, &st, field)
+                          : test::render(AnalyticSource{&gradient}, 100, 100, s, 64, 1, {}, &st, field);
+      SCOPED_TRACE(std::string(which % 2 == 0 ? "constant" : "gradient") + (field ? ", field" : ", per tile"));
       for (size_t i = 0; i < fb.rays.size(); ++i) {
         ASSERT_EQ(fb.rays[i], 1);
         ASSERT_EQ(fb.level[i], 1);
@@ -33,9 +37,10 @@ TEST(AdaptiveSmooth, ConstantAndGradientCostOnlyCorners) {
       EXPECT_EQ(st.rays[2], 0u);
       EXPECT_EQ(st.level2_pixels, 0u);
       EXPECT_EQ(st.pixels, 100u * 100u);
-      // Mitchell traces the 2-pixel margin of every tile too (counted honestly).
-      const uint64_t own = corner_rays(100, 100, 64);
-      if (f == Filter::Box) {
+      // Per tile, Mitchell traces the 2-pixel margin of every tile too (counted honestly);
+      // the frame's field is its 101 x 101 corners whatever the filter (margins clipped to it).
+      const uint64_t own = field ? 101u * 101u : corner_rays(100, 100, 64);
+      if (f == Filter::Box || field) {
         EXPECT_EQ(st.rays[0], own);
         EXPECT_EQ(st.margin_rays, 0u);
       } else {

@@ -71,10 +71,11 @@ TEST(Analytic, ZoneplateErrorWithinMeasuredBound) {
 TEST(Analytic, GradientAndPenumbra) {
   const AnalyticReport g = run("gradient", "paper");
   EXPECT_EQ(g.runs[0].stats.rays[1] + g.runs[0].stats.rays[2], 0u);
-  // Corners + tile rings, 65 x 65 per tile traced as 33 x 33 packets (the odd row and
-  // column padded: camera rays all the same).
-  EXPECT_NEAR(g.runs[0].rays_per_pixel, 16.0 * 33 * 33 * 4 / (256.0 * 256.0), 1e-9);
-  EXPECT_EQ(g.runs[0].stats.rays[0], 16u * 65 * 65);
+  // The frame's 257 x 257 corners, each once, in 64² blocks: the last column of blocks is
+  // 1 corner wide and the last row 1 tall, so their 2x2 packets repeat a lane (4 x 64 + 4 x
+  // 64 + 3 padded lanes: camera rays all the same).
+  EXPECT_NEAR(g.runs[0].rays_per_pixel, (257.0 * 257 + 4 * 64 + 4 * 64 + 3) / (256.0 * 256.0), 1e-9);
+  EXPECT_EQ(g.runs[0].stats.rays[0], 257u * 257);
   EXPECT_LT(g.runs[0].error.rmse, 1e-5);
   const AnalyticReport p = run("penumbra", "paper");
   EXPECT_LT(p.runs[0].error.rmse, 0.002);

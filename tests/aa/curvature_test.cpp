@@ -45,11 +45,21 @@ TEST(Curvature, UnrefinedPixelsOfAQuadraticAreItsExactBoxIntegral) {
   // exact for a quadratic up to float rounding.
   EXPECT_NEAR(worst_plain, 4.0 * bowl.k / 12.0, 1e-6);
   EXPECT_LT(worst_corrected, 2e-7);
-  // The ring: (w + 3)(h + 3) corners per w x h tile instead of (w + 1)(h + 1), i.e.
-  // 2w + 2h + 8 more, over the 3 x 3 tiles (16 wide; 16, 16, 8 high), counted as margin.
+  // The ring, with level 1 for the whole frame: only the frame's own, (W + 3)(H + 3)
+  // corners instead of (W + 1)(H + 1), i.e. 2W + 2H + 8 more, counted as margin.
   EXPECT_EQ(plain_stats.margin_rays, 0u);
-  EXPECT_EQ(corrected_stats.rays[0] - plain_stats.rays[0], uint64_t(9 * 8 + 2 * (9 * 16 + 3 * (16 + 16 + 8))));
+  EXPECT_EQ(corrected_stats.rays[0] - plain_stats.rays[0], uint64_t(2 * 48 + 2 * 40 + 8));
   EXPECT_EQ(corrected_stats.margin_rays, corrected_stats.rays[0] - plain_stats.rays[0]);
+  // Per tile: (w + 3)(h + 3) per w x h tile, 2w + 2h + 8 more each, over the 3 x 3 tiles
+  // (16 wide; 16, 16, 8 high); the same image.
+  AaStats tiled_plain, tiled_corrected;
+  s.curvature = false;
+  test::render(bowl, 48, 40, s, 16, 1, {}, &tiled_plain, false);
+  s.curvature = true;
+  const Film tiled = test::render(bowl, 48, 40, s, 16, 1, {}, &tiled_corrected, false);
+  EXPECT_EQ(tiled_corrected.rays[0] - tiled_plain.rays[0], uint64_t(9 * 8 + 2 * (9 * 16 + 3 * (16 + 16 + 8))));
+  EXPECT_EQ(tiled_corrected.margin_rays, tiled_corrected.rays[0] - tiled_plain.rays[0]);
+  EXPECT_EQ(tiled.radiance, corrected.radiance);
 }
 
 TEST(Curvature, AnEdgeBesideThePixelLeavesThePlainMean) {

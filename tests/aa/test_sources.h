@@ -44,11 +44,12 @@ struct HdrNoiseSource {
   }
 };
 
+// corner_field: level 1 for the whole frame at once (aa/corner_field.h), else per tile.
 template <class S>
 Film render(const S& source, int w, int h, const AdaptiveSettings& s, int tile = kTileSize, int threads = 1,
-                    const GeoMap& geo = {}, AaStats* stats = nullptr) {
+            const GeoMap& geo = {}, AaStats* stats = nullptr, bool corner_field = true) {
   Film f(w, h);
-  AaStats st = render_frame_adaptive(source, f, geo, s, tile, threads);
+  AaStats st = render_frame_adaptive(source, f, geo, s, tile, threads, corner_field);
   if (stats) *stats = st;
   return f;
 }

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <future>
@@ -205,7 +206,7 @@ TEST(Renderer, PendingMapIsBitIdenticalToAFinishedOne) {
   for (int y = 0; y < s.height; ++y) geo.flags[size_t(y) * s.width + (y * 7) % s.width] = 1;  // a diagonal
   for (Filter filter : {Filter::Box, Filter::Mitchell}) {
     s.adaptive.filter = filter;
-    s.adaptive.signature = filter == Filter::Box ? kSignatureNone : kSignatureAll;  // both corner stashes
+    s.adaptive.signature = filter == Filter::Box ? kSignatureNone : kSignatureAll;  // with and without signatures
     s.adaptive.highlights = s.adaptive.curvature = filter == Filter::Box;           // with flags and the ring
     Film a, b;
     RenderStats sa, sb;
@@ -239,7 +240,8 @@ TEST(Renderer, CornerFieldIsBitIdenticalToPerTileCorners) {
       SCOPED_TRACE(std::string(filter == Filter::Box ? "box" : "mitchell") + (region ? " region" : ""));
       s.adaptive.filter = filter;
       s.adaptive.signature = kSignatureAll;
-      s.adaptive.highlights = s.adaptive.curvature = filter == Filter::Box;
+      s.adaptive.highlights = true;  // probes gathered across tiles and the Mitchell margin
+      s.adaptive.curvature = filter == Filter::Box;
       s.region = region ? TileRect{13, 7, 71, 50} : TileRect{};
       s.corner_field = false;
       RenderStats per_tile, whole;
@@ -250,9 +252,12 @@ TEST(Renderer, CornerFieldIsBitIdenticalToPerTileCorners) {
       EXPECT_EQ(per_tile.aa.rays[1], whole.aa.rays[1]);
       EXPECT_EQ(per_tile.aa.rays[2], whole.aa.rays[2]);
       EXPECT_EQ(per_tile.aa.hidden_pixels, whole.aa.hidden_pixels);
-      // Box over the frame: every corner of the frame and its ring once.
+      EXPECT_GT(whole.aa.hidden_pixels, 0u);  // the flags were gathered, not just absent
+      // Box over the frame: every corner of the frame and its ring once; the ring is the margin.
       if (filter == Filter::Box && !region) {
         EXPECT_EQ(whole.aa.rays[0], uint64_t(s.width + 3) * uint64_t(s.height + 3));
+        EXPECT_EQ(whole.aa.margin_rays, uint64_t(s.width + 3) * uint64_t(s.height + 3) -
+                                            uint64_t(s.width + 1) * uint64_t(s.height + 1));
       }
       EXPECT_LT(whole.aa.rays[0], per_tile.aa.rays[0]);
       EXPECT_LT(whole.rays.primary, per_tile.rays.primary);
@@ -260,6 +265,59 @@ TEST(Renderer, CornerFieldIsBitIdenticalToPerTileCorners) {
       EXPECT_EQ(per_tile.rays.primary, per_tile.aa.total_rays());
     }
   }
+}
+
+// Cancelled while level 1 of the whole frame is traced: no tile is rendered, nothing
+// crashes, and the stats say so.
+TEST(Renderer, CancelDuringTheCornerFieldStopsBeforeAnyTile) {
+  const Scene scene = box_scene();
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  RenderSettings s;
+  s.width = 300;
+  s.height = 200;
+  s.threads = 1;
+  ASSERT_GT(corner_field_plan(s).blocks, 4u);
+  std::atomic<bool> cancel{false};
+  size_t blocks = 0, tiles = 0;
+  RenderCallbacks callbacks;
+  callbacks.cancel = &cancel;
+  callbacks.corners_done = [&](const RayCounters& rays) {
+    EXPECT_GT(rays.primary, 0u);
+    if (++blocks == 2) cancel = true;
+  };
+  callbacks.tile_done = [&](const TileRect&, const RayCounters&) { ++tiles; };
+  Film film;
+  RenderStats stats;
+  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  EXPECT_TRUE(stats.cancelled);
+  EXPECT_EQ(blocks, 2u);
+  EXPECT_EQ(tiles, 0u);
+}
+
+// The plan the CLI budgets memory and progress with is what the renderer does.
+TEST(Renderer, CornerFieldPlanMatchesTheRender) {
+  RenderSettings s;
+  s.width = 150;
+  s.height = 70;
+  size_t blocks = 0;
+  RenderCallbacks callbacks;
+  callbacks.corners_done = [&](const RayCounters&) { ++blocks; };
+  const Scene scene = box_scene();
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  Film film;
+  RenderStats stats;
+  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  const CornerFieldPlan plan = corner_field_plan(s);
+  EXPECT_EQ(blocks, plan.blocks);
+  EXPECT_EQ(plan.blocks, size_t(3 * 2));  // (150 + 1) x (70 + 1) corners in 64² blocks
+  EXPECT_GE(plan.bytes, uint64_t(151 * 71) * 36);
+  s.corner_field = false;
+  EXPECT_EQ(corner_field_plan(s).blocks, 0u);
+  s.corner_field = true;
+  s.aa = AaMode::Uniform;
+  EXPECT_EQ(corner_field_plan(s).bytes, 0u);
 }
 
 TEST(Renderer, PendingMapFailureIsRethrown) {

@@ -270,8 +270,8 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "missed a highlight peaking between them trace every zone), the curvature correction "
                     "(`--curvature on`: unrefined pixels take the box integral to second order, with a ring of corners "
                     "around each tile), both, both with the texture detail flag (`--textures on`), both with sample "
-                    "signatures, and with the visibility map's material rule (`--edge-material on`: samples inside a "
-                    "pixel on different materials flag it). *Removed* as above.", BEYOND_BASE, variants)
+                    "signatures, with the visibility map's material rule (`--edge-material on`: samples inside a "
+                    "pixel on different materials flag it), and every detector at once. *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:

@@ -13,8 +13,8 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
     curvature correction alone, both, both with the texture detail flag, both with the
     `lights`, the `secondary` and all signatures, both with the `secondary` and all
-    signatures and the map's material rule (--edge-material on), and both at eps 0.1 (the
-    second ablation table);
+    signatures and the map's material rule (--edge-material on), all of these with the
+    texture flag too, and both at eps 0.1 (the second ablation table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
