@@ -36,12 +36,13 @@ Scene box_scene() {
   return s;
 }
 
-Film render(const Scene& scene, RenderSettings settings, RenderStats* stats_out = nullptr) {
+Film render(const Scene& scene, RenderSettings settings, RenderStats* stats_out = nullptr,
+            const RenderCallbacks& callbacks = {}) {
   const Bvh bvh = Bvh::build(scene.positions);
   const Shader shader(scene, bvh);
   Film film;
   RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats);
+  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
   if (stats_out) *stats_out = stats;
   return film;
 }
@@ -175,15 +176,11 @@ TEST(Renderer, CancelStopsPromptly) {
   s.width = 256;
   s.height = 256;
   s.aa = AaMode::None;
-  const Scene scene = box_scene();
-  const Bvh bvh = Bvh::build(scene.positions);
-  const Shader shader(scene, bvh);
   std::atomic<bool> cancel{true};
   RenderCallbacks callbacks;
   callbacks.cancel = &cancel;
-  Film film;
   RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  render(box_scene(), s, &stats, callbacks);
   EXPECT_TRUE(stats.cancelled);
   EXPECT_EQ(stats.rays.primary, 0u);
 }
@@ -270,9 +267,6 @@ TEST(Renderer, CornerFieldIsBitIdenticalToPerTileCorners) {
 // Cancelled while level 1 of the whole frame is traced: no tile is rendered, nothing
 // crashes, and the stats say so.
 TEST(Renderer, CancelDuringTheCornerFieldStopsBeforeAnyTile) {
-  const Scene scene = box_scene();
-  const Bvh bvh = Bvh::build(scene.positions);
-  const Shader shader(scene, bvh);
   RenderSettings s;
   s.width = 300;
   s.height = 200;
@@ -287,9 +281,8 @@ TEST(Renderer, CancelDuringTheCornerFieldStopsBeforeAnyTile) {
     if (++blocks == 2) cancel = true;
   };
   callbacks.tile_done = [&](const TileRect&, const RayCounters&) { ++tiles; };
-  Film film;
   RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  render(box_scene(), s, &stats, callbacks);
   EXPECT_TRUE(stats.cancelled);
   EXPECT_EQ(blocks, 2u);
   EXPECT_EQ(tiles, 0u);
@@ -303,12 +296,7 @@ TEST(Renderer, CornerFieldPlanMatchesTheRender) {
   size_t blocks = 0;
   RenderCallbacks callbacks;
   callbacks.corners_done = [&](const RayCounters&) { ++blocks; };
-  const Scene scene = box_scene();
-  const Bvh bvh = Bvh::build(scene.positions);
-  const Shader shader(scene, bvh);
-  Film film;
-  RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, s, film, stats, callbacks);
+  render(box_scene(), s, nullptr, callbacks);
   const CornerFieldPlan plan = corner_field_plan(s);
   EXPECT_EQ(blocks, plan.blocks);
   EXPECT_EQ(plan.blocks, size_t(3 * 2));  // (150 + 1) x (70 + 1) corners in 64² blocks
