@@ -88,23 +88,31 @@ struct CornerField {
 template <SampleSource S>
 using CornerFieldOf = CornerField<typename ProbeOf<S>::type>;
 
-// Bytes of the field over `rect` for a source of `S` under `settings`; 0 when it would
-// exceed `budget` (the caller then traces per tile) or there is nothing to trace.
+// Whether a region gets a field, and what it takes: its corners and bytes, or nothing
+// when the region is empty or the field would exceed kCornerFieldBudget (the caller then
+// traces per tile).
+struct CornerFieldShape {
+  CornerRect rect;
+  size_t bytes = 0;
+  bool fits() const { return bytes > 0; }
+};
 template <SampleSource S>
-size_t corner_field_bytes(const CornerRect& rect, const AdaptiveSettings& settings,
-                          size_t budget = kCornerFieldBudget) {
+CornerFieldShape corner_field_shape(const TileRect& region, int frame_width, int frame_height,
+                                    const AdaptiveSettings& settings) {
+  const CornerRect rect = corner_field_rect(region, frame_width, frame_height, settings);
   const size_t bytes = CornerFieldOf<S>::bytes(rect, flags_hidden<S>(settings));
-  return rect.count() == 0 || bytes > budget ? 0 : bytes;
+  if (region.empty() || bytes > kCornerFieldBudget) return {};
+  return {rect, bytes};
 }
 
 // The field a frame region of a source of `S` under `settings` traces, or null (see
-// corner_field_bytes).
+// corner_field_shape).
 template <SampleSource S>
 std::unique_ptr<CornerFieldOf<S>> make_corner_field(const TileRect& region, int frame_width, int frame_height,
                                                     const AdaptiveSettings& settings) {
-  const CornerRect rect = corner_field_rect(region, frame_width, frame_height, settings);
-  if (region.empty() || corner_field_bytes<S>(rect, settings) == 0) return nullptr;
-  return std::make_unique<CornerFieldOf<S>>(rect, flags_hidden<S>(settings));
+  const CornerFieldShape shape = corner_field_shape<S>(region, frame_width, frame_height, settings);
+  if (!shape.fits()) return nullptr;
+  return std::make_unique<CornerFieldOf<S>>(shape.rect, flags_hidden<S>(settings));
 }
 
 // Level 1 of one block of the field.

@@ -47,10 +47,11 @@ void check_geo_size(const GeoMap& geo, const RenderSettings& settings) {
                 " but the frame is " + std::to_string(settings.width) + "x" + std::to_string(settings.height));
 }
 
-// Level 1 of the whole region at once (aa/corner_field.h), or null for the per-tile path.
-std::unique_ptr<CornerFieldOf<SceneSource>> corner_field(const RenderSettings& settings) {
-  if (settings.aa != AaMode::Adaptive || !settings.corner_field) return nullptr;
-  return make_corner_field<SceneSource>(render_region(settings), settings.width, settings.height, settings.adaptive);
+// The field level 1 of the render's region takes (aa/corner_field.h); none for the
+// per-tile path.
+CornerFieldShape field_shape(const RenderSettings& settings) {
+  if (settings.aa != AaMode::Adaptive || !settings.corner_field) return {};
+  return corner_field_shape<SceneSource>(render_region(settings), settings.width, settings.height, settings.adaptive);
 }
 
 // `geo` is the map when `pending` is null; else the map is `pending->get()`, awaited
@@ -89,7 +90,10 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
 
   // Level 1 of the whole region first: it needs no map, so a pending map is made alongside.
   // Corners are pure functions of their positions, so the image is that of the per-tile path.
-  const std::unique_ptr<CornerFieldOf<SceneSource>> field = corner_field(settings);
+  const CornerFieldShape shape = field_shape(settings);
+  const std::unique_ptr<CornerFieldOf<SceneSource>> field =
+      shape.fits() ? std::make_unique<CornerFieldOf<SceneSource>>(shape.rect, flags_hidden<SceneSource>(adaptive))
+                   : nullptr;
   RayCounters field_rays;
   AaStats field_stats;
   if (field) {
@@ -149,12 +153,9 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
 }  // namespace
 
 CornerFieldPlan corner_field_plan(const RenderSettings& settings) {
-  if (settings.aa != AaMode::Adaptive || !settings.corner_field) return {};
-  const TileRect region = render_region(settings);
-  const CornerRect rect = corner_field_rect(region, settings.width, settings.height, settings.adaptive);
-  const uint64_t bytes = corner_field_bytes<SceneSource>(rect, settings.adaptive);
-  if (region.empty() || bytes == 0) return {};
-  return {bytes, corner_blocks(rect).size()};
+  const CornerFieldShape shape = field_shape(settings);
+  if (!shape.fits()) return {};
+  return {shape.bytes, corner_blocks(shape.rect).size()};
 }
 
 void render_frame(const Shader& shader, const Camera& camera, const GeoMap& geo, const RenderSettings& settings,
