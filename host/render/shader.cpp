@@ -5,7 +5,6 @@
 #include <cmath>
 #include <utility>
 
-#include "render/lighting4.h"
 
 namespace zz {
 
@@ -338,6 +337,8 @@ float fresnel_dielectric(float cos_i, float eta) {
 }
 
 Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), effects_(scene.effects()) {
+  light_constants_.reserve(scene.lights.size());
+  for (const Light& light : scene.lights) light_constants_.emplace_back(light);
   unsigned bits = 0;
   if (effects_.shadows) bits |= kShadows;
   if (effects_.reflection) bits |= kReflection;
@@ -424,9 +425,12 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     const uint32_t mat_index = scene_.material_of[prim];
     if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
+    glm::vec2 uv0(0.0f), uv1(0.0f);  // the hit's texture coordinates, for the probe
     if constexpr (kTextured) {
       const Material& gltf = scene_.materials[mat_index];
       const Texcoords tc(scene_, t3, u, v);
+      uv0 = tc.uv0;
+      uv1 = tc.uv1;
       s.material = &material_at<true>(scene_, mat_index, &tc, s.local, s.albedo);
       if (gltf.emissive_texture.used() && emission != glm::vec3(0.0f))
         emission *= glm::vec3(tc.sample(scene_, gltf.emissive_texture));
@@ -449,12 +453,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     s.ns = facing_shading_normal(s, ns);
     if (signature && depth == 0) {
       SurfaceProbe& probe = signature->surface[i];
-      probe = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u, mat_index};
-      if constexpr (kTextured) {
-        const Texcoords tc(scene_, t3, u, v);
-        probe.uv0 = tc.uv0;
-        probe.uv1 = tc.uv1;
-      }
+      probe = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u, mat_index, uv0, uv1};
     }
     out[0][i] = emission.r;
     out[1][i] = emission.g;
@@ -471,7 +470,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
         const Light& light = scene_.lights[light_index];
         const uint32_t light_bit = 1u << (light_index % 32);
-        const LightConstants constants(light);
+        const LightConstants& constants = light_constants_[light_index];
         const LightSample4 ls = light_towards4(light, constants, lit.p);
         const vec3x4& wi = ls.to_light;
         const float4 cos_s = dot(lit.ns, wi);

@@ -12,8 +12,11 @@
 // alpha never tests coverage (ALGORITHM-independent: the AA code only sees a SampleSource).
 #pragma once
 
+#include <vector>
+
 #include "accel/bvh.h"
 #include "core/color.h"
+#include "render/lighting4.h"
 #include "render/ray_counters.h"
 #include "render/specular_peak.h"
 #include "scene/scene.h"
@@ -90,6 +93,7 @@ class Shader {
   const Scene& scene_;
   const Bvh& bvh_;
   EffectSet effects_;
+  std::vector<LightConstants> light_constants_;  // per scene light, made once for the SoA light loop
   Kernel kernel_;
   PrimaryKernel primary_kernel_;
 };

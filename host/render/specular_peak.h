@@ -7,11 +7,13 @@
 // the mean h. The peak lies inside the pixel when the origin lies inside the convex hull
 // of the four projected d; otherwise the largest lobe value the pixel can reach is at the
 // hull's distance from the origin. With the lobe cos^s(2 theta) ~ exp(-2 s |d|^2), whose
-// integral over the d plane is pi / (2 s), a lobe narrower than the pixel has a mean of at most
+// integral over the d plane is pi / (2 s), a lobe narrower than the pixel has a mean of
+// at most
 //   min(peak, pi / (2 s) / area(hull) x tail),
 // where tail = 1 with the origin inside and the Gaussian tail beyond the hull's distance
-// otherwise; a wider one is averaged over a 4 x 4 grid of the bilinear patch. What the pixel may hold beyond its corners' mean lobe, times the light's
-// Phong amplitude, summed over lights that reach at least one corner, is returned.
+// otherwise; a wider one is averaged over a 4 x 4 grid of the bilinear patch. What the
+// pixel may hold beyond its corners' mean lobe, times the light's Phong amplitude, summed
+// over lights that reach at least one corner, is returned.
 // Decided from geometry, so a pinpoint highlight between the corners is found whatever
 // its size; like the visibility map it only sends rays, it never colours a pixel.
 #pragma once
