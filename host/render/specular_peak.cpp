@@ -42,7 +42,7 @@ glm::vec3 orthogonal(glm::vec3 n) {
 // direction turns by 2 theta.
 float lobe_at(float distance, float shininess) {
   const float theta = 2.0f * std::asin(std::min(1.0f, 0.5f * distance));
-  return std::pow(std::cos(std::min(2.0f * theta, 0.5f * kPi)), shininess);
+  return std::pow(std::max(0.0f, std::cos(std::min(2.0f * theta, 0.5f * kPi))), shininess);  // cosf(pi / 2) < 0
 }
 
 bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }

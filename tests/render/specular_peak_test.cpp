@@ -93,6 +93,24 @@ TEST(SpecularPeak, APinpointHighlightBetweenTheCornersIsFound) {
   EXPECT_EQ(hidden.r, hidden.g);
 }
 
+// A corner whose half vector is 45 degrees or more off its normal sits where the lobe's
+// cosine is clamped to pi / 2, and cosf(pi / 2) is a hair below 0: raised to a
+// non-integer exponent (a mean of several materials' exponents is one) it was NaN, and a
+// NaN corner silenced the whole pixel's estimate.
+TEST(SpecularPeak, ACornerFarOffTheLobeDoesNotSilenceThePeak) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(-0.02f, 3.0f, -0.03f, 0.02f, c);  // the peak inside, the right corners ~70 degrees off it
+  std::vector<glm::vec3> reach;
+  bound_light_reach(f.scene, c, 4, reach);
+  const glm::vec3 integer_exponent = hidden_highlight(f.scene, c, reach, glm::vec3(1e-6f));
+  for (SurfaceProbe& p : c) p.shininess = 10000.5f;
+  const glm::vec3 fractional_exponent = hidden_highlight(f.scene, c, reach, glm::vec3(1e-6f));
+  ASSERT_GT(integer_exponent.r, 0.0f);
+  EXPECT_TRUE(std::isfinite(fractional_exponent.r));
+  EXPECT_NEAR(fractional_exponent.r, integer_exponent.r, 1e-3 * integer_exponent.r);
+}
+
 TEST(SpecularPeak, NothingHiddenAwayFromThePeakInShadowOrBelowVisibility) {
   const GlossyFloor f;
   SurfaceProbe c[4];
