@@ -102,8 +102,9 @@ inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame
 }
 
 // Where a tile's corner grid lies: the region's (w+1) x (h+1) pixel corners, grown by a
-// ring of one corner on every side when the curvature correction needs its neighbours'
-// corners (adaptive_pixel.h); (x0, y0) is the grid's first corner in frame pixels.
+// ring of one corner on every side when the curvature correction (adaptive_pixel.h) or the
+// highlight flag (the normals' curvature, render/specular_peak.h) needs its neighbours'
+// corners; (x0, y0) is the grid's first corner in frame pixels.
 struct CornerLayout {
   TileRect region;  // the pixels refined
   int ring = 0;     // corners beyond the region's own on every side
@@ -117,10 +118,16 @@ struct CornerLayout {
 inline bool curvature_applies(const AdaptiveSettings& settings) {
   return settings.curvature && settings.filter == Filter::Box && !settings.refine_all;
 }
+// Sources without probes never read the ring the highlight flag asks for: it costs them
+// only the ring's corners (about 4 / 64 of a tile's with per-tile corners, none extra
+// with the corner field beyond its outer edge).
+inline bool corner_ring(const AdaptiveSettings& settings) {
+  return curvature_applies(settings) || (settings.highlights && !settings.refine_all);
+}
 inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
   CornerLayout l;
   l.region = adaptive_region(target.rect, target.frame_width, target.frame_height, settings.filter);
-  l.ring = curvature_applies(settings) ? 1 : 0;
+  l.ring = corner_ring(settings) ? 1 : 0;
   l.x0 = l.region.x0 - l.ring;
   l.y0 = l.region.y0 - l.ring;
   l.width = l.region.width() + 1 + 2 * l.ring;
@@ -188,7 +195,7 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
 template <HiddenDetailSource S>
 void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S::Probe* probes,
                         const AdaptiveSettings& settings, CornerGrid& grid) {
-  using Probe = typename S::Probe;
+  assert(layout.ring >= 1);  // the highlight flag reads the normals one corner beyond the pixel's
   const TileRect region = layout.region;
   const int cw = layout.width;
   const float4* corner_lin = grid.linear.data();
@@ -197,9 +204,9 @@ void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S:
   for (int ry = 0; ry < region.height(); ++ry)
     for (int rx = 0; rx < region.width(); ++rx) {
       const int ci = layout.index(region.x0 + rx, region.y0 + ry);
-      const Probe p[4] = {probes[ci], probes[ci + 1], probes[ci + cw], probes[ci + cw + 1]};
       const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
-      grid.hidden[size_t(ry) * region.width() + rx] = hidden_detail_shows(source, p, mean, settings.tonemap, eps);
+      grid.hidden[size_t(ry) * region.width() + rx] =
+          hidden_detail_shows(source, probes + ci, ptrdiff_t(cw), mean, settings.tonemap, eps);
     }
 }
 
@@ -247,6 +254,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const float4* corner_disp = grid.display.data();
   const int32_t* corner_sig = grid.signature.data();
   const uint8_t* hidden = flags_hidden<S>(settings) ? grid.hidden.data() : nullptr;
+  const bool curvature = curvature_applies(settings);
   AdaptiveScratch& scratch = AdaptiveScratch::local();
   if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
     scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
@@ -282,7 +290,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
-        if (layout.ring) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
+        if (curvature) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
       } else {
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};

@@ -19,28 +19,32 @@
 namespace zz {
 
 // sample4(px, py, sig, probes) fills 4 probes; survey(probes, n) sees a tile's corner
-// probes once; hidden_radiance(corners, corner_mean, visible) answers for one pixel
-// (corners TL, TR, BL, BR; the mean of their linear radiance in lanes 0-2), and may skip
-// whatever stays below `visible` per channel.
+// probes once; hidden_radiance(tl, stride, corner_mean, visible) answers for one pixel:
+// its corners are tl[0], tl[1], tl[stride], tl[stride + 1] (TL, TR, BL, BR) in a grid
+// with one more corner on every side (tl[-1 - stride] to tl[2 + 2 stride] exist), and
+// `corner_mean` is the mean of their linear radiance in lanes 0-2. It may skip whatever
+// stays below `visible` per channel.
 template <class S>
 concept HiddenDetailSource =
     SignedSampleSource<S> && requires(S& source, const S& csource, float4 px, float4 py, int4& sig,
-                                      typename S::Probe* probes, size_t n, float4 mean, float4 visible) {
+                                      typename S::Probe* probes, size_t n, ptrdiff_t stride, float4 mean,
+                                      float4 visible) {
       { source.sample4(px, py, sig, probes) } -> std::same_as<Rgb4>;
       { source.survey(probes, n) };
-      { csource.hidden_radiance(probes, mean, visible) } -> std::same_as<float4>;
+      { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<float4>;
     };
 
 // Whether the pixel whose box-filtered value is `corner_mean` (linear RGB in lanes 0-2)
-// hides more than it shows: asks the source what the corners `probes` may have missed, and
+// hides more than it shows: asks the source what its corners (`tl` and `stride` as for
+// hidden_radiance) may have missed, and
 // flags the pixel when adding it would change a channel's tone-mapped value by more than
 // eps (a distance equal to eps is no discontinuity).
 template <HiddenDetailSource S>
-bool hidden_detail_shows(const S& source, const typename S::Probe probes[4], float4 corner_mean,
+bool hidden_detail_shows(const S& source, const typename S::Probe* tl, ptrdiff_t stride, float4 corner_mean,
                          const ToneMap& tonemap, float4 eps) {
   // T is concave: nothing below eps / T'(mean) can show (2 % margin for the table's chords).
   const float4 visible = eps / (tonemap.slope4(corner_mean) * float4(1.02f));
-  const float4 hidden = source.hidden_radiance(probes, corner_mean, visible);
+  const float4 hidden = source.hidden_radiance(tl, stride, corner_mean, visible);
   if (!(hidden > float4(0.0f)).any()) return false;
   const float4 moved = tonemap.apply4(corner_mean + hidden) - tonemap.apply4(corner_mean);
   return ((moved > eps).bits() & 0x7) != 0;

@@ -66,14 +66,16 @@ class SceneSource {
     if (detail_ && detail_->highlights) bound_light_reach(shader_.scene(), probes, count, reach_);
   }
 
-  // Radiance by which the pixel with these corners (TL, TR, BL, BR; `mean` the mean of
-  // their radiance) may differ unseen; `visible`: per channel, the smallest increment that
-  // could show.
-  float4 hidden_radiance(const Probe corners[4], float4 mean, float4 visible) const {
+  // Radiance by which the pixel with corners tl[0], tl[1], tl[stride], tl[stride + 1]
+  // (TL, TR, BL, BR, in a grid with a ring around them; `mean` the mean of their radiance)
+  // may differ unseen; `visible`: per channel, the smallest increment that could show.
+  float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
     if (!detail_) return float4(0.0f);
+    const Probe corners[4] = {tl[0], tl[1], tl[stride], tl[stride + 1]};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
-    if (detail_->highlights) h += hidden_highlight(shader_.scene(), corners, reach_, shown);
+    if (detail_->highlights)
+      h += hidden_highlight(shader_.scene(), corners, reach_, shown, normal_interpolation_error(tl, stride));
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
     return float4(h.r, h.g, h.b, 0.0f);

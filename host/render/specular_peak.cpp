@@ -88,8 +88,25 @@ void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t co
   }
 }
 
+float normal_interpolation_error(const SurfaceProbe* tl, ptrdiff_t stride) {
+  const SurfaceProbe* corners[4] = {tl, tl + 1, tl + stride, tl + stride + 1};
+  for (const SurfaceProbe* c : corners)
+    if (!has_highlight(*c)) return 0.0f;
+  float nxx = 0.0f, nyy = 0.0f;
+  for (const SurfaceProbe* c : corners) {
+    auto second_difference = [c](const SurfaceProbe& a, const SurfaceProbe& b) {
+      if (a.material != c->material || b.material != c->material || !has_highlight(a) || !has_highlight(b))
+        return 0.0f;
+      return glm::length(a.normal - 2.0f * c->normal + b.normal);
+    };
+    nxx = std::max(nxx, second_difference(c[-1], c[1]));
+    nyy = std::max(nyy, second_difference(c[-stride], c[stride]));
+  }
+  return (nxx + nyy) * 0.125f;
+}
+
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible) {
+                           glm::vec3 visible, float normal_error) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -136,18 +153,21 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
     }
     const glm::vec3 amplitude = specular * phong_normalisation(shininess) * strongest;
     if (glm::all(glm::lessThan(amplitude, visible))) continue;
-    // Cheap bounds before the hull: the pixel's d values lie within `span` of each corner's.
+    // Cheap bounds before the hull: the pixel's d values lie within `span` of each corner's
+    // (the corners' own spread, and the normals' curvature on either side).
     float span2 = 0.0f, nearest = std::numeric_limits<float>::infinity();
     for (int k = 0; k < 4; ++k) {
       nearest = std::min(nearest, glm::length(d3[k]));
       for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
     }
     if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
+    const float span = std::sqrt(span2) + 2.0f * normal_error;
+    span2 = span * span;
     // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the
     // corners' mean is within s span^2 / 2 of the true mean.
     if (glm::all(glm::lessThan(amplitude * (0.5f * shininess * span2), visible))) continue;
     // Nowhere in the pixel closer to the peak than `nearest - span`.
-    const float closest = std::max(0.0f, nearest - std::sqrt(span2));
+    const float closest = std::max(0.0f, nearest - span);
     if (glm::all(glm::lessThan(amplitude * lobe_at(closest, shininess), visible))) continue;
 
     incident *= 0.25f;
@@ -172,13 +192,14 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
         for (int i = 0; i < kGrid; ++i) {
           const float u = (float(i) + 0.5f) / float(kGrid), v = (float(j) + 0.5f) / float(kGrid);
           const glm::vec2 q = (1.0f - v) * ((1.0f - u) * d[0] + u * d[1]) + v * ((1.0f - u) * d[2] + u * d[3]);
-          mean_lobe += lobe_at(glm::length(q), shininess);
+          mean_lobe += lobe_at(std::max(0.0f, glm::length(q) - normal_error), shininess);
         }
       mean_lobe /= float(kGrid * kGrid);
     } else {
       // Narrow: all of the lobe's integral, pi / 2s, that falls inside the pixel, spread over it.
-      const float distance = origin_distance_to_hull(d);
-      if (!std::isfinite(distance)) continue;
+      const float hull_distance = origin_distance_to_hull(d);
+      if (!std::isfinite(hull_distance)) continue;
+      const float distance = std::max(0.0f, hull_distance - normal_error);
       const float tail = distance == 0.0f ? 1.0f : 0.5f * std::erfc(distance * std::sqrt(2.0f * shininess));
       mean_lobe = std::min(lobe_at(distance, shininess), lobe_integral * tail / area);
     }

@@ -14,6 +14,12 @@
 // otherwise; a wider one is averaged over a 4 x 4 grid of the bilinear patch. What the
 // pixel may hold beyond its corners' mean lobe, times the light's Phong amplitude, summed
 // over lights that reach at least one corner, is returned.
+// The bilinear model fails where the normal field curves within a pixel: across a thin
+// cylinder the normal peaks between two corners that both lie off the ridge, and its
+// highlight is a streak no corner sees. The bilinear patch's interpolation error,
+// |f - I f| <= (|f_xx| + |f_yy|) / 8 on the unit square, bounds that miss; the second
+// derivatives are estimated by second differences of the corners' normals with the
+// neighbouring corners, and the hull is widened by the bound.
 // Decided from geometry, so a pinpoint highlight between the corners is found whatever
 // its size; like the visibility map it only sends rays, it never colours a pixel.
 #pragma once
@@ -52,8 +58,18 @@ void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t co
 // bound for the corners' tile; lights whose largest possible highlight stays below
 // `visible` (per channel: increments smaller than this cannot show on the display) are
 // not examined.
+// `normal_error`: how far the normals inside the pixel may lie from the bilinear
+// interpolation of the corners' (normal_interpolation_error); the hull is widened by it.
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible);
+                           glm::vec3 visible, float normal_error = 0.0f);
+
+// The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are tl[0], tl[1],
+// tl[stride], tl[stride + 1], from second differences along rows and columns at each of
+// them (tl[-1 - stride] to tl[2 + 2 stride] must exist). A difference counts only where
+// its three corners hit the same material with a highlight: across a silhouette or a
+// material boundary the normals are of different surfaces. 0 unless all four corners
+// have a highlight.
+float normal_interpolation_error(const SurfaceProbe* tl, ptrdiff_t stride);
 
 // Geometry of the test, exposed for tests: distance from the origin to the convex hull of
 // four 2-D points (0 when inside), and the area of the quad p0 p1 p3 p2 (bilinear order:

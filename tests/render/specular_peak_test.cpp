@@ -129,6 +129,84 @@ TEST(SpecularPeak, NothingHiddenAwayFromThePeakInShadowOrBelowVisibility) {
   EXPECT_EQ(hidden_highlight(f.scene, c, reach, glm::vec3(1e-3f)), glm::vec3(0.0f));
 }
 
+// A ridge across the glossy floor's peak: the normal turns by theta(u) = 0.4 u^2 about y,
+// u in pixels from the ridge, so the pixel's corners (u = +-0.5) are both 0.1 rad off the
+// half vector while its middle meets it, a streak along y that no corner sees. The 4 x 4
+// corners around the pixel (u = -1.5 .. 1.5), row-major, with the floor's probes.
+struct Ridge {
+  GlossyFloor floor;
+  static constexpr float kPixel = 0.01f;  // floor units per pixel
+  SurfaceProbe stencil[16];
+  static glm::vec3 normal(float u) {
+    const float theta = 0.4f * u * u;
+    return {std::sin(theta), 0.0f, std::cos(theta)};
+  }
+  Ridge() {
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const float u = float(i) - 1.5f, v = float(j) - 1.5f;
+        SurfaceProbe& p = stencil[j * 4 + i];
+        p = floor.probe({u * kPixel, v * kPixel, 0.0f});
+        p.normal = normal(u);
+      }
+  }
+  const SurfaceProbe* top_left() const { return &stencil[5]; }  // the pixel's TL corner
+  void corners(SurfaceProbe out[4]) const { out[0] = stencil[5], out[1] = stencil[6], out[2] = stencil[9], out[3] = stencil[10]; }
+  // The true mean over the pixel of the highlight (GlossyFloor::highlight with the ridge's normal).
+  double true_mean() const {
+    const int n = 400;
+    double sum = 0;
+    for (int k = 0; k < n; ++k) {
+      const float u = -0.5f + (float(k) + 0.5f) / float(n);
+      SurfaceProbe s = floor.probe({u * kPixel, 0.0f, 0.0f});
+      s.normal = normal(u);
+      glm::vec3 wi, scale;
+      float distance;
+      light_towards(floor.scene.lights[0], s.position, wi, distance, scale);
+      const float cos_n = glm::dot(s.normal, wi);
+      const glm::vec3 r = 2.0f * cos_n * s.normal - wi;
+      const float lobe = std::pow(std::max(0.0f, glm::dot(r, s.view)), s.shininess);
+      sum += 0.04f * phong_normalisation(s.shininess) * lobe * scale.r * cos_n;
+    }
+    return sum / n;  // constant along y (the ridge), up to the light's slow fall-off
+  }
+};
+
+TEST(SpecularPeak, NormalInterpolationErrorIsTheBilinearBoundOfTheNormalsCurvature) {
+  Ridge ridge;
+  // theta'' = 0.8 per pixel^2: the second difference of the normals is about 0.8 along u, 0 along v.
+  const float ridge_error = normal_interpolation_error(ridge.top_left(), 4);
+  EXPECT_NEAR(ridge_error, 0.78f / 8.0f, 0.01f);
+  for (SurfaceProbe& p : ridge.stencil) p.normal = glm::vec3(0.0f, 0.0f, 1.0f);  // flat
+  EXPECT_EQ(normal_interpolation_error(ridge.top_left(), 4), 0.0f);
+  for (SurfaceProbe& p : ridge.stencil) p.normal = glm::normalize(glm::vec3(0.1f * p.position.x / Ridge::kPixel, 0.0f, 1.0f));
+  EXPECT_LT(normal_interpolation_error(ridge.top_left(), 4), 0.02f * ridge_error);  // a slope: nearly linear
+
+  Ridge other;
+  for (int j = 0; j < 4; ++j) other.stencil[j * 4 + 3].material = 7u;  // the last column is another surface
+  for (int j = 0; j < 4; ++j) other.stencil[j * 4 + 0].material = 7u;  // and the first
+  EXPECT_EQ(normal_interpolation_error(other.top_left(), 4), 0.0f);  // across materials nothing counts
+  Ridge dull;
+  dull.stencil[10].specular = glm::vec3(0.0f);  // a corner without a highlight: no estimate at all
+  EXPECT_EQ(normal_interpolation_error(dull.top_left(), 4), 0.0f);
+}
+
+TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
+  const Ridge ridge;
+  SurfaceProbe c[4];
+  ridge.corners(c);
+  std::vector<glm::vec3> reach;
+  bound_light_reach(ridge.floor.scene, ridge.stencil, 16, reach);
+  const double truth = ridge.true_mean();
+  const glm::vec3 visible(0.05f * float(truth));
+  // The bilinear model alone sees corners 0.1 rad off the peak everywhere: nothing.
+  EXPECT_EQ(hidden_highlight(ridge.floor.scene, c, reach, visible), glm::vec3(0.0f));
+  // Widened by the normals' curvature it finds the streak, at least as bright as it is.
+  const glm::vec3 found =
+      hidden_highlight(ridge.floor.scene, c, reach, visible, normal_interpolation_error(ridge.top_left(), 4));
+  EXPECT_GE(found.r, 0.5 * truth);
+}
+
 // Through the renderer: a glossy floor seen from above, the light placed so that its
 // mirror point is the centre of pixel (20, 20), where none of the corners sees it.
 TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
