@@ -75,7 +75,7 @@ class SceneSource {
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
     if (detail_->highlights)
-      h += hidden_highlight(shader_.scene(), corners, reach_, shown, normal_interpolation_error(tl, stride));
+      h += hidden_highlight(shader_.scene(), corners, reach_, shown, tl, stride);
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
     return float4(h.r, h.g, h.b, 0.0f);

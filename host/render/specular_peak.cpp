@@ -106,7 +106,7 @@ float normal_interpolation_error(const SurfaceProbe* tl, ptrdiff_t stride) {
 }
 
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, float normal_error) {
+                           glm::vec3 visible, const SurfaceProbe* stencil, ptrdiff_t stride) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -127,6 +127,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
   float extent = 0.0f;
   for (int k = 1; k < 4; ++k) extent = std::max(extent, glm::length(c[k].position - c[0].position));
 
+  float normal_error = stencil ? -1.0f : 0.0f;  // < 0: not computed yet
   glm::vec3 hidden(0.0f);
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
@@ -161,6 +162,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
       for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
     }
     if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
+    if (normal_error < 0.0f) normal_error = normal_interpolation_error(stencil, stride);
     const float span = std::sqrt(span2) + 2.0f * normal_error;
     span2 = span * span;
     // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the

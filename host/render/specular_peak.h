@@ -58,10 +58,13 @@ void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t co
 // bound for the corners' tile; lights whose largest possible highlight stays below
 // `visible` (per channel: increments smaller than this cannot show on the display) are
 // not examined.
-// `normal_error`: how far the normals inside the pixel may lie from the bilinear
-// interpolation of the corners' (normal_interpolation_error); the hull is widened by it.
+// With `stencil` (the pixel's TL corner in a grid of row pitch `stride` with a ring around
+// the pixel's corners, as normal_interpolation_error reads it), the hull is widened by how
+// far the normals inside the pixel may lie from the bilinear interpolation of the
+// corners'; it is computed only for a light that gets past the cheap bounds. Without it,
+// the bilinear model alone.
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, float normal_error = 0.0f);
+                           glm::vec3 visible, const SurfaceProbe* stencil = nullptr, ptrdiff_t stride = 0);
 
 // The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are tl[0], tl[1],
 // tl[stride], tl[stride + 1], from second differences along rows and columns at each of
