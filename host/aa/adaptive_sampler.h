@@ -191,22 +191,24 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
 }
 
 // The hidden-detail flag of every region pixel (hidden_detail.h) from the probes of the
-// grid's corners (laid out as `layout`).
+// grid's corners (laid out as `layout`); `probes` is the layout's first corner in a grid of
+// row pitch `probe_stride` (the tile's own grid, or the frame's corner field read in place).
 template <HiddenDetailSource S>
-void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S::Probe* probes,
+void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S::Probe* probes, int probe_stride,
                         const AdaptiveSettings& settings, CornerGrid& grid) {
   assert(layout.ring >= 1);  // the highlight flag reads the normals one corner beyond the pixel's
   const TileRect region = layout.region;
   const int cw = layout.width;
   const float4* corner_lin = grid.linear.data();
-  source.survey(probes, layout.corners());
+  source.survey(probes, layout.width, layout.height, ptrdiff_t(probe_stride));
   const float4 eps(settings.eps);
   for (int ry = 0; ry < region.height(); ++ry)
     for (int rx = 0; rx < region.width(); ++rx) {
       const int ci = layout.index(region.x0 + rx, region.y0 + ry);
+      const size_t pi = size_t(region.y0 + ry - layout.y0) * size_t(probe_stride) + size_t(region.x0 + rx - layout.x0);
       const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
       grid.hidden[size_t(ry) * region.width() + rx] =
-          hidden_detail_shows(source, probes + ci, ptrdiff_t(cw), mean, settings.tonemap, eps);
+          hidden_detail_shows(source, probes + pi, ptrdiff_t(probe_stride), mean, settings.tonemap, eps);
     }
 }
 
@@ -231,7 +233,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
                          size_t(layout.width), grid.linear.data(), grid.display.data(), grid.signature.data(), probes,
                          stats);
   if constexpr (HiddenDetailSource<S>) {
-    if (probing) flag_hidden_pixels(source, layout, probes, settings, grid);
+    if (probing) flag_hidden_pixels(source, layout, probes, layout.width, settings, grid);
   }
   stats.margin_rays += corner_rays - own_corners(tile);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();

@@ -8,14 +8,19 @@
 // per pixel before any refinement, against 1.00 here. Corners are pure functions of their
 // positions, so the image is bit-identical to the per-tile path, for any block or tile
 // size, thread count or order. Memory: 36 bytes per corner, plus the source's probe when
-// the hidden-detail flags are on (SurfaceProbe, 76 bytes): 117 MB at 1024². Callers keep
-// the per-tile path above kCornerFieldBudget (with probes, frames beyond about 2150²).
+// the hidden-detail flags are on (the renderer's: three SurfaceProbes, the hit and what
+// it shows by reflection and refraction, 228 bytes): 277 MB at 1024². Callers keep the
+// per-tile path above kCornerFieldBudget (with probes, frames beyond about 2 million
+// corners: 2560 x 1440 fits, 4K does not).
 #pragma once
 
 #include <cassert>
 #include <chrono>
 #include <cstddef>
+#include <cstdlib>
 #include <memory>
+#include <new>
+#include <type_traits>
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
@@ -23,7 +28,7 @@
 namespace zz {
 
 // Largest field the callers allocate; larger frames trace their corners per tile.
-inline constexpr size_t kCornerFieldBudget = size_t(512) << 20;
+inline constexpr size_t kCornerFieldBudget = size_t(1) << 30;
 // Corners per side of a block traced as one task (even: only the field's own odd last row
 // or column pads a packet).
 inline constexpr int kCornerBlock = 64;
@@ -63,18 +68,26 @@ template <class Probe>
 struct CornerField {
   CornerRect rect;
   // Left uninitialised (every entry is traced before it is read): a 1024² field is 40 MB
-  // of corners that zero-filling would write once more, on one thread.
+  // of corners, and 240 MB of the renderer's probes, that filling would write once more,
+  // on one thread (the probes' default member values took 0.1 s of a 0.7 s room frame).
   std::unique_ptr<float4[]> linear;      // AoS (r, g, b, 0)
   std::unique_ptr<float4[]> display;     // tone-mapped
   std::unique_ptr<int32_t[]> signature;  // signature.h
-  std::vector<Probe> probes;             // empty unless the hidden-detail flags are on
+  // Null unless the hidden-detail flags are on. Raw storage: probes are aggregates of
+  // floats and integers (implicit-lifetime types), each written whole before it is read.
+  std::unique_ptr<Probe[], void (*)(void*)> probes{nullptr, std::free};
+  static_assert(std::is_trivially_copyable_v<Probe> && std::is_trivially_destructible_v<Probe>);
 
   CornerField(const CornerRect& r, bool with_probes)
       : rect(r),
         linear(std::make_unique_for_overwrite<float4[]>(r.count())),
         display(std::make_unique_for_overwrite<float4[]>(r.count())),
-        signature(std::make_unique_for_overwrite<int32_t[]>(r.count())),
-        probes(with_probes ? r.count() : 0) {}
+        signature(std::make_unique_for_overwrite<int32_t[]>(r.count())) {
+    if (with_probes) {
+      probes.reset(static_cast<Probe*>(std::malloc(r.count() * sizeof(Probe))));
+      if (!probes) throw std::bad_alloc();
+    }
+  }
 
   static size_t bytes(const CornerRect& r, bool with_probes) {
     return r.count() * (2 * sizeof(float4) + sizeof(int32_t) + (with_probes ? sizeof(Probe) : 0));
@@ -124,7 +137,7 @@ void trace_field_block(S& source, const AdaptiveSettings& settings, const Corner
   const size_t first = field.index(block.x0, block.y0);
   trace_corner_block(source, settings.tonemap, block.x0, block.y0, block.width, block.height,
                      size_t(field.rect.width), field.linear.get() + first, field.display.get() + first,
-                     field.signature.get() + first, field.probes.empty() ? nullptr : field.probes.data() + first,
+                     field.signature.get() + first, field.probes ? field.probes.get() + first : nullptr,
                      stats);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }
@@ -148,17 +161,17 @@ void gather_corners(S& source, const CornerFieldOf<S>& field, const TileTarget& 
          field.rect.contains(layout.x0 + layout.width - 1, layout.y0 + layout.height - 1));
   const bool probing = flags_hidden<S>(settings);
   grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
-  using Probe = typename ProbeOf<S>::type;
-  Probe* probes = probing ? corner_probes<Probe>(layout.corners()) : nullptr;
   for (int j = 0; j < layout.height; ++j) {
     const size_t from = field.index(layout.x0, layout.y0 + j), to = size_t(j) * size_t(layout.width);
     std::copy_n(field.linear.get() + from, layout.width, grid.linear.begin() + to);
     std::copy_n(field.display.get() + from, layout.width, grid.display.begin() + to);
     std::copy_n(field.signature.get() + from, layout.width, grid.signature.begin() + to);
-    if (probing) std::copy_n(field.probes.begin() + from, layout.width, probes + to);
   }
   if constexpr (HiddenDetailSource<S>) {
-    if (probing) flag_hidden_pixels(source, layout, probes, settings, grid);
+    // The probes are read in place: a tile's are ~1 MB, the colours a tenth of that.
+    if (probing)
+      flag_hidden_pixels(source, layout, field.probes.get() + field.index(layout.x0, layout.y0), field.rect.width,
+                         settings, grid);
   }
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }

@@ -48,22 +48,32 @@ class SceneSource {
     return c;
   }
 
-  // With the surfaces the lanes hit, for the hidden-detail flags (aa/hidden_detail.h).
-  using Probe = SurfaceProbe;
+  // With the surfaces the lanes hit, for the hidden-detail flags (aa/hidden_detail.h): the
+  // primary hit's, and the hits seen in it by reflection and refraction.
+  struct Probe {
+    SurfaceProbe surface, reflected, refracted;
+  };
+  static constexpr SurfaceProbe Probe::* kSeen[3] = {&Probe::surface, &Probe::reflected, &Probe::refracted};
   Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
     PathSignature4 seen;
+    SurfaceProbe reflected[4], refracted[4];
+    seen.seen_reflected = reflected;
+    seen.seen_refracted = refracted;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen);
     for (int i = 0; i < 4; ++i) {
-      probes[i] = seen.surface[i];
-      probes[i].shadowed = seen.shadowed[i];
+      probes[i] = {seen.surface[i], reflected[i], refracted[i]};
+      probes[i].surface.shadowed = seen.shadowed[i];
     }
     return c;
   }
 
-  // Before hidden_radiance is asked about a tile's pixels: the tile's corner probes.
-  void survey(const Probe* probes, size_t count) {
-    if (detail_ && detail_->highlights) bound_light_reach(shader_.scene(), probes, count, reach_);
+  // Before hidden_radiance is asked about a tile's pixels: the tile's corner probes, a
+  // width x height grid of row pitch `stride`. Each layer's light reach is bounded the first
+  // time a pixel needs it (most tiles see no mirror or glass).
+  void survey(const Probe* probes, int width, int height, ptrdiff_t stride) {
+    tile_ = {probes, width, height, stride};
+    for (bool& known : reach_known_) known = false;
   }
 
   // Radiance by which the pixel with corners tl[0], tl[1], tl[stride], tl[stride + 1]
@@ -71,11 +81,17 @@ class SceneSource {
   // may differ unseen; `visible`: per channel, the smallest increment that could show.
   float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
     if (!detail_) return float4(0.0f);
-    const Probe corners[4] = {tl[0], tl[1], tl[stride], tl[stride + 1]};
+    const SurfaceProbe corners[4] = {tl[0].surface, tl[1].surface, tl[stride].surface, tl[stride + 1].surface};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
     if (detail_->highlights)
-      h += hidden_highlight(shader_.scene(), corners, reach_, shown, tl, stride);
+      for (int k = 0; k < 3; ++k) {
+        const SurfaceProbe Probe::*seen = kSeen[k];
+        const SurfaceProbe c[4] = {tl[0].*seen, tl[1].*seen, tl[stride].*seen, tl[stride + 1].*seen};
+        if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
+        const ProbeStencil stencil(&(tl->*seen), sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
+        h += hidden_highlight(shader_.scene(), c, reach(k), shown, &stencil);
+      }
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
     return float4(h.r, h.g, h.b, 0.0f);
@@ -111,7 +127,23 @@ class SceneSource {
   const CameraRays& camera_;
   unsigned parts_;
   const HiddenDetail* detail_;
-  std::vector<glm::vec3> reach_;  // survey(): per light, bound_light_reach over the tile
+  // Per light, bound_light_reach over the surveyed tile's kSeen[k] hits.
+  const std::vector<glm::vec3>& reach(int k) const {
+    if (!reach_known_[k]) {
+      const ProbeStencil grid(&(tile_.probes->*kSeen[k]), sizeof(Probe), tile_.stride * ptrdiff_t(sizeof(Probe)));
+      bound_light_reach(shader_.scene(), grid, tile_.width, tile_.height, reach_[k]);
+      reach_known_[k] = true;
+    }
+    return reach_[k];
+  }
+
+  struct SurveyedTile {
+    const Probe* probes = nullptr;
+    int width = 0, height = 0;
+    ptrdiff_t stride = 0;
+  } tile_;
+  mutable std::vector<glm::vec3> reach_[3];
+  mutable bool reach_known_[3] = {false, false, false};
 };
 
 static_assert(SignedSampleSource<SceneSource>);

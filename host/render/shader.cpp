@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <utility>
 
 
@@ -451,7 +452,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
-    if (signature && depth == 0) {
+    if (signature && depth <= 1) {  // depth 1: what a camera packet sees in mirrors and glass (seen_*)
       SurfaceProbe& probe = signature->surface[i];
       probe = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u, mat_index, uv0, uv1};
     }
@@ -594,13 +595,16 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         }
       }
       const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
+      // The secondary rays' first hits, for a camera packet's signature and probes.
+      // Made only for a packet that records a signature.
+      std::optional<PathSignature4> seen_reflected, seen_refracted;
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        PathSignature4 seen;  // the reflected rays' first hits, for a camera packet's signature
+        if (signature && depth == 0) seen_reflected.emplace();
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                        float4::load(reflect_path), counters, signature && depth == 0 ? &seen : nullptr);
-        if (signature && depth == 0)
-          for (int i = 0; i < 4; ++i) signature->reflected[i] = do_reflect[i] ? seen.object[i] : 0;
+                                        float4::load(reflect_path), counters, seen_reflected ? &*seen_reflected : nullptr);
+        if (seen_reflected)
+          for (int i = 0; i < 4; ++i) signature->reflected[i] = do_reflect[i] ? seen_reflected->object[i] : 0;
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];
@@ -614,14 +618,16 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           counters.refraction += uint64_t(count_lanes(refract_lanes));
           // A refracted ray's first hit is mostly the far side of the same glass; what the
           // glass shows is the hit after that, so a camera packet's signature keeps both.
-          PathSignature4 seen;
           const bool sign = signature && depth <= 1;
+          if (sign) seen_refracted.emplace();
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters, sign ? &seen : nullptr);
-          if (sign)
+                                        float4::load(refract_path), counters, sign ? &*seen_refracted : nullptr);
+          if (sign) {
+            const PathSignature4& seen = *seen_refracted;
             for (int i = 0; i < 4; ++i)
               signature->refracted[i] =
                   !do_refract[i] ? 0u : depth == 0 ? (seen.object[i] * 0x9E3779B1u) ^ seen.refracted[i] : seen.object[i];
+          }
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
               out[0][i] += refract_weight[i].r * c.r[i];
@@ -630,6 +636,22 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             }
         }
       }
+      // A camera packet's probes of what its lanes see in mirrors and through glass.
+      if (signature && depth == 0)
+        for (int i = 0; i < 4; ++i) {
+          if (do_reflect[i] && signature->seen_reflected) {
+            SurfaceProbe& probe = signature->seen_reflected[i];
+            probe = seen_reflected->surface[i];
+            probe.shadowed = seen_reflected->shadowed[i];
+            probe.specular *= reflect_weight[i];
+          }
+          if (do_refract[i] && signature->seen_refracted) {
+            SurfaceProbe& probe = signature->seen_refracted[i];
+            probe = seen_refracted->surface[i];
+            probe.shadowed = seen_refracted->shadowed[i];
+            probe.specular *= refract_weight[i];
+          }
+        }
     }
   }
 
@@ -639,7 +661,12 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       for (int i = 0; i < 4; ++i) {
         if (!shaded[i] || sp[i].front) continue;
         const glm::vec3 sigma = sp[i].material->absorption;
-        for (int c = 0; c < 3; ++c) out[c][i] *= std::exp(-sigma[c] * sp[i].distance);
+        glm::vec3 kept;
+        for (int c = 0; c < 3; ++c) {
+          kept[c] = std::exp(-sigma[c] * sp[i].distance);
+          out[c][i] *= kept[c];
+        }
+        if (signature && depth <= 1) signature->surface[i].specular *= kept;  // its highlight too
       }
     }
   }

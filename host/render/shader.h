@@ -40,6 +40,13 @@ struct PathSignature4 {
   uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
   uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
   SurfaceProbe surface[4];     // the primary hit's surface (specular 0 on a miss), for the highlight flag
+  // Where the caller wants them (4 each; a camera packet only): the first hits of the
+  // primary hit's reflection and refraction rays, their specular scaled by the ray's weight
+  // and by Beer's absorption when hit from inside: highlights seen in mirrors, in glass's
+  // Fresnel reflection and through glass, in radiance at the camera. Left as they were
+  // where there is no such ray; specular 0 where it hits nothing.
+  SurfaceProbe* seen_reflected = nullptr;
+  SurfaceProbe* seen_refracted = nullptr;
 };
 
 class Shader {

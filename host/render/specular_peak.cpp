@@ -45,7 +45,6 @@ float lobe_at(float distance, float shininess) {
   return std::pow(std::max(0.0f, std::cos(std::min(2.0f * theta, 0.5f * kPi))), shininess);  // cosf(pi / 2) < 0
 }
 
-bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
 
 }  // namespace
 
@@ -67,11 +66,19 @@ float bilinear_quad_area(const glm::vec2 p[4]) {
 }
 
 void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach) {
+  bound_light_reach(scene, ProbeStencil(probes, sizeof(SurfaceProbe), 0), int(count), 1, reach);
+}
+
+void bound_light_reach(const Scene& scene, const ProbeStencil& grid, int width, int height,
+                       std::vector<glm::vec3>& reach) {
   glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-  for (size_t i = 0; i < count; ++i)
-    if (has_highlight(probes[i])) {
-      lo = glm::min(lo, probes[i].position);
-      hi = glm::max(hi, probes[i].position);
+  for (int j = 0; j < height; ++j)
+    for (int i = 0; i < width; ++i) {
+      const SurfaceProbe& p = grid.at(i, j);
+      if (has_highlight(p)) {
+        lo = glm::min(lo, p.position);
+        hi = glm::max(hi, p.position);
+      }
     }
   reach.assign(scene.lights.size(), glm::vec3(0.0f));
   if (!(lo.x <= hi.x)) return;  // nothing with a highlight
@@ -88,25 +95,27 @@ void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t co
   }
 }
 
-float normal_interpolation_error(const SurfaceProbe* tl, ptrdiff_t stride) {
-  const SurfaceProbe* corners[4] = {tl, tl + 1, tl + stride, tl + stride + 1};
-  for (const SurfaceProbe* c : corners)
-    if (!has_highlight(*c)) return 0.0f;
+float normal_interpolation_error(const ProbeStencil& stencil) {
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i)
+      if (!has_highlight(stencil.at(i, j))) return 0.0f;
   float nxx = 0.0f, nyy = 0.0f;
-  for (const SurfaceProbe* c : corners) {
-    auto second_difference = [c](const SurfaceProbe& a, const SurfaceProbe& b) {
-      if (a.material != c->material || b.material != c->material || !has_highlight(a) || !has_highlight(b))
-        return 0.0f;
-      return glm::length(a.normal - 2.0f * c->normal + b.normal);
-    };
-    nxx = std::max(nxx, second_difference(c[-1], c[1]));
-    nyy = std::max(nyy, second_difference(c[-stride], c[stride]));
-  }
+  for (int j = 0; j < 2; ++j)
+    for (int i = 0; i < 2; ++i) {
+      const SurfaceProbe& c = stencil.at(i, j);
+      auto second_difference = [&c](const SurfaceProbe& a, const SurfaceProbe& b) {
+        if (a.material != c.material || b.material != c.material || !has_highlight(a) || !has_highlight(b))
+          return 0.0f;
+        return glm::length(a.normal - 2.0f * c.normal + b.normal);
+      };
+      nxx = std::max(nxx, second_difference(stencil.at(i - 1, j), stencil.at(i + 1, j)));
+      nyy = std::max(nyy, second_difference(stencil.at(i, j - 1), stencil.at(i, j + 1)));
+    }
   return (nxx + nyy) * 0.125f;
 }
 
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, const SurfaceProbe* stencil, ptrdiff_t stride) {
+                           glm::vec3 visible, const ProbeStencil* stencil) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -162,7 +171,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
       for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
     }
     if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
-    if (normal_error < 0.0f) normal_error = normal_interpolation_error(stencil, stride);
+    if (normal_error < 0.0f) normal_error = normal_interpolation_error(*stencil);
     const float span = std::sqrt(span2) + 2.0f * normal_error;
     span2 = span * span;
     // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the

@@ -46,11 +46,31 @@ struct SurfaceProbe {
   glm::vec2 uv0{0.0f}, uv1{0.0f};  // texture coordinates (TEXCOORD_0, _1) of the hit
 };
 
+// A pixel's corner probes and their neighbours in a grid whose elements hold a
+// SurfaceProbe `step` bytes apart along a row and `row` bytes apart down a column (the
+// probes may be members of larger per-corner records). at(0, 0) is the pixel's TL corner.
+struct ProbeStencil {
+  const std::byte* tl = nullptr;
+  ptrdiff_t step = 0, row = 0;
+  ProbeStencil(const SurfaceProbe* top_left, ptrdiff_t step_bytes, ptrdiff_t row_bytes)
+      : tl(reinterpret_cast<const std::byte*>(top_left)), step(step_bytes), row(row_bytes) {}
+  const SurfaceProbe& at(int i, int j) const {
+    return *reinterpret_cast<const SurfaceProbe*>(tl + i * step + j * row);
+  }
+};
+
+// Whether the probe's surface has a highlight at all (0 on a miss).
+inline bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
+
 // Per light, an upper bound of its incident radiance factor (light_towards) over the hit
 // points of `count` probes: a tile's corner grid, surveyed once before its pixels are
 // tested, so a light too dim to leave a visible highlight anywhere in the tile costs one
 // comparison per pixel.
 void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach);
+// The same over a width x height grid of probes laid out as `grid` describes (its at(0, 0)
+// the first).
+void bound_light_reach(const Scene& scene, const ProbeStencil& grid, int width, int height,
+                       std::vector<glm::vec3>& reach);
 
 // The highlight radiance (linear RGB) that the pixel whose corners are `corners`
 // (physical TL, TR, BL, BR) may hold beyond the mean of what the corners saw. Zero
@@ -58,21 +78,21 @@ void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t co
 // bound for the corners' tile; lights whose largest possible highlight stays below
 // `visible` (per channel: increments smaller than this cannot show on the display) are
 // not examined.
-// With `stencil` (the pixel's TL corner in a grid of row pitch `stride` with a ring around
-// the pixel's corners, as normal_interpolation_error reads it), the hull is widened by how
+// With `stencil` (the pixel's corners and a ring around them, as
+// normal_interpolation_error reads it), the hull is widened by how
 // far the normals inside the pixel may lie from the bilinear interpolation of the
 // corners'; it is computed only for a light that gets past the cheap bounds. Without it,
 // the bilinear model alone.
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, const SurfaceProbe* stencil = nullptr, ptrdiff_t stride = 0);
+                           glm::vec3 visible, const ProbeStencil* stencil = nullptr);
 
-// The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are tl[0], tl[1],
-// tl[stride], tl[stride + 1], from second differences along rows and columns at each of
-// them (tl[-1 - stride] to tl[2 + 2 stride] must exist). A difference counts only where
+// The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are the stencil's (0, 0),
+// (1, 0), (0, 1), (1, 1), from second differences along rows and columns at each of them
+// (the stencil's (-1, -1) to (2, 2) must exist). A difference counts only where
 // its three corners hit the same material with a highlight: across a silhouette or a
 // material boundary the normals are of different surfaces. 0 unless all four corners
 // have a highlight.
-float normal_interpolation_error(const SurfaceProbe* tl, ptrdiff_t stride);
+float normal_interpolation_error(const ProbeStencil& stencil);
 
 // Geometry of the test, exposed for tests: distance from the origin to the convex hull of
 // four 2-D points (0 when inside), and the area of the quad p0 p1 p3 p2 (bilinear order:

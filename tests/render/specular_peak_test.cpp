@@ -9,6 +9,7 @@
 
 #include "render/lighting.h"
 #include "render/renderer.h"
+#include "render/scene_source.h"
 #include "test_scenes.h"
 
 namespace zz {
@@ -150,7 +151,8 @@ struct Ridge {
         p.normal = normal(u);
       }
   }
-  const SurfaceProbe* top_left() const { return &stencil[5]; }  // the pixel's TL corner
+  // The pixel's corners (TL at stencil[5]) and the ring around them.
+  ProbeStencil view() const { return {&stencil[5], sizeof(SurfaceProbe), 4 * sizeof(SurfaceProbe)}; }
   void corners(SurfaceProbe out[4]) const { out[0] = stencil[5], out[1] = stencil[6], out[2] = stencil[9], out[3] = stencil[10]; }
   // The true mean over the pixel of the highlight (GlossyFloor::highlight with the ridge's normal).
   double true_mean() const {
@@ -175,20 +177,20 @@ struct Ridge {
 TEST(SpecularPeak, NormalInterpolationErrorIsTheBilinearBoundOfTheNormalsCurvature) {
   Ridge ridge;
   // theta'' = 0.8 per pixel^2: the second difference of the normals is about 0.8 along u, 0 along v.
-  const float ridge_error = normal_interpolation_error(ridge.top_left(), 4);
+  const float ridge_error = normal_interpolation_error(ridge.view());
   EXPECT_NEAR(ridge_error, 0.78f / 8.0f, 0.01f);
   for (SurfaceProbe& p : ridge.stencil) p.normal = glm::vec3(0.0f, 0.0f, 1.0f);  // flat
-  EXPECT_EQ(normal_interpolation_error(ridge.top_left(), 4), 0.0f);
+  EXPECT_EQ(normal_interpolation_error(ridge.view()), 0.0f);
   for (SurfaceProbe& p : ridge.stencil) p.normal = glm::normalize(glm::vec3(0.1f * p.position.x / Ridge::kPixel, 0.0f, 1.0f));
-  EXPECT_LT(normal_interpolation_error(ridge.top_left(), 4), 0.02f * ridge_error);  // a slope: nearly linear
+  EXPECT_LT(normal_interpolation_error(ridge.view()), 0.02f * ridge_error);  // a slope: nearly linear
 
   Ridge other;
   for (int j = 0; j < 4; ++j) other.stencil[j * 4 + 3].material = 7u;  // the last column is another surface
   for (int j = 0; j < 4; ++j) other.stencil[j * 4 + 0].material = 7u;  // and the first
-  EXPECT_EQ(normal_interpolation_error(other.top_left(), 4), 0.0f);  // across materials nothing counts
+  EXPECT_EQ(normal_interpolation_error(other.view()), 0.0f);  // across materials nothing counts
   Ridge dull;
   dull.stencil[10].specular = glm::vec3(0.0f);  // a corner without a highlight: no estimate at all
-  EXPECT_EQ(normal_interpolation_error(dull.top_left(), 4), 0.0f);
+  EXPECT_EQ(normal_interpolation_error(dull.view()), 0.0f);
 }
 
 TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
@@ -202,7 +204,8 @@ TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   // The bilinear model alone sees corners 0.1 rad off the peak everywhere: nothing.
   EXPECT_EQ(hidden_highlight(ridge.floor.scene, c, reach, visible), glm::vec3(0.0f));
   // Widened by the normals' curvature it finds the streak, at least as bright as it is.
-  const glm::vec3 found = hidden_highlight(ridge.floor.scene, c, reach, visible, ridge.top_left(), 4);
+  const ProbeStencil view = ridge.view();
+  const glm::vec3 found = hidden_highlight(ridge.floor.scene, c, reach, visible, &view);
   EXPECT_GE(found.r, 0.5 * truth);
 }
 
@@ -239,6 +242,91 @@ TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
   EXPECT_LE(on_stats.aa.hidden_pixels, 4u);  // the peak's pixel and at most its neighbours
   EXPECT_GT(lattice, 2.0f * off);               // the corners alone miss most of it
   EXPECT_NEAR(on, lattice, 0.05f * lattice);    // refined: the lattice's 25 points
+}
+
+// The same pinpoint highlight seen in a mirror: a mirror floor at z = 0 and a glossy
+// ceiling at z = 5 facing down, the camera between them looking down, the light placed
+// so that the ceiling's highlight, seen in the mirror, peaks at the centre of pixel
+// (20, 20). Unfolded, the ceiling is a floor at z = -5 seen through the mirror plane.
+TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
+  Scene s;
+  Material mirror;
+  mirror.base_color = glm::vec3(0.9f);
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  Material gloss = test::diffuse_material(glm::vec3(0.3f));
+  gloss.roughness = 0.0f;  // Phong exponent 10000
+  s.materials = {mirror, gloss};
+  test::add_quad(s, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
+  test::add_quad(s, {-10, -10, 5}, {-10, 10, 5}, {10, 10, 5}, {10, -10, 5}, 1);  // faces -z
+  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.5f));
+  s.max_depth = 1;
+  const int size = 40;
+  const CameraRays camera(s.cameras[0], size, size);
+  const glm::vec3 dir = camera.direction(20.5f, 20.5f);
+  const glm::vec3 p = camera.origin - dir * ((camera.origin.z + 5.0f) / dir.z);  // on the unfolded ceiling
+  const glm::vec3 back = camera.origin - p;
+  const glm::vec3 unfolded_light = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;
+  Light light;
+  light.position = {unfolded_light.x, unfolded_light.y, -unfolded_light.z};  // between the mirror and the ceiling
+  light.intensity = glm::vec3(1.0f);
+  s.lights.push_back(light);
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+
+  // The corner probes: the mirror, and the ceiling seen in it, its highlight scaled by
+  // the mirror's reflectance.
+  SceneSource source(shader, camera, kSignatureNone);
+  SceneSource::Probe probes[4];
+  int4 signature;
+  source.sample4(float4(20.0f), float4(20.0f), signature, probes);
+  EXPECT_EQ(probes[0].surface.material, 0u);
+  EXPECT_EQ(probes[0].reflected.material, 1u);
+  EXPECT_NEAR(probes[0].reflected.position.z, 5.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].reflected.specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
+  EXPECT_EQ(probes[0].refracted.specular, glm::vec3(0.0f));  // no glass
+
+  auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
+    RenderSettings r;
+    r.width = r.height = size;
+    r.aa = aa;
+    r.uniform = {UniformPattern::Lattice, 25};
+    r.adaptive.highlights = highlights;
+    Film film;
+    render_frame(shader, s.cameras[0], GeoMap{}, r, film, stats);
+    return film.radiance[size_t(20) * size + 20].r;
+  };
+  RenderStats off_stats, on_stats, lattice_stats;
+  const float off = render(AaMode::Adaptive, false, off_stats);
+  const float on = render(AaMode::Adaptive, true, on_stats);
+  const float lattice = render(AaMode::Uniform, false, lattice_stats);
+  EXPECT_GE(on_stats.aa.hidden_pixels, 1u);
+  EXPECT_GT(lattice, 2.0f * off);             // the corners alone miss most of it
+  EXPECT_NEAR(on, lattice, 0.05f * lattice);  // refined: the lattice's 25 points
+}
+
+// Through glass: the refracted ray's first hit is probed, its highlight scaled by the
+// transmitted share (1 - Fresnel) x transmission; the Fresnel reflection's too.
+TEST(SpecularPeak, ProbesSeeThroughGlass) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
+  s.materials[0].roughness = 0.0f;
+  s.materials.push_back(test::glass_material(1.5f));
+  test::add_quad(s, {-10, -10, 1}, {10, -10, 1}, {10, 10, 1}, {-10, 10, 1}, 1);  // a pane facing the camera
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const CameraRays camera(s.cameras[0], 40, 40);
+  SceneSource source(shader, camera, kSignatureNone);
+  SceneSource::Probe probes[4];
+  int4 signature;
+  source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
+  const float fresnel = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2
+  EXPECT_EQ(probes[0].surface.material, 1u);
+  EXPECT_EQ(probes[0].refracted.material, 0u);
+  EXPECT_NEAR(probes[0].refracted.position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].refracted.specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
+  EXPECT_EQ(probes[0].reflected.specular, glm::vec3(0.0f));  // the reflection sees the sky
 }
 
 }  // namespace
