@@ -19,11 +19,11 @@
 namespace zz {
 
 // sample4(px, py, sig, probes) fills 4 probes; survey(probes, width, height, stride) sees a
-// tile's corner probes once (a grid of row pitch `stride`); hidden_radiance(tl, stride, corner_mean, visible) answers for one pixel:
-// its corners are tl[0], tl[1], tl[stride], tl[stride + 1] (TL, TR, BL, BR) in a grid
-// with one more corner on every side (tl[-1 - stride] to tl[2 + 2 stride] exist), and
-// `corner_mean` is the mean of their linear radiance in lanes 0-2. It may skip whatever
-// stays below `visible` per channel.
+// tile's corner probes once (a grid of row pitch `stride`); hidden_radiance(tl, stride,
+// corner_mean, visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride],
+// tl[stride + 1] (TL, TR, BL, BR) in a grid with one more corner on every side
+// (tl[-1 - stride] to tl[2 + 2 stride] exist), and `corner_mean` is the mean of their
+// linear radiance in lanes 0-2. It may skip whatever stays below `visible` per channel.
 template <class S>
 concept HiddenDetailSource =
     SignedSampleSource<S> && requires(S& source, const S& csource, float4 px, float4 py, int4& sig,
@@ -36,9 +36,9 @@ concept HiddenDetailSource =
 
 // Whether the pixel whose box-filtered value is `corner_mean` (linear RGB in lanes 0-2)
 // hides more than it shows: asks the source what its corners (`tl` and `stride` as for
-// hidden_radiance) may have missed, and
-// flags the pixel when adding it would change a channel's tone-mapped value by more than
-// eps (a distance equal to eps is no discontinuity).
+// hidden_radiance) may have missed, and flags the pixel when adding it would change a
+// channel's tone-mapped value by more than eps (a distance equal to eps is no
+// discontinuity).
 template <HiddenDetailSource S>
 bool hidden_detail_shows(const S& source, const typename S::Probe* tl, ptrdiff_t stride, float4 corner_mean,
                          const ToneMap& tonemap, float4 eps) {
