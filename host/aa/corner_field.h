@@ -10,7 +10,7 @@
 // size, thread count or order. Memory: 36 bytes per corner, plus the source's probe when
 // the hidden-detail flags are on (the renderer's: three SurfaceProbes, the hit and what
 // it shows by reflection and refraction, 228 bytes): 277 MB at 1024². Callers keep the
-// per-tile path above kCornerFieldBudget (with probes, frames beyond about 2 million
+// per-tile path above kCornerFieldBudget (with probes, frames beyond about 4 million
 // corners: 2560 x 1440 fits, 4K does not).
 #pragma once
 
