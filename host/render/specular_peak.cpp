@@ -45,7 +45,6 @@ float lobe_at(float distance, float shininess) {
   return std::pow(std::max(0.0f, std::cos(std::min(2.0f * theta, 0.5f * kPi))), shininess);  // cosf(pi / 2) < 0
 }
 
-
 }  // namespace
 
 float origin_distance_to_hull(const glm::vec2 p[4]) {

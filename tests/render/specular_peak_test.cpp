@@ -209,6 +209,31 @@ TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   EXPECT_GE(found.r, 0.5 * truth);
 }
 
+// Pixel (20, 20)'s red radiance in a size x size frame, adaptive with the highlight flag
+// off and on, and the 25-point lattice, with the adaptive runs' stats.
+struct PeakPixel {
+  float off, on, lattice;
+  RenderStats off_stats, on_stats;
+};
+PeakPixel render_peak_pixel(const Shader& shader, const Camera& camera, int size) {
+  auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
+    RenderSettings r;
+    r.width = r.height = size;
+    r.aa = aa;
+    r.uniform = {UniformPattern::Lattice, 25};
+    r.adaptive.highlights = highlights;
+    Film film;
+    render_frame(shader, camera, GeoMap{}, r, film, stats);
+    return film.radiance[size_t(20) * size + 20].r;
+  };
+  PeakPixel p;
+  RenderStats lattice_stats;
+  p.off = render(AaMode::Adaptive, false, p.off_stats);
+  p.on = render(AaMode::Adaptive, true, p.on_stats);
+  p.lattice = render(AaMode::Uniform, false, lattice_stats);
+  return p;
+}
+
 // Through the renderer: a glossy floor seen from above, the light placed so that its
 // mirror point is the centre of pixel (20, 20), where none of the corners sees it.
 TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
@@ -223,20 +248,9 @@ TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
   s.lights[0].position = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;
   const Bvh bvh = Bvh::build(s.positions);
   const Shader shader(s, bvh);
-  auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
-    RenderSettings r;
-    r.width = r.height = size;
-    r.aa = aa;
-    r.uniform = {UniformPattern::Lattice, 25};
-    r.adaptive.highlights = highlights;
-    Film film;
-    render_frame(shader, s.cameras[0], GeoMap{}, r, film, stats);
-    return film.radiance[size_t(20) * size + 20].r;
-  };
-  RenderStats off_stats, on_stats, lattice_stats;
-  const float off = render(AaMode::Adaptive, false, off_stats);
-  const float on = render(AaMode::Adaptive, true, on_stats);
-  const float lattice = render(AaMode::Uniform, false, lattice_stats);
+  const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
+  const float off = px.off, on = px.on, lattice = px.lattice;
+  const RenderStats &off_stats = px.off_stats, &on_stats = px.on_stats;
   EXPECT_EQ(off_stats.aa.hidden_pixels, 0u);
   EXPECT_GE(on_stats.aa.hidden_pixels, 1u);
   EXPECT_LE(on_stats.aa.hidden_pixels, 4u);  // the peak's pixel and at most its neighbours
@@ -287,20 +301,9 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   EXPECT_NEAR(probes[0].reflected.specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
   EXPECT_EQ(probes[0].refracted.specular, glm::vec3(0.0f));  // no glass
 
-  auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
-    RenderSettings r;
-    r.width = r.height = size;
-    r.aa = aa;
-    r.uniform = {UniformPattern::Lattice, 25};
-    r.adaptive.highlights = highlights;
-    Film film;
-    render_frame(shader, s.cameras[0], GeoMap{}, r, film, stats);
-    return film.radiance[size_t(20) * size + 20].r;
-  };
-  RenderStats off_stats, on_stats, lattice_stats;
-  const float off = render(AaMode::Adaptive, false, off_stats);
-  const float on = render(AaMode::Adaptive, true, on_stats);
-  const float lattice = render(AaMode::Uniform, false, lattice_stats);
+  const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
+  const float off = px.off, on = px.on, lattice = px.lattice;
+  const RenderStats &off_stats = px.off_stats, &on_stats = px.on_stats;
   EXPECT_GE(on_stats.aa.hidden_pixels, 1u);
   EXPECT_GT(lattice, 2.0f * off);             // the corners alone miss most of it
   EXPECT_NEAR(on, lattice, 0.05f * lattice);  // refined: the lattice's 25 points
