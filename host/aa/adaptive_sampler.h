@@ -299,7 +299,8 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
         // Hidden detail may be anywhere between E..H and smaller than the zones' spacing of
         // the tables' edge model: every zone.
-        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, g, settings.geo_policy, settings.refine_all || peak);
+        const int hdr = settings.hdr_zones ? hdr_zones(l2, tonemap.exposure) : 0;
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, g, settings.geo_policy, settings.refine_all || peak);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);

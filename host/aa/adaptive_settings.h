@@ -32,6 +32,9 @@ struct AdaptiveSettings {
   // Unrefined pixels take the box integral to second order (curvature_corrected in
   // adaptive_pixel.h) instead of the corners' mean; needs a ring of corners around the tile.
   bool curvature = false;
+  // Level-2 pixels also trace every zone the tables left to interpolation between samples
+  // whose radiance differs by more than the display can show (hdr_zones in adaptive_pixel.h).
+  bool hdr_zones = false;
   // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;

@@ -42,6 +42,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
              "Adaptive: unrefined pixels corrected for the shading's curvature (reads a ring of corners around "
              "each tile)");
+  add_choice(cmd, "--hdr-zones", o.hdr_zones, kOnOff,
+             "Adaptive: refined pixels also trace the zones the tables would interpolate between samples whose "
+             "radiance differs by more than the display can show (a corner on a light's reflection)");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -53,6 +56,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.highlights = o.highlights;
   s.textures = o.textures;
   s.curvature = o.curvature;
+  s.hdr_zones = o.hdr_zones;
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {

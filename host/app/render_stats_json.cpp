@@ -38,6 +38,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"highlights", o.adaptive.highlights},
                      {"textures", o.adaptive.textures},
                      {"curvature", o.adaptive.curvature},
+                     {"hdr_zones", o.adaptive.hdr_zones},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},

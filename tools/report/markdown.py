@@ -271,7 +271,9 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "(`--curvature on`: unrefined pixels take the box integral to second order, with a ring of corners "
                     "around each tile), both, both with the texture detail flag (`--textures on`), both with sample "
                     "signatures, with the visibility map's material rule (`--edge-material on`: samples inside a "
-                    "pixel on different materials flag it), and every detector at once. *Removed* as above.", BEYOND_BASE, variants)
+                    "pixel on different materials flag it), with the HDR zone rule (`--hdr-zones on`: zones the "
+                    "tables would interpolate between samples that differ by more than the display shows are "
+                    "traced), and every detector at once. *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -296,7 +298,8 @@ def recommendation(choice: dict) -> list[str]:
     flags = (f"--eps {r['eps']:g} --filter {r['filter']} --tables {r['tables']} --geo-policy {r['geo_policy']} "
              f"--edges {r['edges']} --signature {r.get('signature') or 'none'} "
              f"--highlights {r.get('highlights') or 'off'} --textures {r.get('textures') or 'off'} "
-             f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'}")
+             f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
+             f"--hdr-zones {r.get('hdr') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

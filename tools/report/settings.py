@@ -13,8 +13,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     tuned tables, geo policy paper, edges vulkan, box: the highlight flag alone, the
     curvature correction alone, both, both with the texture detail flag, both with the
     `lights`, the `secondary` and all signatures, both with the `secondary` and all
-    signatures and the map's material rule (--edge-material on), all of these with the
-    texture flag too, and both at eps 0.1 (the second ablation table);
+    signatures and the map's material rule (--edge-material on), that with the HDR zone
+    rule (--hdr-zones on), all of these with the texture flag too, and both at eps 0.1 (the
+    second ablation table);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -40,6 +41,7 @@ class Setting:
     textures: str = "off"      # --textures on | off: the texture detail flag
     curvature: str = "off"     # --curvature on | off: unrefined pixels to second order
     material: str = "off"      # --edge-material on | off: the visibility map flags material boundaries
+    hdr: str = "off"           # --hdr-zones on | off: zones interpolated across more than the display shows are traced
 
     @property
     def label(self) -> str:
@@ -55,7 +57,8 @@ class Setting:
         """Label suffix of the options beyond the paper's (empty when all are off)."""
         sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
-                + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else ""))
+                + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
+                + ("-hz" if self.hdr == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -66,7 +69,8 @@ class Setting:
             return "none"
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
-                + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else ""))
+                + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
+                + ("/hz" if self.hdr == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -81,14 +85,14 @@ class Setting:
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
-                "--curvature", self.curvature, "--edge-material", self.material]
+                "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
         ss = geo_ss if self.edges == "vulkan" else 0
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
                 "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature,
-                "--curvature", self.curvature]
+                "--curvature", self.curvature, "--hdr-zones", self.hdr]
 
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
@@ -114,7 +118,11 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + sig secondary + material", {**BOTH, "signature": "secondary", "material": "on"}),
                    ("both + sig all + material", {**BOTH, "signature": "all", "material": "on"}),
                    ("both + sig all + material + textures",
-                    {**BOTH, "signature": "all", "material": "on", "textures": "on"})]
+                    {**BOTH, "signature": "all", "material": "on", "textures": "on"}),
+                   ("both + sig all + material + hdr zones",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on"}),
+                   ("both + sig all + material + hdr zones + textures",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "textures": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
