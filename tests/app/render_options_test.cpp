@@ -39,6 +39,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(o.render.adaptive.highlights);
   EXPECT_FALSE(o.render.adaptive.textures);
   EXPECT_TRUE(o.render.adaptive.curvature);
+  EXPECT_TRUE(o.render.adaptive.hdr_zones);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
@@ -61,7 +62,8 @@ TEST(RenderOptions, NamesBecomeEnums) {
 
 TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   BatchOptions o;
-  ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights"},
+  ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights",
+                   "--hdr-zones", "on"},
                   o),
             "");
   AdaptiveSettings s;
@@ -69,12 +71,15 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   EXPECT_TRUE(s.highlights);
   EXPECT_TRUE(s.textures);
   EXPECT_TRUE(s.curvature);
+  EXPECT_TRUE(s.hdr_zones);
   EXPECT_EQ(s.signature, unsigned(kSignatureLights));
   EXPECT_FLOAT_EQ(s.eps, 0.05f);
   BatchOptions off;
-  ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off"}, off), "");
+  ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off", "--hdr-zones", "off"},
+                  off),
+            "");
   apply_adaptive_options(off.render.adaptive, s);
-  EXPECT_FALSE(s.highlights || s.textures || s.curvature);
+  EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones);
 }
 
 TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {
@@ -92,7 +97,8 @@ TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
   for (std::vector<std::string> bad : std::vector<std::vector<std::string>>{
            {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
            {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"},
-           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--edge-material", "yes"}}) {
+           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--edge-material", "yes"},
+           {"--hdr-zones", "1"}}) {
     BatchOptions o;
     bad.insert(bad.begin(), "a.json");
     const std::string e = parse(bad, o);
