@@ -130,13 +130,13 @@ inline int decide_zones(const TableSet& t, int b, int c0, int c1, int hdr, bool 
 
 // ---- zones across a high dynamic range (ours, beyond §5–§6) ---------------------
 // The tables judge display colours, where a corner on a light's reflection (radiance 50)
-// and the wall beside it (0.2) differ no more than white and black do; an untraced zone
-// then spreads that corner over four of the 25 points (A weighs 1.33/25 of the pixel
-// instead of its 1/100 with z0 untraced), and the box mean is a linear sum: room 1024², 4 pixels so
-// built held 51 % of the excess error. A zone whose interpolation sources (kZoneInterp)
-// differ, in any channel, by more than kHdrSpan / exposure is traced: beyond the range
-// where T (tonemap.h) is near linear, T(1) = 0.82, so edges within the display's range
-// stay the tables' to decide.
+// and the wall beside it (0.2) differ no more than white and black do. An untraced zone
+// then spreads that corner over four of the 25 points (with z0 untraced, A weighs 1.33/25
+// of the pixel instead of its 1/100), and the box mean is a linear sum: at 1024², four
+// room pixels so built held 51 % of its excess error. A zone whose interpolation sources
+// (kZoneInterp) differ, in any channel, by more than kHdrSpan / exposure is traced: that
+// is beyond the range where T (tonemap.h) is near linear, T(1) = 0.82, so edges within
+// the display's range stay the tables' to decide.
 inline constexpr float kHdrSpan = 1.0f;
 inline int hdr_zones(const Level2& l2, float exposure) {
   alignas(16) float v[3][8];  // [channel][A B C D E F G H]
