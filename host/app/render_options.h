@@ -55,7 +55,8 @@ struct AdaptiveOptions {
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
   bool curvature = true;
   // Zones interpolated across more radiance than the display shows are traced
-  // (aa/adaptive_pixel.h: room 1024² 1.13x -> 1.06x the lattice's display error at the same rays/px).
+  // (aa/adaptive_pixel.h; room 1024²: 1.13x -> 1.06x the lattice's display error at the
+  // same rays/px).
   bool hdr_zones = true;
 };
 
