@@ -297,9 +297,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};
         const Level2 l2 = trace_level2(source, px, py, o, soa_from_aos(tl, tr, bl, br), disp, sig, tonemap, eps);
+        // Zones the tables would interpolate across more radiance than the display shows.
+        const int hdr = settings.hdr_zones ? hdr_zones(l2, tonemap.exposure) : 0;
         // Hidden detail may be anywhere between E..H and smaller than the zones' spacing of
         // the tables' edge model: every zone.
-        const int hdr = settings.hdr_zones ? hdr_zones(l2, tonemap.exposure) : 0;
         zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, g, settings.geo_policy, settings.refine_all || peak);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
