@@ -38,6 +38,9 @@ AaStats render_frame_adaptive(const S& source, Film& frame, const GeoMap& geo, c
     S local = source;
     trace_field_block(local, settings, blocks[b], *field, block_stats[b]);
   });
+  const size_t borders = field ? field_border_tasks(*field) : 0;
+  std::vector<AaStats> border_stats(borders);
+  for_each(borders, [&](size_t b) { flag_field_border(source, settings, *field, b, border_stats[b]); });
   for_each(tiles.size(), [&](size_t t) {
     const TileTarget target = frame.target(tiles[t]);
     S local = source;
@@ -51,6 +54,7 @@ AaStats render_frame_adaptive(const S& source, Film& frame, const GeoMap& geo, c
   });
   AaStats total;
   for (const AaStats& s : block_stats) total.merge(s);
+  for (const AaStats& s : border_stats) total.merge(s);
   if (field) total.margin_rays += field_margin_corners(field->rect, whole);
   for (const AaStats& s : tile_stats) total.merge(s);
   return total;

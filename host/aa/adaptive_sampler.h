@@ -118,11 +118,12 @@ struct CornerLayout {
 inline bool curvature_applies(const AdaptiveSettings& settings) {
   return settings.curvature && settings.filter == Filter::Box && !settings.refine_all;
 }
-// Sources without probes never read the ring the highlight flag asks for: it costs them
-// only the ring's corners (about 4 / 64 of a tile's with per-tile corners, none extra
-// with the corner field beyond its outer edge).
+// The hidden-detail flags read the ring too (the highlight flag's normals one corner beyond
+// the pixel's). Sources without probes never read it: it costs them only the ring's
+// corners (about 4 / 64 of a tile's with per-tile corners, none extra with the corner
+// field beyond its outer edge).
 inline bool corner_ring(const AdaptiveSettings& settings) {
-  return curvature_applies(settings) || (settings.highlights && !settings.refine_all);
+  return curvature_applies(settings) || ((settings.highlights || settings.textures) && !settings.refine_all);
 }
 inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
   CornerLayout l;
@@ -147,12 +148,13 @@ constexpr bool flags_hidden(const AdaptiveSettings& settings) {
 
 // Level 1 over a block of corners: the w x h corners from frame position (x0, y0) in 2x2
 // packets (an odd last row or column repeats a lane), written row by row with `stride`
-// into the arrays (probes only when non-null). Adds the distinct points to stats.rays[0]
-// and the repeated lanes to stats.padded_rays; returns the distinct points.
+// into the arrays (probes only when non-null, with row pitch `probe_stride`). Adds the
+// distinct points to stats.rays[0] and the repeated lanes to stats.padded_rays; returns the
+// distinct points.
 template <SampleSource S, class Probe>
 uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, int w, int h, size_t stride,
                             float4* corner_lin, float4* corner_disp, int32_t* corner_sig, Probe* probes,
-                            AaStats& stats) {
+                            size_t probe_stride, AaStats& stats) {
   uint64_t corner_rays = 0;
   for (int j = 0; j < h; j += 2) {
     const int j1 = std::min(j + 1, h - 1);
@@ -179,7 +181,11 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
       for (int lane = 3; lane >= 0; --lane) {
         corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
         if constexpr (!std::is_same_v<Probe, NoProbe>) {
-          if (probes) probes[idx[lane]] = lanes[lane];
+          if (probes) {
+            const size_t at[4] = {j * probe_stride + i, j * probe_stride + i1, j1 * probe_stride + i,
+                                  j1 * probe_stride + i1};
+            probes[at[lane]] = lanes[lane];
+          }
         }
       }
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
@@ -190,26 +196,33 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
   return corner_rays;
 }
 
-// The hidden-detail flag of every region pixel (hidden_detail.h) from the probes of the
-// grid's corners (laid out as `layout`); `probes` is the layout's first corner in a grid of
-// row pitch `probe_stride` (the tile's own grid, or the frame's corner field read in place).
+// The hidden-detail flags (hidden_detail.h) of a w x h block of pixels: pixel (i, j)'s TL
+// corner is probes[j * probe_stride + i] and linear[j * linear_stride + i] (a ring of
+// probes around the block must exist), its flag goes to flags[j * flag_stride + i].
 template <HiddenDetailSource S>
-void flag_hidden_pixels(S& source, const CornerLayout& layout, const typename S::Probe* probes, int probe_stride,
+void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff_t probe_stride,
+                       const float4* linear, ptrdiff_t linear_stride, int w, int h, const AdaptiveSettings& settings,
+                       uint8_t* flags, ptrdiff_t flag_stride) {
+  const float4 eps(settings.eps);
+  for (int j = 0; j < h; ++j)
+    for (int i = 0; i < w; ++i) {
+      const float4* c = linear + j * linear_stride + i;
+      const float4 mean = corner_mean(c[0], c[1], c[linear_stride], c[linear_stride + 1]);
+      flags[j * flag_stride + i] =
+          hidden_detail_shows(source, probes + j * probe_stride + i, probe_stride, mean, settings.tonemap, eps);
+    }
+}
+
+// The hidden-detail flag of every region pixel from the probes of a tile's own corner grid
+// (laid out as `layout`, row pitch layout.width).
+template <HiddenDetailSource S>
+void flag_hidden_pixels(const S& source, const CornerLayout& layout, const typename S::Probe* probes,
                         const AdaptiveSettings& settings, CornerGrid& grid) {
   assert(layout.ring >= 1);  // the highlight flag reads the normals one corner beyond the pixel's
   const TileRect region = layout.region;
-  const int cw = layout.width;
-  const float4* corner_lin = grid.linear.data();
-  source.survey(probes, layout.width, layout.height, ptrdiff_t(probe_stride));
-  const float4 eps(settings.eps);
-  for (int ry = 0; ry < region.height(); ++ry)
-    for (int rx = 0; rx < region.width(); ++rx) {
-      const int ci = layout.index(region.x0 + rx, region.y0 + ry);
-      const size_t pi = size_t(region.y0 + ry - layout.y0) * size_t(probe_stride) + size_t(region.x0 + rx - layout.x0);
-      const float4 mean = corner_mean(corner_lin[ci], corner_lin[ci + 1], corner_lin[ci + cw], corner_lin[ci + cw + 1]);
-      grid.hidden[size_t(ry) * region.width() + rx] =
-          hidden_detail_shows(source, probes + pi, ptrdiff_t(probe_stride), mean, settings.tonemap, eps);
-    }
+  const size_t first = size_t(layout.index(region.x0, region.y0));
+  flag_hidden_block(source, probes + first, layout.width, grid.linear.data() + first, layout.width, region.width(),
+                    region.height(), settings, grid.hidden.data(), region.width());
 }
 
 // Level 1 of a tile: the corner grid of its region in 2x2 packets into `grid` (grown to
@@ -231,9 +244,9 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
   const uint64_t corner_rays =
       trace_corner_block(source, settings.tonemap, layout.x0, layout.y0, layout.width, layout.height,
                          size_t(layout.width), grid.linear.data(), grid.display.data(), grid.signature.data(), probes,
-                         stats);
+                         size_t(layout.width), stats);
   if constexpr (HiddenDetailSource<S>) {
-    if (probing) flag_hidden_pixels(source, layout, probes, layout.width, settings, grid);
+    if (probing) flag_hidden_pixels(source, layout, probes, settings, grid);
   }
   stats.margin_rays += corner_rays - own_corners(tile);
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();

@@ -7,11 +7,17 @@
 // correction a 67² grid, and the odd side pads its 2x2 packets to 68²: 1.13 camera rays
 // per pixel before any refinement, against 1.00 here. Corners are pure functions of their
 // positions, so the image is bit-identical to the per-tile path, for any block or tile
-// size, thread count or order. Memory: 36 bytes per corner, plus the source's probe when
-// the hidden-detail flags are on (the renderer's: three SurfaceProbes, the hit and what
-// it shows by reflection and refraction, 228 bytes): 277 MB at 1024². Callers keep the
-// per-tile path above kCornerFieldBudget (with probes, frames beyond about 4 million
-// corners: 2560 x 1440 fits, 4K does not).
+// size, thread count or order. Memory: 36 bytes per corner.
+//
+// The hidden-detail flags (hidden_detail.h) read each pixel's 4 x 4 stencil of probes (the
+// renderer's are 228 bytes a corner: 240 MB for a 1024² frame, whose page faults and
+// memory traffic once cost more than the flags' arithmetic). So the probes never make a
+// frame-wide array: a block keeps its own in a per-thread buffer (900 KB, in cache) and
+// flags its pixels whose stencil lies inside it at once; the probes within kBandHalf of a
+// block boundary are copied to bands (about 19 % of the corners), from which the pixels
+// whose stencil straddles blocks are flagged once every block is traced
+// (flag_field_border). The field keeps one flag byte per pixel. Callers keep the per-tile
+// path above kCornerFieldBudget.
 #pragma once
 
 #include <cassert>
@@ -64,37 +70,70 @@ inline std::vector<CornerRect> corner_blocks(const CornerRect& rect, int size = 
   return out;
 }
 
+// A pixel's stencil reaches one corner before its TL corner and two after: the pixels
+// within 3 of a block boundary read corners of both blocks, and read no further than 3
+// corners across it.
+inline constexpr int kBandHalf = 3;
+
+// Uninitialised storage for n trivially copyable T (every entry is written before it is
+// read): a 1024² field's 40 MB of corners would otherwise be filled twice, on one thread.
+template <class T>
+using RawArray = std::unique_ptr<T[], void (*)(void*)>;
+template <class T>
+RawArray<T> make_raw_array(size_t n) {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+  RawArray<T> a(static_cast<T*>(std::malloc(std::max<size_t>(1, n) * sizeof(T))), std::free);
+  if (!a) throw std::bad_alloc();
+  return a;
+}
+
 template <class Probe>
 struct CornerField {
   CornerRect rect;
-  // Left uninitialised (every entry is traced before it is read): a 1024² field is 40 MB
-  // of corners, and 240 MB of the renderer's probes, that filling would write once more,
-  // on one thread (the probes' default member values took 0.1 s of a 0.7 s room frame).
-  std::unique_ptr<float4[]> linear;      // AoS (r, g, b, 0)
-  std::unique_ptr<float4[]> display;     // tone-mapped
-  std::unique_ptr<int32_t[]> signature;  // signature.h
-  // Null unless the hidden-detail flags are on. Raw storage: probes are aggregates of
-  // floats and integers (implicit-lifetime types), each written whole before it is read.
-  std::unique_ptr<Probe[], void (*)(void*)> probes{nullptr, std::free};
-  static_assert(std::is_trivially_copyable_v<Probe> && std::is_trivially_destructible_v<Probe>);
+  RawArray<float4> linear{nullptr, std::free};      // AoS (r, g, b, 0)
+  RawArray<float4> display{nullptr, std::free};     // tone-mapped
+  RawArray<int32_t> signature{nullptr, std::free};  // signature.h
+  // Null unless the hidden-detail flags are on: per pixel, at its TL corner's index, its
+  // flag; and the probes of the boundary bands. Column band c (boundary x = kCornerBlock c
+  // from rect.x0, c >= 1) holds columns [x - kBandHalf, x + kBandHalf) of every row, row
+  // pitch 2 kBandHalf; row band r the rows [y - kBandHalf, y + kBandHalf) of every column.
+  RawArray<uint8_t> hidden{nullptr, std::free};
+  RawArray<Probe> column_bands{nullptr, std::free}, row_bands{nullptr, std::free};
 
   CornerField(const CornerRect& r, bool with_probes)
       : rect(r),
-        linear(std::make_unique_for_overwrite<float4[]>(r.count())),
-        display(std::make_unique_for_overwrite<float4[]>(r.count())),
-        signature(std::make_unique_for_overwrite<int32_t[]>(r.count())) {
+        linear(make_raw_array<float4>(r.count())),
+        display(make_raw_array<float4>(r.count())),
+        signature(make_raw_array<int32_t>(r.count())) {
     if (with_probes) {
-      probes.reset(static_cast<Probe*>(std::malloc(r.count() * sizeof(Probe))));
-      if (!probes) throw std::bad_alloc();
+      hidden = make_raw_array<uint8_t>(r.count());
+      column_bands = make_raw_array<Probe>(column_band_size(r) * size_t(blocks_across(r.width) - 1));
+      row_bands = make_raw_array<Probe>(row_band_size(r) * size_t(blocks_across(r.height) - 1));
     }
   }
 
+  static int blocks_across(int corners) { return (corners + kCornerBlock - 1) / kCornerBlock; }
+  static size_t column_band_size(const CornerRect& r) { return size_t(r.height) * 2 * kBandHalf; }
+  static size_t row_band_size(const CornerRect& r) { return size_t(r.width) * 2 * kBandHalf; }
   static size_t bytes(const CornerRect& r, bool with_probes) {
-    return r.count() * (2 * sizeof(float4) + sizeof(int32_t) + (with_probes ? sizeof(Probe) : 0));
+    size_t b = r.count() * (2 * sizeof(float4) + sizeof(int32_t));
+    if (with_probes)
+      b += r.count() + sizeof(Probe) * (column_band_size(r) * size_t(blocks_across(r.width) - 1) +
+                                        row_band_size(r) * size_t(blocks_across(r.height) - 1));
+    return b;
   }
   size_t index(int x, int y) const {
     assert(rect.contains(x, y));
     return size_t(y - rect.y0) * size_t(rect.width) + size_t(x - rect.x0);
+  }
+  // Band entries of the corner at grid offsets (gx, gy) from rect's origin.
+  Probe& in_column_band(int c, int gx, int gy) const {
+    return column_bands[size_t(c - 1) * column_band_size(rect) + size_t(gy) * 2 * kBandHalf +
+                        size_t(gx - (c * kCornerBlock - kBandHalf))];
+  }
+  Probe& in_row_band(int r, int gx, int gy) const {
+    return row_bands[size_t(r - 1) * row_band_size(rect) + size_t(gy - (r * kCornerBlock - kBandHalf)) * rect.width +
+                     size_t(gx)];
   }
 };
 
@@ -128,18 +167,100 @@ std::unique_ptr<CornerFieldOf<S>> make_corner_field(const TileRect& region, int 
   return std::make_unique<CornerFieldOf<S>>(shape.rect, flags_hidden<S>(settings));
 }
 
-// Level 1 of one block of the field.
+// Grid offsets [lo, hi) of block boundary k's band (k * kCornerBlock +- kBandHalf), within
+// [0, n) and the block [b0, b1).
+inline void band_span(int k, int b0, int b1, int n, int& lo, int& hi) {
+  lo = std::max(k * kCornerBlock - kBandHalf, b0);
+  hi = std::min({k * kCornerBlock + kBandHalf, b1, n});
+}
+
+// Level 1 of one block of the field; with the hidden-detail flags, the flags of the block's
+// pixels whose stencil it holds, and its share of the bands.
 template <SampleSource S>
 void trace_field_block(S& source, const AdaptiveSettings& settings, const CornerRect& block,
                        CornerFieldOf<S>& field, AaStats& stats) {
   using Clock = std::chrono::steady_clock;
+  using Probe = typename ProbeOf<S>::type;
   const Clock::time_point t0 = Clock::now();
   const size_t first = field.index(block.x0, block.y0);
-  trace_corner_block(source, settings.tonemap, block.x0, block.y0, block.width, block.height,
-                     size_t(field.rect.width), field.linear.get() + first, field.display.get() + first,
-                     field.signature.get() + first, field.probes ? field.probes.get() + first : nullptr,
-                     stats);
+  const int bx = block.x0 - field.rect.x0, by = block.y0 - field.rect.y0, bw = block.width, bh = block.height;
+  assert(bx % kCornerBlock == 0 && by % kCornerBlock == 0 && bw <= kCornerBlock && bh <= kCornerBlock);
+  Probe* probes = field.hidden ? corner_probes<Probe>(block.count()) : nullptr;
+  trace_corner_block(source, settings.tonemap, block.x0, block.y0, bw, bh, size_t(field.rect.width),
+                     field.linear.get() + first, field.display.get() + first, field.signature.get() + first, probes,
+                     size_t(bw), stats);
+  if constexpr (HiddenDetailSource<S>) {
+    if (probes) {
+      const int width = field.rect.width, height = field.rect.height;
+      for (int c = bx / kCornerBlock; c <= bx / kCornerBlock + 1; ++c) {
+        if (c < 1 || c >= field.blocks_across(width)) continue;
+        int lo, hi;
+        band_span(c, bx, bx + bw, width, lo, hi);
+        for (int y = 0; y < bh; ++y)
+          for (int x = lo; x < hi; ++x) field.in_column_band(c, x, by + y) = probes[y * bw + (x - bx)];
+      }
+      for (int r = by / kCornerBlock; r <= by / kCornerBlock + 1; ++r) {
+        if (r < 1 || r >= field.blocks_across(height)) continue;
+        int lo, hi;
+        band_span(r, by, by + bh, height, lo, hi);
+        for (int y = lo; y < hi; ++y)
+          std::copy_n(probes + (y - by) * bw, bw, &field.in_row_band(r, bx, y));
+      }
+      // Pixels whose TL corner is at block offsets 1 .. size - 3 have their stencil inside.
+      if (bw > 3 && bh > 3) {
+        const size_t tl = first + size_t(width) + 1;
+        flag_hidden_block(source, probes + bw + 1, bw, field.linear.get() + tl, width, bw - 3, bh - 3, settings,
+                          field.hidden.get() + tl, width);
+      }
+    }
+  }
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The field's bands, each flagged as one task once every block is traced: zero without the
+// hidden-detail flags.
+template <class Probe>
+size_t field_border_tasks(const CornerField<Probe>& field) {
+  if (!field.hidden) return 0;
+  return size_t(field.blocks_across(field.rect.width) - 1 + field.blocks_across(field.rect.height) - 1);
+}
+
+// The flags of the pixels whose stencil straddles blocks, from band `task`: a column band
+// flags the three columns of pixels at its boundary, a row band the three rows, less the
+// pixels a column band flags.
+template <SampleSource S>
+void flag_field_border(const S& source, const AdaptiveSettings& settings, CornerFieldOf<S>& field, size_t task,
+                       AaStats& stats) {
+  if constexpr (HiddenDetailSource<S>) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point t0 = Clock::now();
+    const int width = field.rect.width, height = field.rect.height;
+    const int columns = field.blocks_across(width) - 1;
+    // Pixels have a stencil in the field where their TL corner is at offsets 1 .. size - 3.
+    const int last_x = width - 3, last_y = height - 3;
+    uint8_t* hidden = field.hidden.get();
+    const float4* linear = field.linear.get();
+    if (task < size_t(columns)) {
+      const int c = int(task) + 1, boundary = c * kCornerBlock;
+      for (int x = std::max(1, boundary - 2); x <= std::min(boundary, last_x); ++x) {
+        const size_t tl = size_t(width) + size_t(x);
+        flag_hidden_block(source, &field.in_column_band(c, x, 1), 2 * kBandHalf, linear + tl, width, 1, last_y,
+                          settings, hidden + tl, width);
+      }
+    } else {
+      const int r = int(task) - columns + 1, boundary = r * kCornerBlock;
+      for (int y = std::max(1, boundary - 2); y <= std::min(boundary, last_y); ++y)
+        for (int bx = 0; bx < width; bx += kCornerBlock) {
+          // The pixels of this block of columns no column band flags.
+          const int x0 = bx + 1, x1 = std::min(bx + kCornerBlock - 3, last_x);
+          if (x1 < x0) continue;
+          const size_t tl = size_t(y) * size_t(width) + size_t(x0);
+          flag_hidden_block(source, &field.in_row_band(r, x0, y), width, linear + tl, width, x1 - x0 + 1, 1,
+                            settings, hidden + tl, width);
+        }
+    }
+    stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
+  }
 }
 
 // What the field's corners beyond `region`'s own pixel corners cost (the curvature ring,
@@ -167,11 +288,11 @@ void gather_corners(S& source, const CornerFieldOf<S>& field, const TileTarget& 
     std::copy_n(field.display.get() + from, layout.width, grid.display.begin() + to);
     std::copy_n(field.signature.get() + from, layout.width, grid.signature.begin() + to);
   }
-  if constexpr (HiddenDetailSource<S>) {
-    // The probes are read in place: a tile's are ~1 MB, the colours a tenth of that.
-    if (probing)
-      flag_hidden_pixels(source, layout, field.probes.get() + field.index(layout.x0, layout.y0), field.rect.width,
-                         settings, grid);
+  if (probing) {
+    const TileRect region = layout.region;
+    for (int y = region.y0; y < region.y1; ++y)
+      std::copy_n(field.hidden.get() + field.index(region.x0, y), region.width(),
+                  grid.hidden.begin() + size_t(y - region.y0) * size_t(region.width()));
   }
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }

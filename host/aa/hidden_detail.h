@@ -18,19 +18,18 @@
 
 namespace zz {
 
-// sample4(px, py, sig, probes) fills 4 probes; survey(probes, width, height, stride) sees a
-// tile's corner probes once (a grid of row pitch `stride`); hidden_radiance(tl, stride,
-// corner_mean, visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride],
-// tl[stride + 1] (TL, TR, BL, BR) in a grid with one more corner on every side
-// (tl[-1 - stride] to tl[2 + 2 stride] exist), and `corner_mean` is the mean of their
-// linear radiance in lanes 0-2. It may skip whatever stays below `visible` per channel.
+// sample4(px, py, sig, probes) fills 4 probes; hidden_radiance(tl, stride, corner_mean,
+// visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride], tl[stride + 1]
+// (TL, TR, BL, BR) in a grid with one more corner on every side (tl[-1 - stride] to
+// tl[2 + 2 stride] exist), and `corner_mean` is the mean of their linear radiance in lanes
+// 0-2. It may skip whatever stays below `visible` per channel. The answer is a function of
+// those 16 probes alone (the level-1 field computes it block by block: corner_field.h).
 template <class S>
 concept HiddenDetailSource =
     SignedSampleSource<S> && requires(S& source, const S& csource, float4 px, float4 py, int4& sig,
-                                      typename S::Probe* probes, int n, ptrdiff_t stride, float4 mean,
+                                      typename S::Probe* probes, ptrdiff_t stride, float4 mean,
                                       float4 visible) {
       { source.sample4(px, py, sig, probes) } -> std::same_as<Rgb4>;
-      { source.survey(probes, n, n, stride) };
       { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<float4>;
     };
 

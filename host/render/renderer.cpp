@@ -107,7 +107,16 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
       traced[index].rays = source.counters;
       if (callbacks.corners_done) callbacks.corners_done(source.counters);
     });
+    // The flags of the pixels whose probe stencil straddles blocks, from the blocks' bands.
+    std::vector<AaStats> borders(field_border_tasks(*field));
+    for_tiles(borders.size(), [&](size_t index) {
+      if (cancelled()) return;
+      const ScopedFlushDenormals flush_denormals;
+      const SceneSource source(shader, rays, adaptive.signature, &detail);
+      flag_field_border(source, adaptive, *field, index, borders[index]);
+    });
     for (const TileResult& t : traced) field_rays += t.rays, field_stats.merge(t.aa);
+    for (const AaStats& s : borders) field_stats.merge(s);
     field_stats.margin_rays += field_margin_corners(field->rect, region);
   }
   const GeoMap& geo = ready ? *ready : pending->get();

@@ -68,14 +68,6 @@ class SceneSource {
     return c;
   }
 
-  // Before hidden_radiance is asked about a tile's pixels: the tile's corner probes, a
-  // width x height grid of row pitch `stride`. Each layer's light reach is bounded the first
-  // time a pixel needs it (most tiles see no mirror or glass).
-  void survey(const Probe* probes, int width, int height, ptrdiff_t stride) {
-    tile_ = {probes, width, height, stride};
-    for (bool& known : reach_known_) known = false;
-  }
-
   // Radiance by which the pixel with corners tl[0], tl[1], tl[stride], tl[stride + 1]
   // (TL, TR, BL, BR, in a grid with a ring around them; `mean` the mean of their radiance)
   // may differ unseen; `visible`: per channel, the smallest increment that could show.
@@ -90,7 +82,7 @@ class SceneSource {
         const SurfaceProbe c[4] = {tl[0].*seen, tl[1].*seen, tl[stride].*seen, tl[stride + 1].*seen};
         if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
         const ProbeStencil stencil(&(tl->*seen), sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
-        h += hidden_highlight(shader_.scene(), c, reach(k), shown, &stencil);
+        h += hidden_highlight(shader_.scene(), c, shown, &stencil);
       }
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
@@ -127,23 +119,6 @@ class SceneSource {
   const CameraRays& camera_;
   unsigned parts_;
   const HiddenDetail* detail_;
-  // Per light, bound_light_reach over the surveyed tile's kSeen[k] hits.
-  const std::vector<glm::vec3>& reach(int k) const {
-    if (!reach_known_[k]) {
-      const ProbeStencil grid(&(tile_.probes->*kSeen[k]), sizeof(Probe), tile_.stride * ptrdiff_t(sizeof(Probe)));
-      bound_light_reach(shader_.scene(), grid, tile_.width, tile_.height, reach_[k]);
-      reach_known_[k] = true;
-    }
-    return reach_[k];
-  }
-
-  struct SurveyedTile {
-    const Probe* probes = nullptr;
-    int width = 0, height = 0;
-    ptrdiff_t stride = 0;
-  } tile_;
-  mutable std::vector<glm::vec3> reach_[3];
-  mutable bool reach_known_[3] = {false, false, false};
 };
 
 static_assert(SignedSampleSource<SceneSource>);

@@ -64,36 +64,6 @@ float bilinear_quad_area(const glm::vec2 p[4]) {
   return 0.5f * std::fabs(cross2(p[0], p[1]) + cross2(p[1], p[3]) + cross2(p[3], p[2]) + cross2(p[2], p[0]));
 }
 
-void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach) {
-  bound_light_reach(scene, ProbeStencil(probes, sizeof(SurfaceProbe), 0), int(count), 1, reach);
-}
-
-void bound_light_reach(const Scene& scene, const ProbeStencil& grid, int width, int height,
-                       std::vector<glm::vec3>& reach) {
-  glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-  for (int j = 0; j < height; ++j)
-    for (int i = 0; i < width; ++i) {
-      const SurfaceProbe& p = grid.at(i, j);
-      if (has_highlight(p)) {
-        lo = glm::min(lo, p.position);
-        hi = glm::max(hi, p.position);
-      }
-    }
-  reach.assign(scene.lights.size(), glm::vec3(0.0f));
-  if (!(lo.x <= hi.x)) return;  // nothing with a highlight
-  for (size_t l = 0; l < scene.lights.size(); ++l) {
-    const Light& light = scene.lights[l];
-    if (light.type == Light::Type::Directional) {
-      reach[l] = light.intensity;
-      continue;
-    }
-    // 1 / d^2 at the box's nearest point; the range window and spot cone only lower it.
-    const glm::vec3 gap = glm::max(glm::max(lo - light.position, light.position - hi), glm::vec3(0.0f));
-    const float d2 = glm::dot(gap, gap);
-    reach[l] = d2 > 0.0f ? light.intensity / d2 : glm::vec3(std::numeric_limits<float>::infinity());
-  }
-}
-
 float normal_interpolation_error(const ProbeStencil& stencil) {
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i)
@@ -113,8 +83,8 @@ float normal_interpolation_error(const ProbeStencil& stencil) {
   return (nxx + nyy) * 0.125f;
 }
 
-glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, const ProbeStencil* stencil) {
+glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec3 visible,
+                           const ProbeStencil* stencil) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -139,9 +109,13 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], const st
   glm::vec3 hidden(0.0f);
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
-    if (glm::all(glm::lessThan(largest_peak * reach[l], visible))) continue;
+    // The light's largest incident factor in the pixel, before 4 corners' worth of work: its
+    // intensity, over d^2 at the nearest point of the ball around corner 0 that holds the
+    // pixel's hit points (a range window and a spot cone only lower it).
     const Light& light = scene.lights[l];
-    if (light.type != Light::Type::Directional) {  // the pixel's own 1 / d^2 bound, before 4 lights' worth of work
+    if (light.type == Light::Type::Directional) {
+      if (glm::all(glm::lessThan(largest_peak * light.intensity, visible))) continue;
+    } else {
       const float nearest = glm::length(light.position - c[0].position) - extent;
       if (nearest > 0.0f &&
           glm::all(glm::lessThan(largest_peak * light.intensity / (nearest * nearest), visible)))

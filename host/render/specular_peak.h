@@ -28,7 +28,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <vector>
 
 namespace zz {
 
@@ -62,29 +61,19 @@ struct ProbeStencil {
 // Whether the probe's surface has a highlight at all (0 on a miss).
 inline bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f || p.specular.g > 0.0f || p.specular.b > 0.0f; }
 
-// Per light, an upper bound of its incident radiance factor (light_towards) over the hit
-// points of `count` probes: a tile's corner grid, surveyed once before its pixels are
-// tested, so a light too dim to leave a visible highlight anywhere in the tile costs one
-// comparison per pixel.
-void bound_light_reach(const Scene& scene, const SurfaceProbe* probes, size_t count, std::vector<glm::vec3>& reach);
-// The same over a width x height grid of probes laid out as `grid` describes (its at(0, 0)
-// the first).
-void bound_light_reach(const Scene& scene, const ProbeStencil& grid, int width, int height,
-                       std::vector<glm::vec3>& reach);
-
 // The highlight radiance (linear RGB) that the pixel whose corners are `corners`
 // (physical TL, TR, BL, BR) may hold beyond the mean of what the corners saw. Zero
-// unless all four corners hit a surface with a highlight. `reach` is bound_light_reach's
-// bound for the corners' tile; lights whose largest possible highlight stays below
-// `visible` (per channel: increments smaller than this cannot show on the display) are
-// not examined.
+// unless all four corners hit a surface with a highlight. Lights whose largest possible
+// highlight in the pixel stays below `visible` (per channel: increments smaller than this
+// cannot show on the display) are not examined; that bound is the pixel's own, so the
+// answer depends on nothing but the stencil, whatever tile or block it is asked from.
 // With `stencil` (the pixel's corners and a ring around them, as
 // normal_interpolation_error reads it), the hull is widened by how
 // far the normals inside the pixel may lie from the bilinear interpolation of the
 // corners'; it is computed only for a light that gets past the cheap bounds. Without it,
 // the bilinear model alone.
-glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], const std::vector<glm::vec3>& reach,
-                           glm::vec3 visible, const ProbeStencil* stencil = nullptr);
+glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], glm::vec3 visible,
+                           const ProbeStencil* stencil = nullptr);
 
 // The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are the stencil's (0, 0),
 // (1, 0), (0, 1), (1, 1), from second differences along rows and columns at each of them

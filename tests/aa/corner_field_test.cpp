@@ -1,0 +1,89 @@
+// Level 1 for the whole frame (aa/corner_field.h): the hidden-detail flags, computed block
+// by block and, where a pixel's probe stencil straddles blocks, from the boundary bands,
+// are those of the per-tile path for every pixel, whatever the frame's size against the
+// block size (last blocks 1 to 4 corners wide included).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+
+#include "test_sources.h"
+
+namespace zz {
+namespace {
+
+// A flat grey whose probes say where they were taken; a pixel hides detail where a hash of
+// its whole 4 x 4 stencil says so, so a wrong probe anywhere in it changes the image. Every
+// stencil read is checked against the positions it should hold.
+std::atomic<int> g_misplaced{0};
+
+struct StencilSource {
+  struct Probe {
+    int32_t x = 0, y = 0;
+  };
+  Rgb4 sample4(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
+  Rgb4 sample4(float4 px, float4 py, int4& sig) const {
+    sig = int4(0);
+    return sample4(px, py);
+  }
+  Rgb4 sample4(float4 px, float4 py, int4& sig, Probe probes[4]) const {
+    for (int i = 0; i < 4; ++i) probes[i] = {int32_t(px[i]), int32_t(py[i])};
+    return sample4(px, py, sig);
+  }
+  float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4, float4) const {
+    uint32_t h = 2166136261u;
+    for (int j = -1; j <= 2; ++j)
+      for (int i = -1; i <= 2; ++i) {
+        const Probe& p = tl[j * stride + i];
+        if (p.x != tl->x + i || p.y != tl->y + j) g_misplaced.fetch_add(1, std::memory_order_relaxed);
+        h = (h ^ uint32_t(p.x * 31 + p.y * 977)) * 16777619u;
+      }
+    return (h >> 7) % 3 == 0 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);
+  }
+};
+static_assert(HiddenDetailSource<StencilSource>);
+
+bool same(const Film& a, const Film& b) {
+  return a.radiance.size() == b.radiance.size() &&
+         std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0 &&
+         a.rays == b.rays && a.level == b.level;
+}
+
+TEST(CornerField, HiddenFlagsMatchThePerTilePathAcrossBlockBoundaries) {
+  const StencilSource source;
+  AdaptiveSettings s;
+  s.highlights = true;
+  // Frame sizes whose corner grids (size + 3 with the ring) leave last blocks of 1 to 4
+  // corners, or exactly fill them, and a frame of several blocks each way.
+  const int sizes[][2] = {{62, 63}, {63, 64}, {64, 65}, {65, 62}, {61, 61}, {130, 70}, {1, 200}};
+  for (bool curvature : {true, false})
+    for (const auto& size : sizes) {
+      const int w = size[0], h = size[1];
+      SCOPED_TRACE(testing::Message() << w << "x" << h << " curvature " << curvature);
+      s.curvature = curvature;
+      g_misplaced = 0;
+      AaStats per_tile, whole;
+      const Film a = test::render(source, w, h, s, 16, 2, {}, &per_tile, /*corner_field=*/false);
+      const Film b = test::render(source, w, h, s, 64, 2, {}, &whole, /*corner_field=*/true);
+      EXPECT_EQ(g_misplaced.load(), 0);
+      EXPECT_TRUE(same(a, b));
+      EXPECT_EQ(per_tile.hidden_pixels, whole.hidden_pixels);
+      // About a third of the pixels flagged: the flags were computed, not left empty.
+      EXPECT_GT(whole.hidden_pixels, uint64_t(w) * uint64_t(h) / 5);
+      EXPECT_LT(whole.hidden_pixels, uint64_t(w) * uint64_t(h) / 2);
+    }
+}
+
+// The field holds one flag byte per corner and the bands (2 x 3 corners of probes along
+// each inner block boundary), not a probe per corner.
+TEST(CornerField, ProbesAreKeptOnlyAlongBlockBoundaries) {
+  const CornerRect r{-1, -1, 1027, 1027};  // a 1024² frame with its ring: 17 blocks each way
+  using Field = CornerField<StencilSource::Probe>;
+  const size_t colours = r.count() * (2 * sizeof(float4) + sizeof(int32_t));
+  const size_t bands = 2 * 16 * size_t(1027) * 6 * sizeof(StencilSource::Probe);
+  EXPECT_EQ(Field::bytes(r, false), colours);
+  EXPECT_EQ(Field::bytes(r, true), colours + r.count() + bands);
+}
+
+}  // namespace
+}  // namespace zz
