@@ -52,15 +52,18 @@ bool same(const Film& a, const Film& b) {
 TEST(CornerField, HiddenFlagsMatchThePerTilePathAcrossBlockBoundaries) {
   const StencilSource source;
   AdaptiveSettings s;
-  s.highlights = true;
   // Frame sizes whose corner grids (size + 3 with the ring) leave last blocks of 1 to 4
-  // corners, or exactly fill them, and a frame of several blocks each way.
+  // corners, or exactly fill them, and a frame of several blocks each way. The texture
+  // flag alone, without the curvature ring, still gets the ring its stencil needs.
   const int sizes[][2] = {{62, 63}, {63, 64}, {64, 65}, {65, 62}, {61, 61}, {130, 70}, {1, 200}};
-  for (bool curvature : {true, false})
+  for (int flags : {0, 1, 2})
     for (const auto& size : sizes) {
       const int w = size[0], h = size[1];
-      SCOPED_TRACE(testing::Message() << w << "x" << h << " curvature " << curvature);
+      const bool curvature = flags == 0;
+      s.highlights = flags != 2;
+      s.textures = flags == 2;
       s.curvature = curvature;
+      SCOPED_TRACE(testing::Message() << w << "x" << h << " curvature " << curvature << " textures " << s.textures);
       g_misplaced = 0;
       AaStats per_tile, whole;
       const Film a = test::render(source, w, h, s, 16, 2, {}, &per_tile, /*corner_field=*/false);
