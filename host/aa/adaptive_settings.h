@@ -35,6 +35,10 @@ struct AdaptiveSettings {
   // Level-2 pixels also trace every zone the tables left to interpolation between samples
   // whose radiance differs by more than the display can show (hdr_zones in adaptive_pixel.h).
   bool hdr_zones = false;
+  // The visibility map's normal angle as a distance between unit normals, 2 sin(angle / 2);
+  // 0 without a map. The highlight flag leaves steps of the shading normal wider than this
+  // to the map (normal_interpolation_error in render/specular_peak.h).
+  float map_crease = 0.0f;
   // Every pixel traces all 25 lattice points: the uniform 25-point lattice reference,
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;

@@ -113,6 +113,7 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
   s.aa = o.aa;
   if (o.aa == AaMode::Adaptive) {
     apply_adaptive_options(o.adaptive, s.adaptive);
+    s.adaptive.map_crease = map_crease(o);
   } else if (o.aa == AaMode::Uniform) {
     s.uniform = {o.pattern, o.pattern == UniformPattern::Lattice ? 25 : o.spp};
   }
@@ -126,6 +127,10 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o) {
   vs.depth_rel = o.edge_depth;
   vs.material_edges = o.edge_material;
   return vs;
+}
+
+float map_crease(const RenderOptions& o) {
+  return wants_visibility_map(o) ? 2.0f * std::sin(0.5f * o.edge_angle * 3.14159265f / 180.0f) : 0.0f;
 }
 
 bool wants_visibility_map(const RenderOptions& o) { return o.edges == EdgeMode::Vulkan && o.aa == AaMode::Adaptive; }

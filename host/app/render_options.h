@@ -104,5 +104,8 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o);
 
 // The adaptive sampler with the visibility map on needs Vulkan; nothing else does.
 bool wants_visibility_map(const RenderOptions& o);
+// The map's normal angle as a distance between unit normals, 2 sin(angle / 2)
+// (AdaptiveSettings::map_crease); 0 when no map is made.
+float map_crease(const RenderOptions& o);
 
 }  // namespace zz

@@ -4,6 +4,7 @@
 // for the hidden-detail flags (aa/hidden_detail.h) which surface it hit.
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "aa/adaptive_settings.h"
@@ -20,10 +21,13 @@ namespace zz {
 struct HiddenDetail {
   bool highlights = false;               // render/specular_peak.h
   bool textures = false;                 // render/texture_detail.h
+  // Normal steps wider than this are the visibility map's (normal_interpolation_error).
+  float step_limit = std::numeric_limits<float>::infinity();
   std::vector<TexturePyramid> pyramids;  // with textures: texture_pyramids(scene)
 
   HiddenDetail() = default;
   HiddenDetail(const Scene& scene, const AdaptiveSettings& s) : highlights(s.highlights), textures(s.textures) {
+    if (s.map_crease > 0.0f) step_limit = s.map_crease;
     if (textures) pyramids = texture_pyramids(scene);
   }
 };
@@ -82,7 +86,7 @@ class SceneSource {
         const SurfaceProbe c[4] = {tl[0].*seen, tl[1].*seen, tl[stride].*seen, tl[stride + 1].*seen};
         if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
         const ProbeStencil stencil(&(tl->*seen), sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
-        h += hidden_highlight(shader_.scene(), c, shown, &stencil);
+        h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit);
       }
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));

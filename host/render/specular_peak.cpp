@@ -64,27 +64,40 @@ float bilinear_quad_area(const glm::vec2 p[4]) {
   return 0.5f * std::fabs(cross2(p[0], p[1]) + cross2(p[1], p[3]) + cross2(p[3], p[2]) + cross2(p[2], p[0]));
 }
 
-float normal_interpolation_error(const ProbeStencil& stencil) {
+float normal_interpolation_error(const ProbeStencil& stencil, float step_limit) {
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i)
       if (!has_highlight(stencil.at(i, j))) return 0.0f;
+  // Second differences along x and y at corner (i, j) of the pixel.
+  glm::vec3 along_x[2][2], along_y[2][2];
   float nxx = 0.0f, nyy = 0.0f;
   for (int j = 0; j < 2; ++j)
     for (int i = 0; i < 2; ++i) {
       const SurfaceProbe& c = stencil.at(i, j);
       auto second_difference = [&c](const SurfaceProbe& a, const SurfaceProbe& b) {
         if (a.material != c.material || b.material != c.material || !has_highlight(a) || !has_highlight(b))
-          return 0.0f;
-        return glm::length(a.normal - 2.0f * c.normal + b.normal);
+          return glm::vec3(0.0f);
+        return a.normal - 2.0f * c.normal + b.normal;
       };
-      nxx = std::max(nxx, second_difference(stencil.at(i - 1, j), stencil.at(i + 1, j)));
-      nyy = std::max(nyy, second_difference(stencil.at(i, j - 1), stencil.at(i, j + 1)));
+      along_x[j][i] = second_difference(stencil.at(i - 1, j), stencil.at(i + 1, j));
+      along_y[j][i] = second_difference(stencil.at(i, j - 1), stencil.at(i, j + 1));
+      nxx = std::max(nxx, glm::length(along_x[j][i]));
+      nyy = std::max(nyy, glm::length(along_y[j][i]));
     }
-  return (nxx + nyy) * 0.125f;
+  // A step between corners a and b: f(a-1) - 2 f(a) + f(b) = step = -(f(a) - 2 f(b) + f(b+1)).
+  auto step_between = [step_limit](glm::vec3 at_a, glm::vec3 at_b) {
+    const float la = glm::length(at_a), lb = glm::length(at_b);
+    if (!(glm::dot(at_a, at_b) < -kStepCosine * la * lb)) return 0.0f;
+    const float step = 0.5f * (la + lb);
+    return step <= step_limit ? step : 0.0f;
+  };
+  const float step_x = std::max(step_between(along_x[0][0], along_x[0][1]), step_between(along_x[1][0], along_x[1][1]));
+  const float step_y = std::max(step_between(along_y[0][0], along_y[1][0]), step_between(along_y[0][1], along_y[1][1]));
+  return std::max((nxx + nyy) * 0.125f, 0.5f * (step_x + step_y));
 }
 
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec3 visible,
-                           const ProbeStencil* stencil) {
+                           const ProbeStencil* stencil, float step_limit) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -144,7 +157,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
       for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
     }
     if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
-    if (normal_error < 0.0f) normal_error = normal_interpolation_error(*stencil);
+    if (normal_error < 0.0f) normal_error = normal_interpolation_error(*stencil, step_limit);
     const float span = std::sqrt(span2) + 2.0f * normal_error;
     span2 = span * span;
     // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the

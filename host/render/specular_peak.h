@@ -20,6 +20,12 @@
 // |f - I f| <= (|f_xx| + |f_yy|) / 8 on the unit square, bounds that miss; the second
 // derivatives are estimated by second differences of the corners' normals with the
 // neighbouring corners, and the hull is widened by the bound.
+// That bound assumes smooth normals. Where the shading normal steps between two corners
+// (split vertex normals along a crease, a bevel thinner than a pixel), the second
+// differences at the two corners point in opposite directions, and the normals inside
+// the pixel may lie up to half the step from the interpolation (a step at mid-pixel): the
+// bound is then the larger of the two. Steps wider than the visibility map's normal angle
+// are left to the map, which flags such creases as geometric edges.
 // Decided from geometry, so a pinpoint highlight between the corners is found whatever
 // its size; like the visibility map it only sends rays, it never colours a pixel.
 #pragma once
@@ -28,6 +34,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 
 namespace zz {
 
@@ -72,16 +79,24 @@ inline bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f ||
 // far the normals inside the pixel may lie from the bilinear interpolation of the
 // corners'; it is computed only for a light that gets past the cheap bounds. Without it,
 // the bilinear model alone.
+// `step_limit` as for normal_interpolation_error.
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], glm::vec3 visible,
-                           const ProbeStencil* stencil = nullptr);
+                           const ProbeStencil* stencil = nullptr,
+                           float step_limit = std::numeric_limits<float>::infinity());
 
 // The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are the stencil's (0, 0),
 // (1, 0), (0, 1), (1, 1), from second differences along rows and columns at each of them
 // (the stencil's (-1, -1) to (2, 2) must exist). A difference counts only where
 // its three corners hit the same material with a highlight: across a silhouette or a
 // material boundary the normals are of different surfaces. 0 unless all four corners
-// have a highlight.
-float normal_interpolation_error(const ProbeStencil& stencil);
+// have a highlight. Where the second differences at the two ends of an edge of the pixel
+// point in nearly opposite directions (cosine below -kStepCosine), the normal steps
+// between those corners by about the mean of their lengths, and half of that step is a
+// bound too, unless it exceeds `step_limit` (a distance between unit normals: the
+// visibility map's angle, whose edges the map flags).
+float normal_interpolation_error(const ProbeStencil& stencil,
+                                 float step_limit = std::numeric_limits<float>::infinity());
+inline constexpr float kStepCosine = 0.9f;
 
 // Geometry of the test, exposed for tests: distance from the origin to the convex hull of
 // four 2-D points (0 when inside), and the area of the quad p0 p1 p3 p2 (bilinear order:

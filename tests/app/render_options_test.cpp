@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "core/error.h"
 
 namespace zz {
@@ -91,6 +93,20 @@ TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {
     ASSERT_EQ(parse({"a.json", "--edge-material", v}, p), "");
     EXPECT_EQ(make_visibility_settings(p.render).material_edges, std::string(v) == "on");
   }
+}
+
+// The highlight flag leaves normal steps wider than the map's angle to the map, and only
+// when a map is made.
+TEST(RenderOptions, TheMapsAngleReachesTheHighlightFlag) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json"}, o), "");
+  EXPECT_NEAR(map_crease(o.render), 2.0f * std::sin(12.5f * 3.14159265f / 180.0f), 1e-6f);
+  BatchOptions wide;
+  ASSERT_EQ(parse({"a.json", "--edge-angle", "60"}, wide), "");
+  EXPECT_NEAR(map_crease(wide.render), 1.0f, 1e-6f);
+  BatchOptions off;
+  ASSERT_EQ(parse({"a.json", "--edges", "off"}, off), "");
+  EXPECT_EQ(map_crease(off.render), 0.0f);
 }
 
 TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {

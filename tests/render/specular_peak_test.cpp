@@ -186,6 +186,37 @@ TEST(SpecularPeak, NormalInterpolationErrorIsTheBilinearBoundOfTheNormalsCurvatu
   EXPECT_EQ(normal_interpolation_error(dull.view()), 0.0f);
 }
 
+// Split vertex normals along a crease: the normal turns by 0.2 rad about y at u = 0, mid-way
+// between the pixel's corners, and is constant on either side. The second differences at
+// the two corners are equal and opposite; the normals inside the pixel lie up to half the
+// step from the corners' interpolation, which the smooth bound (a quarter of that) misses.
+TEST(SpecularPeak, ANormalStepBetweenTheCornersBoundsByHalfTheStep) {
+  Ridge step;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const float theta = i >= 2 ? 0.2f : 0.0f;
+      step.stencil[j * 4 + i].normal = {std::sin(theta), 0.0f, std::cos(theta)};
+    }
+  const float size = 2.0f * std::sin(0.1f);  // |n1 - n0|
+  EXPECT_NEAR(normal_interpolation_error(step.view()), 0.5f * size, 1e-5f);
+  // A step wider than the visibility map's angle is the map's: the smooth bound alone.
+  EXPECT_NEAR(normal_interpolation_error(step.view(), 0.9f * size), size / 8.0f, 1e-5f);
+  EXPECT_NEAR(normal_interpolation_error(step.view(), 1.1f * size), 0.5f * size, 1e-5f);
+  // The same normals as a smooth curve (the ridge) keep the smooth bound: their second
+  // differences agree in direction.
+  const Ridge ridge;
+  EXPECT_NEAR(normal_interpolation_error(ridge.view()), normal_interpolation_error(ridge.view(), 0.0f), 1e-7f);
+  // A step just outside the pixel (between its left corner and the ring's): only that
+  // corner's second difference sees it, so no step inside is inferred.
+  Ridge outside;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      const float theta = i >= 1 ? 0.2f : 0.0f;
+      outside.stencil[j * 4 + i].normal = {std::sin(theta), 0.0f, std::cos(theta)};
+    }
+  EXPECT_NEAR(normal_interpolation_error(outside.view()), size / 8.0f, 1e-5f);
+}
+
 TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   const Ridge ridge;
   SurfaceProbe c[4];
