@@ -178,14 +178,12 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
       sig.store(g);
       // Write lanes back to front so a repeated lane never overwrites a distinct one.
       const size_t idx[4] = {j * stride + i, j * stride + i1, j1 * stride + i, j1 * stride + i1};
+      const size_t at[4] = {j * probe_stride + i, j * probe_stride + i1, j1 * probe_stride + i,
+                            j1 * probe_stride + i1};
       for (int lane = 3; lane >= 0; --lane) {
         corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
         if constexpr (!std::is_same_v<Probe, NoProbe>) {
-          if (probes) {
-            const size_t at[4] = {j * probe_stride + i, j * probe_stride + i1, j1 * probe_stride + i,
-                                  j1 * probe_stride + i1};
-            probes[at[lane]] = lanes[lane];
-          }
+          if (probes) probes[at[lane]] = lanes[lane];
         }
       }
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
