@@ -46,7 +46,7 @@ AaStats render_frame_adaptive(const S& source, Film& frame, const GeoMap& geo, c
     S local = source;
     if (field) {
       CornerGrid& grid = AdaptiveScratch::local().corners;
-      gather_corners(local, *field, target, settings, grid, tile_stats[t]);
+      gather_corners<S>(*field, target, settings, grid, tile_stats[t]);
       refine_tile(local, target, geo, settings, grid, tile_stats[t]);
     } else {
       render_tile_adaptive(local, target, geo, settings, tile_stats[t]);

@@ -269,11 +269,12 @@ inline uint64_t field_margin_corners(const CornerRect& rect, const TileRect& reg
   return rect.count() - own_corners(region);
 }
 
-// A tile's corner grid (and its hidden-detail flags) from the field, as trace_corners
-// would have traced it; no rays.
+// A tile's corner grid (and its hidden-detail flags, computed when the field was traced)
+// from the field, as trace_corners would have traced it; no rays, no source needed
+// (call as gather_corners<S>).
 template <SampleSource S>
-void gather_corners(S& source, const CornerFieldOf<S>& field, const TileTarget& target,
-                    const AdaptiveSettings& settings, CornerGrid& grid, AaStats& stats) {
+void gather_corners(const CornerFieldOf<S>& field, const TileTarget& target, const AdaptiveSettings& settings,
+                    CornerGrid& grid, AaStats& stats) {
   if (target.rect.width() <= 0 || target.rect.height() <= 0) return;
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();

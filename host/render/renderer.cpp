@@ -130,7 +130,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     TileResult& result = results[index];
     if (field) {
       CornerGrid& grid = AdaptiveScratch::local().corners;
-      gather_corners(source, *field, target, adaptive, grid, result.aa);
+      gather_corners<SceneSource>(*field, target, adaptive, grid, result.aa);
       refine_tile(source, target, geo, adaptive, grid, result.aa);
     } else if (settings.aa == AaMode::Adaptive) {
       render_tile_adaptive(source, target, geo, adaptive, result.aa);
