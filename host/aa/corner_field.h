@@ -174,6 +174,17 @@ inline void band_span(int k, int b0, int b1, int n, int& lo, int& hi) {
   hi = std::min({k * kCornerBlock + kBandHalf, b1, n});
 }
 
+// Along one axis of a grid n corners long, the pixels (by their TL corner's offset) whose
+// stencil lies inside the block starting at offset b0: [b0 + 1, b0 + size - 3], size the
+// block's (kCornerBlock, or less for the last block). The others are its band pixels.
+struct InteriorPixels {
+  int first, last;  // inclusive; empty when last < first
+  int count() const { return std::max(0, last - first + 1); }
+};
+inline InteriorPixels interior_pixels(int b0, int n) {
+  return {b0 + 1, b0 + std::min(kCornerBlock, n - b0) - 3};
+}
+
 // Level 1 of one block of the field; with the hidden-detail flags, the flags of the block's
 // pixels whose stencil it holds, and its share of the bands.
 template <SampleSource S>
@@ -206,10 +217,11 @@ void trace_field_block(S& source, const AdaptiveSettings& settings, const Corner
         for (int y = lo; y < hi; ++y)
           std::copy_n(probes + (y - by) * bw, bw, &field.in_row_band(r, bx, y));
       }
-      // Pixels whose TL corner is at block offsets 1 .. size - 3 have their stencil inside.
-      if (bw > 3 && bh > 3) {
-        const size_t tl = first + size_t(width) + 1;
-        flag_hidden_block(source, probes + bw + 1, bw, field.linear.get() + tl, width, bw - 3, bh - 3, settings,
+      const InteriorPixels along_x = interior_pixels(bx, width), along_y = interior_pixels(by, height);
+      if (along_x.count() > 0 && along_y.count() > 0) {
+        const size_t tl = field.index(field.rect.x0 + along_x.first, field.rect.y0 + along_y.first);
+        flag_hidden_block(source, probes + (along_y.first - by) * bw + (along_x.first - bx), bw,
+                          field.linear.get() + tl, width, along_x.count(), along_y.count(), settings,
                           field.hidden.get() + tl, width);
       }
     }
@@ -252,11 +264,11 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
       for (int y = std::max(1, boundary - 2); y <= std::min(boundary, last_y); ++y)
         for (int bx = 0; bx < width; bx += kCornerBlock) {
           // The pixels of this block of columns no column band flags.
-          const int x0 = bx + 1, x1 = std::min(bx + kCornerBlock - 3, last_x);
-          if (x1 < x0) continue;
-          const size_t tl = size_t(y) * size_t(width) + size_t(x0);
-          flag_hidden_block(source, &field.in_row_band(r, x0, y), width, linear + tl, width, x1 - x0 + 1, 1,
-                            settings, hidden + tl, width);
+          const InteriorPixels along_x = interior_pixels(bx, width);
+          if (along_x.count() == 0) continue;
+          const size_t tl = size_t(y) * size_t(width) + size_t(along_x.first);
+          flag_hidden_block(source, &field.in_row_band(r, along_x.first, y), width, linear + tl, width,
+                            along_x.count(), 1, settings, hidden + tl, width);
         }
     }
     stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();

@@ -1,6 +1,7 @@
 #include "app/render_options.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "core/error.h"
 #include "scene/camera_select.h"
@@ -130,7 +131,7 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o) {
 }
 
 float map_crease(const RenderOptions& o) {
-  return wants_visibility_map(o) ? 2.0f * std::sin(0.5f * o.edge_angle * 3.14159265f / 180.0f) : 0.0f;
+  return wants_visibility_map(o) ? 2.0f * std::sin(0.5f * o.edge_angle * std::numbers::pi_v<float> / 180.0f) : 0.0f;
 }
 
 bool wants_visibility_map(const RenderOptions& o) { return o.edges == EdgeMode::Vulkan && o.aa == AaMode::Adaptive; }
