@@ -52,23 +52,21 @@ class SceneSource {
     return c;
   }
 
-  // With the surfaces the lanes hit, for the hidden-detail flags (aa/hidden_detail.h): the
-  // primary hit's, and the hits seen in it by reflection and refraction.
+  // With the surfaces the lanes' paths hit, for the hidden-detail flags (aa/hidden_detail.h):
+  // the primary hit's, those seen in it by reflection and refraction, and those seen by
+  // reflection and refraction in what it reflects (render/shader.h's path tree).
   struct Probe {
-    SurfaceProbe surface, reflected, refracted;
+    SurfaceProbe node[kProbeNodes];
+    const SurfaceProbe& surface() const { return node[0]; }
   };
-  static constexpr SurfaceProbe Probe::* kSeen[3] = {&Probe::surface, &Probe::reflected, &Probe::refracted};
   Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
+    SurfaceProbe tree[kProbeNodes][4];
     PathSignature4 seen;
-    SurfaceProbe reflected[4], refracted[4];
-    seen.seen_reflected = reflected;
-    seen.seen_refracted = refracted;
+    seen.probes = tree;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen);
-    for (int i = 0; i < 4; ++i) {
-      probes[i] = {seen.surface[i], reflected[i], refracted[i]};
-      probes[i].surface.shadowed = seen.shadowed[i];
-    }
+    for (int i = 0; i < 4; ++i)
+      for (int k = 0; k < kProbeNodes; ++k) probes[i].node[k] = tree[k][i];
     return c;
   }
 
@@ -77,15 +75,14 @@ class SceneSource {
   // may differ unseen; `visible`: per channel, the smallest increment that could show.
   float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
     if (!detail_) return float4(0.0f);
-    const SurfaceProbe corners[4] = {tl[0].surface, tl[1].surface, tl[stride].surface, tl[stride + 1].surface};
+    const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
     if (detail_->highlights)
-      for (int k = 0; k < 3; ++k) {
-        const SurfaceProbe Probe::*seen = kSeen[k];
-        const SurfaceProbe c[4] = {tl[0].*seen, tl[1].*seen, tl[stride].*seen, tl[stride + 1].*seen};
+      for (int k = 0; k < kProbeNodes; ++k) {
+        const SurfaceProbe c[4] = {tl[0].node[k], tl[1].node[k], tl[stride].node[k], tl[stride + 1].node[k]};
         if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
-        const ProbeStencil stencil(&(tl->*seen), sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
+        const ProbeStencil stencil(&tl->node[k], sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
         h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit);
       }
     if (detail_->textures)

@@ -10,6 +10,14 @@ namespace zz {
 
 namespace {
 
+// Scales the specular of lane `lane`'s probes at `node` and below it in the path tree.
+void scale_probes(SurfaceProbe (*probes)[4], int node, int lane, glm::vec3 weight) {
+  if (node >= kProbeNodes) return;
+  probes[node][lane].specular *= weight;
+  scale_probes(probes, reflected_node(node), lane, weight);
+  scale_probes(probes, refracted_node(node), lane, weight);
+}
+
 constexpr float kInvPi = 0.318309886f;
 constexpr float kRadianceMax = 1e30f;  // keeps sums finite however bright the lights
 
@@ -451,10 +459,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
-    if (signature && depth <= 1) {  // depth 1: what a camera packet sees in mirrors and glass (seen_*)
-      SurfaceProbe& probe = signature->surface[i];
-      probe = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess, 0u, mat_index, uv0, uv1};
-    }
+    if (signature && signature->probes)
+      signature->probes[signature->node][i] = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
+                                               0u, mat_index, uv0, uv1};
     out[0][i] = emission.r;
     out[1][i] = emission.g;
     out[2][i] = emission.b;
@@ -597,9 +604,13 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       // The secondary rays' first hits, for a camera packet's signature and probes.
       // Made only for a packet that records a signature.
       std::optional<PathSignature4> seen_reflected, seen_refracted;
+      const bool probing = signature && signature->probes;
+      const bool probe_reflected = probing && reflected_node(signature->node) < kProbeNodes;
+      const bool probe_refracted = probing && refracted_node(signature->node) < kProbeNodes;
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        if (signature && depth == 0) seen_reflected.emplace();
+        if ((signature && depth == 0) || probe_reflected) seen_reflected.emplace();
+        if (probe_reflected) seen_reflected->probes = signature->probes, seen_reflected->node = reflected_node(signature->node);
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
                                         float4::load(reflect_path), counters, seen_reflected ? &*seen_reflected : nullptr);
         if (seen_reflected)
@@ -618,10 +629,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           // A refracted ray's first hit is mostly the far side of the same glass; what the
           // glass shows is the hit after that, so a camera packet's signature keeps both.
           const bool sign = signature && depth <= 1;
-          if (sign) seen_refracted.emplace();
+          if (sign || probe_refracted) seen_refracted.emplace();
+          if (probe_refracted) seen_refracted->probes = signature->probes, seen_refracted->node = refracted_node(signature->node);
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters, sign ? &*seen_refracted : nullptr);
-          if (sign) {
+                                        float4::load(refract_path), counters, seen_refracted ? &*seen_refracted : nullptr);
+          if (seen_refracted) {
             const PathSignature4& seen = *seen_refracted;
             for (int i = 0; i < 4; ++i)
               signature->refracted[i] =
@@ -635,21 +647,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             }
         }
       }
-      // A camera packet's probes of what its lanes see in mirrors and through glass.
-      if (signature && depth == 0)
+      // The children's probes carry the weight of the ray that reached them.
+      if (probing)
         for (int i = 0; i < 4; ++i) {
-          if (do_reflect[i] && signature->seen_reflected) {
-            SurfaceProbe& probe = signature->seen_reflected[i];
-            probe = seen_reflected->surface[i];
-            probe.shadowed = seen_reflected->shadowed[i];
-            probe.specular *= reflect_weight[i];
-          }
-          if (do_refract[i] && signature->seen_refracted) {
-            SurfaceProbe& probe = signature->seen_refracted[i];
-            probe = seen_refracted->surface[i];
-            probe.shadowed = seen_refracted->shadowed[i];
-            probe.specular *= refract_weight[i];
-          }
+          if (do_reflect[i]) scale_probes(signature->probes, reflected_node(signature->node), i, reflect_weight[i]);
+          if (do_refract[i]) scale_probes(signature->probes, refracted_node(signature->node), i, refract_weight[i]);
         }
     }
   }
@@ -665,7 +667,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           kept[c] = std::exp(-sigma[c] * sp[i].distance);
           out[c][i] *= kept[c];
         }
-        if (signature && depth <= 1) signature->surface[i].specular *= kept;  // its highlight too
+        if (signature && signature->probes) scale_probes(signature->probes, signature->node, i, kept);  // highlights too
       }
     }
   }
@@ -693,6 +695,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       }
     }
   }
+
+  if (signature && signature->probes)
+    for (int i = 0; i < 4; ++i)
+      if (shaded[i]) signature->probes[signature->node][i].shadowed = signature->shadowed[i];
 
   Rgb4 result{float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
   // NaN (e.g. from a degenerate normal) never leaves the shader; +Inf is capped.

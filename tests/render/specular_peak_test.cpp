@@ -317,15 +317,16 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   SceneSource::Probe probes[4];
   int4 signature;
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);
-  EXPECT_EQ(probes[0].surface.material, 0u);
-  EXPECT_EQ(probes[0].reflected.material, 1u);
-  EXPECT_NEAR(probes[0].reflected.position.z, 5.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].reflected.specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
-  EXPECT_EQ(probes[0].refracted.specular, glm::vec3(0.0f));  // no glass
+  EXPECT_EQ(probes[0].surface().material, 0u);
+  EXPECT_EQ(probes[0].node[reflected_node(0)].material, 1u);
+  EXPECT_NEAR(probes[0].node[reflected_node(0)].position.z, 5.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].node[reflected_node(0)].specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
+  EXPECT_EQ(probes[0].node[refracted_node(0)].specular, glm::vec3(0.0f));  // no glass
 
   const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
   const float off = px.off, on = px.on, lattice = px.lattice;
   const RenderStats &off_stats = px.off_stats, &on_stats = px.on_stats;
+  EXPECT_EQ(off_stats.aa.hidden_pixels, 0u);  // the flag off: nothing flagged
   EXPECT_GE(on_stats.aa.hidden_pixels, 1u);
   EXPECT_GT(lattice, 2.0f * off);             // the corners alone miss most of it
   EXPECT_NEAR(on, lattice, 0.05f * lattice);  // refined: the lattice's 25 points
@@ -347,11 +348,58 @@ TEST(SpecularPeak, ProbesSeeThroughGlass) {
   int4 signature;
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
   const float fresnel = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2
-  EXPECT_EQ(probes[0].surface.material, 1u);
-  EXPECT_EQ(probes[0].refracted.material, 0u);
-  EXPECT_NEAR(probes[0].refracted.position.z, 0.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].refracted.specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
-  EXPECT_EQ(probes[0].reflected.specular, glm::vec3(0.0f));  // the reflection sees the sky
+  EXPECT_EQ(probes[0].surface().material, 1u);
+  EXPECT_EQ(probes[0].node[refracted_node(0)].material, 0u);
+  EXPECT_NEAR(probes[0].node[refracted_node(0)].position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].node[refracted_node(0)].specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
+  EXPECT_EQ(probes[0].node[reflected_node(0)].specular, glm::vec3(0.0f));  // the reflection sees the sky
+}
+
+// Down the reflection's branch of the path tree: a mirror floor reflects a glass pane, which
+// reflects the floor again (node 3) and shows a glossy ceiling through it (node 4); each
+// probe's highlight is scaled by every weight on its path from the camera.
+TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
+  Scene s;
+  Material mirror;
+  mirror.base_color = glm::vec3(0.9f);
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  Material gloss = test::diffuse_material(glm::vec3(0.3f));
+  gloss.roughness = 0.0f;
+  s.materials = {mirror, test::glass_material(1.5f), gloss};
+  test::add_quad(s, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);  // faces +z
+  test::add_quad(s, {-10, -10, 5}, {-10, 10, 5}, {10, 10, 5}, {10, -10, 5}, 1);  // faces -z
+  test::add_quad(s, {-10, -10, 6}, {-10, 10, 6}, {10, 10, 6}, {10, -10, 6}, 2);  // faces -z
+  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.5f));
+  Light light;
+  light.position = {1, 1, 3};
+  s.lights.push_back(light);
+  s.max_depth = 3;
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const CameraRays camera(s.cameras[0], 40, 40);
+  SceneSource source(shader, camera, kSignatureNone);
+  SceneSource::Probe probes[4];
+  int4 signature;
+  source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
+  const float mirror_share = 0.9f, fresnel = 0.04f;  // the pane: ((1.5 - 1) / (1.5 + 1))^2
+  const SurfaceProbe& pane = probes[0].node[reflected_node(0)];
+  const SurfaceProbe& floor_again = probes[0].node[reflected_node(reflected_node(0))];
+  const SurfaceProbe& ceiling = probes[0].node[refracted_node(reflected_node(0))];
+  EXPECT_EQ(probes[0].surface().material, 0u);
+  EXPECT_EQ(probes[0].node[refracted_node(0)].specular, glm::vec3(0.0f));  // a mirror refracts nothing
+  EXPECT_EQ(pane.material, 1u);
+  EXPECT_NEAR(pane.position.z, 5.0f, 1e-4f);
+  EXPECT_EQ(floor_again.material, 0u);
+  EXPECT_NEAR(floor_again.position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(floor_again.view.z, 1.0f, 1e-4f);  // back along the ray that reached it
+  EXPECT_NEAR(floor_again.specular.r, s.whitted[0].specular.r * mirror_share * fresnel, 1e-3f * s.whitted[0].specular.r);
+  EXPECT_EQ(ceiling.material, 2u);
+  EXPECT_NEAR(ceiling.position.z, 6.0f, 1e-4f);
+  EXPECT_NEAR(ceiling.specular.r, s.whitted[2].specular.r * mirror_share * (1.0f - fresnel),
+              1e-3f * s.whitted[2].specular.r);
+  static_assert(kProbeNodes == 5);  // the refraction's branch stops at its first hit
 }
 
 }  // namespace
