@@ -51,7 +51,8 @@ struct AnalyticSource {
       py.store(y);
       for (int i = 0; i < 4; ++i) id[i] = int32_t(image->object_id(x[i], y[i]));
     }
-    sig = int4(id[0], id[1], id[2], id[3]);
+    sig = int4(make_signature(uint32_t(id[0]), 0, 0), make_signature(uint32_t(id[1]), 0, 0),
+               make_signature(uint32_t(id[2]), 0, 0), make_signature(uint32_t(id[3]), 0, 0));
     return sample4(px, py);
   }
 

@@ -10,6 +10,14 @@
 // A source that has no signatures (or whose parts are all switched off) returns 0 for
 // every sample, so the predicate is exactly the paper's. Like the colour, a signature
 // depends only on its own lane's point (the determinism contract of sample_source.h).
+//
+// A shadow bit counts only where the light could show: two samples differ in a light when
+// one has its shadow ray blocked and the other not, and at one of them the light's
+// unshadowed contribution would move the displayed colour by at least one 8-bit step.
+// Where neither can show it (a faint rim light at grazing incidence, a terminator's
+// flicker), the step is invisible in the image and refining it spends rays for nothing
+// (car at 1024²: 0.06 rays/px). Hence the layout below; equality of whole words would
+// count every flip.
 #pragma once
 
 #include <cstdint>
@@ -25,7 +33,7 @@ namespace zz {
 enum SignatureParts : unsigned {
   kSignatureNone = 0,
   kSignatureObject = 1,     // material of the primary hit (0 = background)
-  kSignatureLights = 2,     // bitmask of lights whose shadow rays were blocked or attenuated
+  kSignatureLights = 2,     // lights whose shadow rays were blocked or attenuated, where they could show
   kSignatureSecondary = 4,  // materials hit by the first reflection and refraction rays
   kSignatureAll = 7,
 };
@@ -52,8 +60,25 @@ inline Rgb4 sample4_signed(S& source, float4 px, float4 py, int4& sig) {
   }
 }
 
-// Bit i set where signatures p_i and q_i differ.
-inline int signatures_differ4(int4 p, int4 q) { return (~(p == q).bits()) & 0xF; }
+// A signature's 32 bits: `what` (kWhatBits: the object and secondary hits, hashed, or an
+// analytic region's id) above, per light slot (light l in slot l % kLightSlots) whether
+// its light could show here, then whether its shadow ray was blocked or attenuated.
+inline constexpr int kLightSlots = 10;
+inline constexpr int kWhatBits = 32 - 2 * kLightSlots;
+inline constexpr uint32_t kSlotMask = (1u << kLightSlots) - 1u;
+inline int32_t make_signature(uint32_t what, uint32_t shows, uint32_t shadowed) {
+  return int32_t((what << (2 * kLightSlots)) | ((shows & kSlotMask) << kLightSlots) | (shadowed & kSlotMask));
+}
+
+// Bit i set where signatures p_i and q_i differ: in what they saw, or in a light's shadow
+// bit where that light could show at either of them.
+inline int signatures_differ4(int4 p, int4 q) {
+  const __m128i x = _mm_xor_si128(p, q);
+  const __m128i shows = _mm_srli_epi32(_mm_or_si128(p, q), kLightSlots);
+  const __m128i what = _mm_and_si128(x, _mm_set1_epi32(int32_t(~0u << (2 * kLightSlots))));
+  const __m128i shadow = _mm_and_si128(_mm_and_si128(x, shows), _mm_set1_epi32(int32_t(kSlotMask)));
+  return (~(int4(_mm_or_si128(what, shadow)) == int4(0)).bits()) & 0xF;
+}
 
 // Lane permutation of 4 signatures, as shuffle4 does for colours (adaptive_pixel.h).
 template <int a, int b, int c, int d>
@@ -61,8 +86,9 @@ inline int4 shuffle4(int4 v) {
   return _mm_shuffle_epi32(v, _MM_SHUFFLE(d, c, b, a));
 }
 
-// Folds one part of a signature into the 32-bit hash (a murmur3-style mix: distinct parts
-// collide with probability about 2^-32, which would only miss a refinement).
+// Folds one part of a signature into a 32-bit hash (a murmur3-style mix). Its top kWhatBits
+// become `what`: distinct hits collide with probability about 2^-12, which would only miss
+// a refinement where the colours agree too.
 inline uint32_t signature_mix(uint32_t hash, uint32_t part) {
   uint32_t k = part * 0xCC9E2D51u;
   k = (k << 15) | (k >> 17);

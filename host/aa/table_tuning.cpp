@@ -39,7 +39,8 @@ Rgb4 PixelPatternSource::sample4(float4 px, float4 py, int4& sig) const {
     py.store(y);
     for (int i = 0; i < 4; ++i) side[i] = pattern->inside_at(x[i], y[i]) ? 2 : 1;
   }
-  sig = int4(side[0], side[1], side[2], side[3]);
+  sig = int4(make_signature(uint32_t(side[0]), 0, 0), make_signature(uint32_t(side[1]), 0, 0),
+             make_signature(uint32_t(side[2]), 0, 0), make_signature(uint32_t(side[3]), 0, 0));
   return sample4(px, py);
 }
 

@@ -102,7 +102,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     for_tiles(blocks.size(), [&](size_t index) {
       if (cancelled()) return;
       const ScopedFlushDenormals flush_denormals;
-      SceneSource source(shader, rays, adaptive.signature, &detail);
+      SceneSource source(shader, rays, adaptive.signature, &detail, adaptive.tonemap);
       trace_field_block(source, adaptive, blocks[index], *field, traced[index].aa);
       traced[index].rays = source.counters;
       if (callbacks.corners_done) callbacks.corners_done(source.counters);
@@ -112,7 +112,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     for_tiles(borders.size(), [&](size_t index) {
       if (cancelled()) return;
       const ScopedFlushDenormals flush_denormals;
-      const SceneSource source(shader, rays, adaptive.signature, &detail);
+      const SceneSource source(shader, rays, adaptive.signature, &detail, adaptive.tonemap);
       flag_field_border(source, adaptive, *field, index, borders[index]);
     });
     for (const TileResult& t : traced) field_rays += t.rays, field_stats.merge(t.aa);
@@ -126,7 +126,8 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     if (cancelled()) return;
     const ScopedFlushDenormals flush_denormals;  // MXCSR is per thread: set it in every task
     const TileTarget target = film.target(tiles[index]);
-    SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone, &detail);
+    SceneSource source(shader, rays, settings.aa == AaMode::Adaptive ? adaptive.signature : kSignatureNone, &detail,
+                       adaptive.tonemap);
     TileResult& result = results[index];
     if (field) {
       CornerGrid& grid = AdaptiveScratch::local().corners;

@@ -34,9 +34,11 @@ struct HiddenDetail {
 
 class SceneSource {
  public:
+  // `tonemap`: the display's, which decides where a light could show (signature.h).
   SceneSource(const Shader& shader, const CameraRays& camera, unsigned signature_parts = kSignatureNone,
-              const HiddenDetail* detail = nullptr)
-      : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail) {}
+              const HiddenDetail* detail = nullptr, ToneMap tonemap = {})
+      : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail),
+        tonemap_(tonemap) {}
 
   Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters); }
 
@@ -47,8 +49,10 @@ class SceneSource {
       return sample4(px, py);
     }
     PathSignature4 seen;
+    glm::vec3 light_radiance[kLightSlots][4] = {};
+    if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
-    signature = hash(seen);
+    signature = hash(seen, c);
     return c;
   }
 
@@ -63,8 +67,10 @@ class SceneSource {
     SurfaceProbe tree[kProbeNodes][4];
     PathSignature4 seen;
     seen.probes = tree;
+    glm::vec3 light_radiance[kLightSlots][4] = {};
+    if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
-    signature = parts_ == kSignatureNone ? int4(0) : hash(seen);
+    signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
     for (int i = 0; i < 4; ++i)
       for (int k = 0; k < kProbeNodes; ++k) probes[i].node[k] = tree[k][i];
     return c;
@@ -104,22 +110,40 @@ class SceneSource {
     return rays;
   }
 
-  int4 hash(const PathSignature4& seen) const {
+  int4 hash(const PathSignature4& seen, const Rgb4& colour) const {
     alignas(16) int32_t s[4];
     for (int i = 0; i < 4; ++i) {
       uint32_t h = 0;
       if (parts_ & kSignatureObject) h = signature_mix(h, seen.object[i]);
-      if (parts_ & kSignatureLights) h = signature_mix(h ^ 0x4C494748u, seen.shadowed[i]);
       if (parts_ & kSignatureSecondary) h = signature_mix(signature_mix(h ^ 0x53454344u, seen.reflected[i]), seen.refracted[i]);
-      s[i] = int32_t(h);
+      uint32_t shadowed = 0, shows = 0;
+      if (parts_ & kSignatureLights) {
+        for (int l = 0; l < 32; ++l) shadowed |= ((seen.shadowed[i] >> l) & 1u) << (l % kLightSlots);
+        const glm::vec3 c(colour.r[i], colour.g[i], colour.b[i]);
+        for (int slot = 0; slot < kLightSlots; ++slot)
+          shows |= uint32_t(light_shows(c, seen.light_radiance[slot][i], (shadowed >> slot) & 1u)) << slot;
+      }
+      s[i] = make_signature(h >> (32 - kWhatBits), shows, shadowed);
     }
     return int4(s[0], s[1], s[2], s[3]);
   }
+
+  // Whether adding `light` to the sample's radiance without it (`colour`, less `light` where
+  // the light reached it) moves a displayed channel by an 8-bit step or more.
+  bool light_shows(glm::vec3 colour, glm::vec3 light, bool shadowed) const {
+    if (!(light.r > 0.0f || light.g > 0.0f || light.b > 0.0f)) return false;
+    const glm::vec3 without = shadowed ? colour : glm::max(colour - light, glm::vec3(0.0f));
+    const float4 base(without.r, without.g, without.b, 0.0f), lit(without.r + light.r, without.g + light.g,
+                                                                  without.b + light.b, 0.0f);
+    return ((tonemap_.apply4(lit) - tonemap_.apply4(base) >= float4(kDisplayStep)).bits() & 0x7) != 0;
+  }
+  static constexpr float kDisplayStep = 1.0f / 255.0f;
 
   const Shader& shader_;
   const CameraRays& camera_;
   unsigned parts_;
   const HiddenDetail* detail_;
+  ToneMap tonemap_;
 };
 
 static_assert(SignedSampleSource<SceneSource>);

@@ -1,5 +1,7 @@
 #include "render/shader.h"
 
+#include "aa/signature.h"
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
@@ -496,6 +498,12 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const mask4 lanes = facing & ((contribution.x > float4(0.0f)) | (contribution.y > float4(0.0f)) |
                                       (contribution.z > float4(0.0f)));
         if (lanes.none()) continue;
+        if (signature && signature->light_radiance)
+          for (int i = 0; i < 4; ++i)
+            if (lanes[i]) {
+              glm::vec3& slot = signature->light_radiance[light_index % kLightSlots][i];
+              slot = glm::max(slot, glm::vec3(contribution.x[i], contribution.y[i], contribution.z[i]));
+            }
         // Unused lanes as PacketBuilder leaves them: zero origin, +z direction, tmax 0.
         RayPacket4 shadow;
         shadow.ox = select(lanes, lit.origin.x, float4(0.0f));

@@ -35,11 +35,13 @@ struct PrimaryHit4 {
 // The path tree of a camera ray, as far as the highlight flag follows it: node 0 is the
 // primary hit, and the reflection ray of node k hits node 2k + 1, its refraction ray node
 // 2k + 2. The flag probes the first kProbeNodes nodes: the primary hit, what it reflects
-// and refracts, and what its reflection reflects and refracts (a highlight on a glass seen
-// in a mirror, or on chrome seen in the car's paint). The refraction's own children were
-// measured and left out: at 1024² they flagged 0.017 (glass) and 0.022 (car) rays/px more
-// for no gain there, though vase gained (its display RMSE 1.67x -> 1.57x the lattice's).
-inline constexpr int kProbeNodes = 5;
+// and refracts, what its reflection reflects and refracts (a highlight on a glass seen in
+// a mirror, on chrome seen in the car's paint), and what its refraction reflects (inside a
+// thick glass). At 1024² (display RMSE x the lattice's): nodes 3-4 took glass 1.224 ->
+// 1.192 and car 1.154 -> 1.137 for +0.004 and +0.003 rays/px; node 5 took vase 1.674 ->
+// 1.567 for +0.007 (glass +0.017 for nothing); node 6, what the refraction refracts, cost
+// car +0.022 rays/px for no gain and is left out.
+inline constexpr int kProbeNodes = 6;
 constexpr int reflected_node(int k) { return 2 * k + 1; }
 constexpr int refracted_node(int k) { return 2 * k + 2; }
 
@@ -48,6 +50,9 @@ constexpr int refracted_node(int k) { return 2 * k + 2; }
 struct PathSignature4 {
   uint32_t object[4] = {};     // the primary hit
   uint32_t shadowed[4] = {};   // bit l % 32: light l's shadow ray was blocked or attenuated
+  // Where the caller wants it (a camera packet only): [l % kLightSlots][lane], the largest
+  // unshadowed contribution (linear RGB, per channel) of the lights in that slot.
+  glm::vec3 (*light_radiance)[4] = nullptr;
   uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
   uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
   // Where the caller wants them (a camera packet only): probes[k][lane], the surface of node

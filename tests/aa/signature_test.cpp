@@ -25,17 +25,49 @@ TEST(Signature, ParsesNamesAndCommaLists) {
   EXPECT_EQ(signature_name(kSignatureObject | kSignatureLights), "object,lights");
 }
 
+int4 whats(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
+  return int4(make_signature(a, 0, 0), make_signature(b, 0, 0), make_signature(c, 0, 0), make_signature(d, 0, 0));
+}
+
 TEST(Signature, EqualColoursDifferentSignaturesAreADiscontinuity) {
   const Rgb4 grey{float4(0.5f), float4(0.5f), float4(0.5f)};
   const float4 eps(0.05f);
-  EXPECT_EQ(discontinuous4(grey, int4(1, 2, 3, 4), grey, int4(1, 2, 3, 4), eps), 0);
-  EXPECT_EQ(discontinuous4(grey, int4(1, 2, 3, 4), grey, int4(1, 9, 3, 9), eps), 0b1010);
-  // Corners TL, TR, BL, BR: the same colour, the right column in another light's shadow.
-  EXPECT_EQ(corner_mask(grey, int4(7, 5, 7, 5), eps), 0b0011);  // d(A,B), d(C,D)
-  EXPECT_EQ(corner_mask(grey, int4(7, 7, 7, 7), eps), 0);
+  EXPECT_EQ(discontinuous4(grey, whats(1, 2, 3, 4), grey, whats(1, 2, 3, 4), eps), 0);
+  EXPECT_EQ(discontinuous4(grey, whats(1, 2, 3, 4), grey, whats(1, 9, 3, 9), eps), 0b1010);
+  // Corners TL, TR, BL, BR: the same colour, the right column on another object.
+  EXPECT_EQ(corner_mask(grey, whats(7, 5, 7, 5), eps), 0b0011);  // d(A,B), d(C,D)
+  EXPECT_EQ(corner_mask(grey, whats(7, 7, 7, 7), eps), 0);
   // Colour still counts on its own.
   const Rgb4 step{float4(0.5f, 0.6f, 0.5f, 0.6f), float4(0.5f), float4(0.5f)};
   EXPECT_EQ(corner_mask(step, int4(0), eps), 0b0011);
+}
+
+// A light's shadow bits differ only where that light could show at one of the two samples;
+// `what` differs in any of its bits, and the layout keeps the three fields apart.
+int4 all4(uint32_t what, uint32_t shows, uint32_t shadowed) {
+  return int4(make_signature(what, shows, shadowed));
+}
+
+TEST(Signature, AShadowCountsWhereItsLightCouldShow) {
+  const int light3 = 1 << 3, light12 = 1 << (12 % kLightSlots);
+  const int4 lit = all4(5, light3, 0), shadowed_shows = all4(5, light3, light3), shadowed_faint = all4(5, 0, light3);
+  EXPECT_EQ(signatures_differ4(lit, shadowed_shows), 0xF);
+  EXPECT_EQ(signatures_differ4(lit, shadowed_faint), 0xF);  // shows at the lit one
+  EXPECT_EQ(signatures_differ4(all4(5, 0, 0), shadowed_faint), 0);  // shows at neither
+  // Both in its shadow: equal bits, whether or not it could show at either.
+  EXPECT_EQ(signatures_differ4(shadowed_shows, shadowed_faint), 0);
+  // Another light that shows does not make this one's flip count.
+  EXPECT_EQ(signatures_differ4(all4(5, light12, 0), all4(5, light12, light3)), 0);
+  // Lights 2 and 12 share a slot.
+  EXPECT_EQ(signatures_differ4(all4(5, light12, 0), all4(5, light12, 1 << 2)), 0xF);
+  // Every bit of `what` counts, the top one too.
+  const uint32_t top = 1u << (kWhatBits - 1);
+  EXPECT_EQ(signatures_differ4(all4(top, 0, 0), all4(0, 0, 0)), 0xF);
+  EXPECT_EQ(signatures_differ4(all4(1, 0, 0), all4(0, 0, 0)), 0xF);
+  EXPECT_EQ(signatures_differ4(int4(make_signature(1, 0, 0), 0, 0, make_signature(2, 0, 0)),
+                               int4(make_signature(1, 0, 0), 0, make_signature(3, 0, 0), make_signature(2, 0, 0))),
+            0b0100);
+  static_assert(kWhatBits + 2 * kLightSlots == 32);
 }
 
 // One colour everywhere, two "objects" split by the vertical line x = pos.
@@ -43,7 +75,7 @@ struct SplitSignatureSource {
   float pos = 10.37f;
   Rgb4 sample4(float4, float4) const { return {float4(0.4f), float4(0.4f), float4(0.4f)}; }
   Rgb4 sample4(float4 px, float4 py, int4& sig) const {
-    sig = select(px < float4(pos), int4(11), int4(12));
+    sig = select(px < float4(pos), int4(make_signature(11, 0, 0)), int4(make_signature(12, 0, 0)));
     return sample4(px, py);
   }
 };
@@ -77,7 +109,7 @@ TEST(Signature, AnalyticObjectIdsFollowTheSetting) {
   EXPECT_EQ((off == int4(0)).bits(), 0xF);
   alignas(16) float x[4], y[4];
   px.store(x), py.store(y);
-  for (int i = 0; i < 4; ++i) EXPECT_EQ(uint32_t(on[i]), star.object_id(x[i], y[i]));
+  for (int i = 0; i < 4; ++i) EXPECT_EQ(on[i], make_signature(star.object_id(x[i], y[i]), 0, 0));
 }
 
 TEST(Signature, TunerPatternsSignTheirSide) {
@@ -85,10 +117,10 @@ TEST(Signature, TunerPatternsSignTheirSide) {
   const float4 px(0.2f, 0.7f, 0.49f, 0.51f), py(0.5f);
   int4 sig;
   PixelPatternSource{&p, true}.sample4(px, py, sig);
-  EXPECT_EQ(sig[0], 1);
-  EXPECT_EQ(sig[1], 2);
-  EXPECT_EQ(sig[2], 1);
-  EXPECT_EQ(sig[3], 2);
+  EXPECT_EQ(sig[0], make_signature(1, 0, 0));
+  EXPECT_EQ(sig[1], make_signature(2, 0, 0));
+  EXPECT_EQ(sig[2], make_signature(1, 0, 0));
+  EXPECT_EQ(sig[3], make_signature(2, 0, 0));
   PixelPatternSource{&p, false}.sample4(px, py, sig);
   EXPECT_EQ((sig == int4(0)).bits(), 0xF);
 }

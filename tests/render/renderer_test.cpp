@@ -308,6 +308,20 @@ TEST(Renderer, CornerFieldPlanMatchesTheRender) {
   EXPECT_EQ(corner_field_plan(s).bytes, 0u);
 }
 
+// A 4K frame with every hidden-detail flag keeps its level-1 field (within its budget) and
+// does not fall back to tracing corners per tile.
+TEST(Renderer, A4kFrameWithEveryFlagFitsTheCornerFieldsBudget) {
+  RenderSettings s;
+  s.width = 3840;
+  s.height = 2160;
+  s.adaptive.highlights = s.adaptive.textures = s.adaptive.curvature = true;
+  s.adaptive.signature = kSignatureAll;
+  const CornerFieldPlan plan = corner_field_plan(s);
+  EXPECT_GT(plan.blocks, 0u);
+  EXPECT_LE(plan.bytes, uint64_t(1) << 30);  // kCornerFieldBudget
+  EXPECT_GT(plan.bytes, uint64_t(3841) * 2161 * 36);  // it does hold the flags' bands
+}
+
 TEST(Renderer, PendingMapFailureIsRethrown) {
   const Scene scene = box_scene();
   const Bvh bvh = Bvh::build(scene.positions);

@@ -74,6 +74,21 @@ TEST(SceneSignature, EqualColoursButDifferentShadowingLightsDiffer) {
   EXPECT_EQ(discontinuous4(d, int4(0), shuffle4<1, 0, 3, 2>(d), int4(0), eps) & 1, 0);
 }
 
+// The same floor with the right-hand light so faint that it cannot move the display by
+// an 8-bit step: left of the wall, in its shadow, the floor is as the open floor further
+// left; right of the wall, in the bright left light's shadow, it differs from the open floor.
+TEST(SceneSignature, AShadowCountsOnlyWhereItsLightCouldShow) {
+  const float4 px(20.5f, 43.5f, 2.5f, 61.5f), py(32.0f);
+  const auto against_open_floor = [&](const Scene& s) {
+    const int4 sig = probe(s, kSignatureLights, px, py, 64, 64).signature;
+    return signatures_differ4(sig, shuffle4<2, 3, 0, 1>(sig)) & 0b0011;  // lane 0 vs 2, lane 1 vs 3
+  };
+  EXPECT_EQ(against_open_floor(two_shadows()), 0b0011);
+  Scene faint = two_shadows();
+  faint.lights[1].intensity = glm::vec3(1e-4f);
+  EXPECT_EQ(against_open_floor(faint), 0b0010);
+}
+
 TEST(SceneSignature, TrianglesOfOneSmoothMeshShareASignature) {
   Scene s;
   s.materials.push_back(test::diffuse_material(glm::vec3(0.7f)));

@@ -399,7 +399,7 @@ TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   EXPECT_NEAR(ceiling.position.z, 6.0f, 1e-4f);
   EXPECT_NEAR(ceiling.specular.r, s.whitted[2].specular.r * mirror_share * (1.0f - fresnel),
               1e-3f * s.whitted[2].specular.r);
-  static_assert(kProbeNodes == 5);  // the refraction's branch stops at its first hit
+  static_assert(kProbeNodes == 6);  // the refraction's branch: its hit and that hit's reflection
 }
 
 }  // namespace
