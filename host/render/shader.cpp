@@ -1,12 +1,12 @@
 #include "render/shader.h"
 
-#include "aa/signature.h"
-
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <optional>
 #include <utility>
+
+#include "aa/signature.h"  // kLightSlots
 
 namespace zz {
 
