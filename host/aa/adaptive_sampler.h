@@ -49,15 +49,17 @@ struct CornerGrid {
   std::vector<float4> display;     // tone-mapped
   std::vector<int32_t> signature;  // signature.h (0 when the source has none)
   std::vector<uint8_t> hidden;     // per region pixel; empty when no source flags
+  std::vector<float4> footprint;   // per region pixel, the footprint delta; empty unless on
 
   // Grows (never shrinks, so per-thread grids are reused without allocating).
-  void reserve(size_t corners, size_t pixels) {
+  void reserve(size_t corners, size_t pixels, size_t footprint_pixels) {
     if (linear.size() < corners) {
       linear.resize(corners);
       display.resize(corners);
       signature.resize(corners);
     }
     if (hidden.size() < pixels) hidden.resize(pixels);
+    if (footprint.size() < footprint_pixels) footprint.resize(footprint_pixels);
   }
 };
 
@@ -142,7 +144,16 @@ inline uint64_t own_corners(const TileRect& r) { return uint64_t(r.width() + 1) 
 // Whether a tile of `source` under `settings` fills CornerGrid::hidden.
 template <SampleSource S>
 constexpr bool flags_hidden(const AdaptiveSettings& settings) {
-  if constexpr (HiddenDetailSource<S>) return (settings.highlights || settings.textures) && !settings.refine_all;
+  if constexpr (HiddenDetailSource<S>)
+    return (settings.highlights || settings.textures || (FootprintSource<S> && settings.footprint)) &&
+           !settings.refine_all;
+  return false;
+}
+
+// Whether unrefined pixels of a source of `S` under `settings` take the footprint delta.
+template <class S>
+constexpr bool corrects_footprint(const AdaptiveSettings& settings) {
+  if constexpr (FootprintSource<S>) return settings.footprint && !settings.refine_all;
   return false;
 }
 
@@ -196,18 +207,23 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
 
 // The hidden-detail flags (hidden_detail.h) of a w x h block of pixels: pixel (i, j)'s TL
 // corner is probes[j * probe_stride + i] and linear[j * linear_stride + i] (a ring of
-// probes around the block must exist), its flag goes to flags[j * flag_stride + i].
+// probes around the block must exist), its flag goes to flags[j * flag_stride + i] and,
+// when `footprint` is non-null, its footprint delta to footprint[j * flag_stride + i].
 template <HiddenDetailSource S>
 void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff_t probe_stride,
                        const float4* linear, ptrdiff_t linear_stride, int w, int h, const AdaptiveSettings& settings,
-                       uint8_t* flags, ptrdiff_t flag_stride) {
+                       uint8_t* flags, float4* footprint, ptrdiff_t flag_stride) {
   const float4 eps(settings.eps);
+  const bool flagging = settings.highlights || settings.textures;
   for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
       const float4* c = linear + j * linear_stride + i;
+      const typename S::Probe* tl = probes + j * probe_stride + i;
       const float4 mean = corner_mean(c[0], c[1], c[linear_stride], c[linear_stride + 1]);
-      flags[j * flag_stride + i] =
-          hidden_detail_shows(source, probes + j * probe_stride + i, probe_stride, mean, settings.tonemap, eps);
+      flags[j * flag_stride + i] = flagging && hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps);
+      if constexpr (FootprintSource<S>) {
+        if (footprint) footprint[j * flag_stride + i] = source.footprint_delta(tl, probe_stride, mean);
+      }
     }
 }
 
@@ -220,7 +236,8 @@ void flag_hidden_pixels(const S& source, const CornerLayout& layout, const typen
   const TileRect region = layout.region;
   const size_t first = size_t(layout.index(region.x0, region.y0));
   flag_hidden_block(source, probes + first, layout.width, grid.linear.data() + first, layout.width, region.width(),
-                    region.height(), settings, grid.hidden.data(), region.width());
+                    region.height(), settings, grid.hidden.data(),
+                    corrects_footprint<S>(settings) ? grid.footprint.data() : nullptr, region.width());
 }
 
 // Level 1 of a tile: the corner grid of its region in 2x2 packets into `grid` (grown to
@@ -233,7 +250,7 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
   if (tile.width() <= 0 || tile.height() <= 0) return;
   const CornerLayout layout = corner_layout(target, settings);
   const bool probing = flags_hidden<S>(settings);
-  grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
+  grid.reserve(layout.corners(), probing ? layout.pixels() : 0, corrects_footprint<S>(settings) ? layout.pixels() : 0);
   using Clock = std::chrono::steady_clock;
   const Clock::time_point t0 = Clock::now();
 
@@ -267,6 +284,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const float4* corner_disp = grid.display.data();
   const int32_t* corner_sig = grid.signature.data();
   const uint8_t* hidden = flags_hidden<S>(settings) ? grid.hidden.data() : nullptr;
+  const float4* footprint = corrects_footprint<S>(settings) ? grid.footprint.data() : nullptr;
   const bool curvature = curvature_applies(settings);
   AdaptiveScratch& scratch = AdaptiveScratch::local();
   if (mitchell && scratch.refined.size() < size_t(rw) * rh) {
@@ -303,7 +321,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       Orientation o = Orientation::Horizontal;
       if (!refine) {
         value = corner_mean(tl, tr, bl, br);
-        if (curvature) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
+        const float4 texture = footprint ? footprint[size_t(ry) * rw + rx] : float4(0.0f);
+        // The corners' second differences on a textured patch are mostly the texture's.
+        if (texture[3] > 0.0f) value = max(value + float4(texture[0], texture[1], texture[2], 0.0f), float4(0.0f));
+        else if (curvature) value = curvature_corrected(value, corner_lin + ci, corner_disp + ci, cw, eps);
       } else {
         o = l1.orientation;
         const float4 px{float(x)}, py{float(y)};

@@ -29,6 +29,9 @@ struct AdaptiveSettings {
   // level 2. Only sources with probes flag.
   bool highlights = false;
   bool textures = false;
+  // Unrefined pixels take the texture's mean over the pixel instead of at its corners
+  // (FootprintSource in hidden_detail.h); only sources with probes can.
+  bool footprint = false;
   // Unrefined pixels take the box integral to second order (curvature_corrected in
   // adaptive_pixel.h) instead of the corners' mean; needs a ring of corners around the tile.
   bool curvature = false;

@@ -34,7 +34,7 @@
 namespace zz {
 
 // Largest field the callers allocate; larger frames trace their corners per tile.
-inline constexpr size_t kCornerFieldBudget = size_t(1) << 30;
+inline constexpr size_t kCornerFieldBudget = size_t(5) << 28;  // 1.25 GiB: a 4k frame with every flag and the footprint
 // Corners per side of a block traced as one task (even: only the field's own odd last row
 // or column pads a packet).
 inline constexpr int kCornerBlock = 64;
@@ -99,8 +99,10 @@ struct CornerField {
   // pitch 2 kBandHalf; row band r the rows [y - kBandHalf, y + kBandHalf) of every column.
   RawArray<uint8_t> hidden{nullptr, std::free};
   RawArray<Probe> column_bands{nullptr, std::free}, row_bands{nullptr, std::free};
+  // Null unless unrefined pixels take the footprint delta: per pixel, like `hidden`.
+  RawArray<float4> footprint{nullptr, std::free};
 
-  CornerField(const CornerRect& r, bool with_probes)
+  CornerField(const CornerRect& r, bool with_probes, bool with_footprint = false)
       : rect(r),
         linear(make_raw_array<float4>(r.count())),
         display(make_raw_array<float4>(r.count())),
@@ -109,17 +111,20 @@ struct CornerField {
       hidden = make_raw_array<uint8_t>(r.count());
       column_bands = make_raw_array<Probe>(column_band_size(r) * size_t(blocks_across(r.width) - 1));
       row_bands = make_raw_array<Probe>(row_band_size(r) * size_t(blocks_across(r.height) - 1));
+      if (with_footprint) footprint = make_raw_array<float4>(r.count());
     }
   }
+  float4* footprint_at(size_t i) const { return footprint ? footprint.get() + i : nullptr; }
 
   static int blocks_across(int corners) { return (corners + kCornerBlock - 1) / kCornerBlock; }
   static size_t column_band_size(const CornerRect& r) { return size_t(r.height) * 2 * kBandHalf; }
   static size_t row_band_size(const CornerRect& r) { return size_t(r.width) * 2 * kBandHalf; }
-  static size_t bytes(const CornerRect& r, bool with_probes) {
+  static size_t bytes(const CornerRect& r, bool with_probes, bool with_footprint = false) {
     size_t b = r.count() * (2 * sizeof(float4) + sizeof(int32_t));
     if (with_probes)
-      b += r.count() + sizeof(Probe) * (column_band_size(r) * size_t(blocks_across(r.width) - 1) +
-                                        row_band_size(r) * size_t(blocks_across(r.height) - 1));
+      b += r.count() * (1 + (with_footprint ? sizeof(float4) : 0)) +
+           sizeof(Probe) * (column_band_size(r) * size_t(blocks_across(r.width) - 1) +
+                            row_band_size(r) * size_t(blocks_across(r.height) - 1));
     return b;
   }
   size_t index(int x, int y) const {
@@ -152,7 +157,7 @@ template <SampleSource S>
 CornerFieldShape corner_field_shape(const TileRect& region, int frame_width, int frame_height,
                                     const AdaptiveSettings& settings) {
   const CornerRect rect = corner_field_rect(region, frame_width, frame_height, settings);
-  const size_t bytes = CornerFieldOf<S>::bytes(rect, flags_hidden<S>(settings));
+  const size_t bytes = CornerFieldOf<S>::bytes(rect, flags_hidden<S>(settings), corrects_footprint<S>(settings));
   if (region.empty() || bytes > kCornerFieldBudget) return {};
   return {rect, bytes};
 }
@@ -164,7 +169,7 @@ std::unique_ptr<CornerFieldOf<S>> make_corner_field(const TileRect& region, int 
                                                     const AdaptiveSettings& settings) {
   const CornerFieldShape shape = corner_field_shape<S>(region, frame_width, frame_height, settings);
   if (!shape.fits()) return nullptr;
-  return std::make_unique<CornerFieldOf<S>>(shape.rect, flags_hidden<S>(settings));
+  return std::make_unique<CornerFieldOf<S>>(shape.rect, flags_hidden<S>(settings), corrects_footprint<S>(settings));
 }
 
 // Grid offsets [lo, hi) of block boundary k's band (k * kCornerBlock +- kBandHalf), within
@@ -222,7 +227,7 @@ void trace_field_block(S& source, const AdaptiveSettings& settings, const Corner
         const size_t tl = field.index(field.rect.x0 + along_x.first, field.rect.y0 + along_y.first);
         flag_hidden_block(source, probes + (along_y.first - by) * bw + (along_x.first - bx), bw,
                           field.linear.get() + tl, width, along_x.count(), along_y.count(), settings,
-                          field.hidden.get() + tl, width);
+                          field.hidden.get() + tl, field.footprint_at(tl), width);
       }
     }
   }
@@ -257,7 +262,7 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
       for (int x = std::max(1, boundary - 2); x <= std::min(boundary, last_x); ++x) {
         const size_t tl = size_t(width) + size_t(x);
         flag_hidden_block(source, &field.in_column_band(c, x, 1), 2 * kBandHalf, linear + tl, width, 1, last_y,
-                          settings, hidden + tl, width);
+                          settings, hidden + tl, field.footprint_at(tl), width);
       }
     } else {
       const int r = int(task) - columns + 1, boundary = r * kCornerBlock;
@@ -268,7 +273,7 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
           if (along_x.count() == 0) continue;
           const size_t tl = size_t(y) * size_t(width) + size_t(along_x.first);
           flag_hidden_block(source, &field.in_row_band(r, along_x.first, y), width, linear + tl, width,
-                            along_x.count(), 1, settings, hidden + tl, width);
+                            along_x.count(), 1, settings, hidden + tl, field.footprint_at(tl), width);
         }
     }
     stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
@@ -294,7 +299,8 @@ void gather_corners(const CornerFieldOf<S>& field, const TileTarget& target, con
   assert(field.rect.contains(layout.x0, layout.y0) &&
          field.rect.contains(layout.x0 + layout.width - 1, layout.y0 + layout.height - 1));
   const bool probing = flags_hidden<S>(settings);
-  grid.reserve(layout.corners(), probing ? layout.pixels() : 0);
+  const bool footprint = corrects_footprint<S>(settings);
+  grid.reserve(layout.corners(), probing ? layout.pixels() : 0, footprint ? layout.pixels() : 0);
   for (int j = 0; j < layout.height; ++j) {
     const size_t from = field.index(layout.x0, layout.y0 + j), to = size_t(j) * size_t(layout.width);
     std::copy_n(field.linear.get() + from, layout.width, grid.linear.begin() + to);
@@ -304,8 +310,13 @@ void gather_corners(const CornerFieldOf<S>& field, const TileTarget& target, con
   if (probing) {
     const TileRect region = layout.region;
     for (int y = region.y0; y < region.y1; ++y)
+    {
       std::copy_n(field.hidden.get() + field.index(region.x0, y), region.width(),
                   grid.hidden.begin() + size_t(y - region.y0) * size_t(region.width()));
+      if (footprint)
+        std::copy_n(field.footprint.get() + field.index(region.x0, y), region.width(),
+                    grid.footprint.begin() + size_t(y - region.y0) * size_t(region.width()));
+    }
   }
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }

@@ -72,6 +72,7 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
                      {"signature", signature_name(r.adaptive.signature)},
                      {"highlights", r.adaptive.highlights},
                      {"textures", r.adaptive.textures},
+                     {"footprint", r.adaptive.footprint},
                      {"curvature", r.adaptive.curvature},
                      {"hdr_zones", r.adaptive.hdr_zones},
                      {"edges", name_of(kEdgeModes, r.edges)}};

@@ -40,6 +40,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--textures", o.textures, kOnOff,
              "Adaptive: refine pixels whose texture, averaged over the pixel, differs from what the corners "
              "sampled (emissive and base-colour detail between them)");
+  add_choice(cmd, "--footprint", o.footprint, kOnOff,
+             "Adaptive: unrefined pixels take the texture's mean over the pixel (base colour and emissive, "
+             "averaged at 4x4 points between the corners' texture coordinates), not at their corners");
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
              "Adaptive: unrefined pixels corrected for the shading's curvature (reads a ring of corners around "
              "each tile)");
@@ -56,6 +59,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.signature = o.signature;
   s.highlights = o.highlights;
   s.textures = o.textures;
+  s.footprint = o.footprint;
   s.curvature = o.curvature;
   s.hdr_zones = o.hdr_zones;
 }

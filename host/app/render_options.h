@@ -52,6 +52,8 @@ struct AdaptiveOptions {
   // more rays than it removes error on the Khronos scenes).
   bool highlights = true;
   bool textures = false;
+  // Unrefined pixels take the texture's mean over the pixel (render/texture_detail.h).
+  bool footprint = false;
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
   bool curvature = true;
   // Zones interpolated across more radiance than the display shows are traced

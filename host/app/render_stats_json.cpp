@@ -37,6 +37,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"signature", signature_name(o.adaptive.signature)},
                      {"highlights", o.adaptive.highlights},
                      {"textures", o.adaptive.textures},
+                     {"footprint", o.adaptive.footprint},
                      {"curvature", o.adaptive.curvature},
                      {"hdr_zones", o.adaptive.hdr_zones},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},

@@ -92,7 +92,8 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   // Corners are pure functions of their positions, so the image is that of the per-tile path.
   const CornerFieldShape shape = field_shape(settings);
   const std::unique_ptr<CornerFieldOf<SceneSource>> field =
-      shape.fits() ? std::make_unique<CornerFieldOf<SceneSource>>(shape.rect, flags_hidden<SceneSource>(adaptive))
+      shape.fits() ? std::make_unique<CornerFieldOf<SceneSource>>(shape.rect, flags_hidden<SceneSource>(adaptive),
+                                                                   corrects_footprint<SceneSource>(adaptive))
                    : nullptr;
   RayCounters field_rays;
   AaStats field_stats;

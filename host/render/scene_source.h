@@ -21,12 +21,14 @@ namespace zz {
 struct HiddenDetail {
   bool highlights = false;               // render/specular_peak.h
   bool textures = false;                 // render/texture_detail.h
+  bool footprint = false;                // texture_footprint_delta (render/texture_detail.h)
   // Normal steps wider than this are the visibility map's (normal_interpolation_error).
   float step_limit = std::numeric_limits<float>::infinity();
   std::vector<TexturePyramid> pyramids;  // with textures: texture_pyramids(scene)
 
   HiddenDetail() = default;
-  HiddenDetail(const Scene& scene, const AdaptiveSettings& s) : highlights(s.highlights), textures(s.textures) {
+  HiddenDetail(const Scene& scene, const AdaptiveSettings& s)
+      : highlights(s.highlights), textures(s.textures), footprint(s.footprint) {
     if (s.map_crease > 0.0f) step_limit = s.map_crease;
     if (textures) pyramids = texture_pyramids(scene);
   }
@@ -61,18 +63,23 @@ class SceneSource {
   // reflection and refraction in what it reflects (render/shader.h's path tree).
   struct Probe {
     SurfaceProbe node[kProbeNodes];
+    FootprintProbe footprint;  // filled only when the footprint correction is on
     const SurfaceProbe& surface() const { return node[0]; }
   };
   Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
     SurfaceProbe tree[kProbeNodes][4];
+    FootprintProbe footprint[4];
     PathSignature4 seen;
     seen.probes = tree;
+    if (detail_ && detail_->footprint) seen.footprint = footprint;
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < 4; ++i) {
       for (int k = 0; k < kProbeNodes; ++k) probes[i].node[k] = tree[k][i];
+      probes[i].footprint = footprint[i];
+    }
     return c;
   }
 
@@ -94,6 +101,21 @@ class SceneSource {
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
     return float4(h.r, h.g, h.b, 0.0f);
+  }
+
+  // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h);
+  // lane 3 is 1 where the correction applies, 0 elsewhere.
+  // `mean`: the corners' mean radiance; a first estimate is kept where it moves the display
+  // by less than half a step.
+  float4 footprint_delta(const Probe* tl, ptrdiff_t stride, float4 mean) const {
+    if (!detail_ || !detail_->footprint) return float4(0.0f);
+    const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
+    const FootprintProbe* const light[4] = {&tl[0].footprint, &tl[1].footprint, &tl[stride].footprint,
+                                            &tl[stride + 1].footprint};
+    const float4 settled = float4(0.5f / 255.0f) / tonemap_.slope4(mean);
+    const FootprintDelta d =
+        texture_footprint_delta(shader_.scene(), corners, light, glm::vec3(settled[0], settled[1], settled[2]));
+    return float4(d.delta.r, d.delta.g, d.delta.b, d.applies ? 1.0f : 0.0f);
   }
 
   RayCounters counters;

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "aa/signature.h"  // kLightSlots
+#include "render/normal_map.h"
 
 namespace zz {
 
@@ -110,17 +111,9 @@ const WhittedMaterial& material_at(const Scene& scene, uint32_t index, const Tex
 // scaled by normalTexture.scale; +X along the tangent, +Y along w * cross(N, T)).
 glm::vec3 mapped_normal(const Scene& scene, const Material& m, size_t t3, float u, float v, const Texcoords& tc,
                         glm::vec3 n) {
-  const float w = 1.0f - u - v;
-  const glm::vec4 t4 = w * scene.tangents[t3] + u * scene.tangents[t3 + 1] + v * scene.tangents[t3 + 2];
-  glm::vec3 t = glm::vec3(t4) - n * glm::dot(n, glm::vec3(t4));
-  const float len = glm::length(t);
-  if (!(len > 1e-12f) || !std::isfinite(len)) return n;  // no frame (no UVs): unmapped
-  t /= len;
-  const glm::vec3 b = glm::cross(n, t) * (t4.w < 0.0f ? -1.0f : 1.0f);
-  const glm::vec3 texel = glm::vec3(tc.sample(scene, m.normal_texture)) * 2.0f - 1.0f;
-  const glm::vec3 mapped = t * (texel.x * m.normal_scale) + b * (texel.y * m.normal_scale) + n * texel.z;
-  const float mapped_len = glm::length(mapped);
-  return mapped_len > 1e-12f && std::isfinite(mapped_len) ? mapped / mapped_len : n;
+  glm::vec3 frame[3];
+  if (!normal_map_frame(scene, t3, u, v, n, frame)) return n;  // no frame (no UVs): unmapped
+  return mapped_in_frame(frame, glm::vec3(tc.sample(scene, m.normal_texture)), m.normal_scale, n);
 }
 
 // The geometry of lane i's hit (position, facing geometric normal, direction back,
@@ -139,9 +132,7 @@ glm::vec3 surface_geometry(const Scene& scene, glm::vec3 dir, const LaneHits& hi
   s.distance = skipped + hits.t[i] * dir_len;
   s.front = glm::dot(ng, s.wo) >= 0.0f;
   s.ng = s.front ? ng : -ng;
-  glm::vec3 ns = w * scene.normals[t3] + u * scene.normals[t3 + 1] + v * scene.normals[t3 + 2];
-  const float ns_len = glm::length(ns);
-  return ns_len > 0.0f && std::isfinite(ns_len) ? ns / ns_len : ng;
+  return interpolated_normal(scene, t3, u, v, ng);
 }
 
 // The shading normal `ns` (normal map applied) on the side the ray came from.
@@ -461,6 +452,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
+    if (signature && signature->footprint)
+      signature->footprint[i] = FootprintProbe{glm::vec3(0.0f), prim, u, v, s.front ? 1.0f : -1.0f};
     if (signature && signature->probes)
       signature->probes[signature->node][i] = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
                                                0u, mat_index, uv0, uv1};
@@ -476,6 +469,14 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (!scene_.lights.empty()) {
       const LitLanes lit(sp, shaded);
       float4 out_r = float4::load(out[0]), out_g = float4::load(out[1]), out_b = float4::load(out[2]);
+      // The footprint's light terms (a camera packet that asks for them only).
+      const bool footprint = signature && signature->footprint;
+      vec3x4 irradiance{float4(0.0f), float4(0.0f), float4(0.0f)};
+      auto add_light = [&](mask4 reached, const vec3x4& e) {
+        irradiance.x = select(reached, irradiance.x + e.x, irradiance.x);
+        irradiance.y = select(reached, irradiance.y + e.y, irradiance.y);
+        irradiance.z = select(reached, irradiance.z + e.z, irradiance.z);
+      };
       for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
         const Light& light = scene_.lights[light_index];
         const uint32_t light_bit = 1u << (light_index % 32);
@@ -497,6 +498,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const vec3x4 contribution = (f * ls.scale) * cos_s;
         const mask4 lanes = facing & ((contribution.x > float4(0.0f)) | (contribution.y > float4(0.0f)) |
                                       (contribution.z > float4(0.0f)));
+        // A black corner traces no shadow ray, but its neighbours in the texture may be lit:
+        // the footprint takes the light as reaching it.
+        if (footprint) add_light(andnot(lanes, facing), (ls.scale * cos_s) * float4(kInvPi));
         if (lanes.none()) continue;
         if (signature && signature->light_radiance)
           for (int i = 0; i < 4; ++i)
@@ -539,6 +543,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           out_r = select(lanes, out_r + contribution.x * float4::load(t[0]), out_r);
           out_g = select(lanes, out_g + contribution.y * float4::load(t[1]), out_g);
           out_b = select(lanes, out_b + contribution.z * float4::load(t[2]), out_b);
+          if (footprint)
+            add_light(lanes, ((ls.scale * cos_s) * float4(kInvPi)) *
+                                 vec3x4{float4::load(t[0]), float4::load(t[1]), float4::load(t[2])});
         } else {
           counters.shadow += uint64_t(count_lanes(lanes));
           const mask4 blocked = bvh_.occluded4(shadow, lanes);
@@ -551,9 +558,16 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           out_r = select(reached, out_r + contribution.x, out_r);
           out_g = select(reached, out_g + contribution.y, out_g);
           out_b = select(reached, out_b + contribution.z, out_b);
+          if (footprint) add_light(reached, (ls.scale * cos_s) * float4(kInvPi));
         }
       }
       out_r.store(out[0]), out_g.store(out[1]), out_b.store(out[2]);
+      if (footprint)
+        for (int i = 0; i < 4; ++i) {
+          if (!shaded[i]) continue;
+          FootprintProbe& f = signature->footprint[i];
+          f.irradiance = glm::vec3(irradiance.x[i], irradiance.y[i], irradiance.z[i]);
+        }
     }
   }
 

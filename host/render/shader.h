@@ -16,6 +16,7 @@
 
 #include "accel/bvh.h"
 #include "core/color.h"
+#include "render/footprint_probe.h"
 #include "render/lighting4.h"
 #include "render/ray_counters.h"
 #include "render/specular_peak.h"
@@ -62,6 +63,9 @@ struct PathSignature4 {
   // has no such node; specular 0 where the node's ray hits nothing.
   SurfaceProbe (*probes)[4] = nullptr;
   int node = 0;  // this packet's node of the tree
+  // Where the caller wants them (a camera packet only): per lane, the primary hit's data
+  // for the texture footprint correction (render/texture_detail.h).
+  FootprintProbe* footprint = nullptr;
 };
 
 class Shader {

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <limits>
 
+#include "render/lighting.h"
+#include "render/normal_map.h"
+#include "scene/materials.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -111,6 +114,181 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
     }
   }
   return hidden;
+}
+
+namespace {
+
+glm::vec4 sample_ref(const Scene& scene, const TextureRef& ref, glm::vec2 uv0, glm::vec2 uv1) {
+  return scene.textures[size_t(ref.index)].sample(ref.apply(ref.texcoord == 1 ? uv1 : uv0));
+}
+
+// The diffuse albedo the shader gives material `m` at these texture coordinates (as
+// render/shader.cpp's material_at does).
+glm::vec3 diffuse_albedo(const Scene& scene, uint32_t m, glm::vec2 uv0, glm::vec2 uv1) {
+  const Material& material = scene.materials[m];
+  glm::vec4 base(1.0f);
+  if (material.base_color_texture.used()) base = sample_ref(scene, material.base_color_texture, uv0, uv1);
+  if (!material.varies_per_hit()) return scene.whitted[m].diffuse * glm::vec3(base);
+  PbrSample p{material.base_color * glm::vec3(base), material.metallic, material.roughness, material.transmission};
+  if (material.metallic_roughness_texture.used()) {
+    const glm::vec4 mr = sample_ref(scene, material.metallic_roughness_texture, uv0, uv1);
+    p.roughness *= mr.g;
+    p.metallic *= mr.b;
+  }
+  if (material.transmission_texture.used())
+    p.transmission *= sample_ref(scene, material.transmission_texture, uv0, uv1).r;
+  WhittedMaterial local = scene.whitted[m];
+  whitted_surface(local, p);
+  return local.diffuse;
+}
+
+bool valid_ref(const Scene& scene, const TextureRef& ref) {
+  return ref.used() && size_t(ref.index) < scene.textures.size();
+}
+
+}  // namespace
+
+FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[4], const FootprintProbe* const f[4],
+                                       glm::vec3 settled) {
+  const uint32_t m = c[0].material;
+  if (m >= scene.materials.size()) return {};
+  for (int k = 0; k < 4; ++k)
+    if (c[k].material != m || f[k]->prim < 0 || size_t(f[k]->prim) * 3 >= scene.positions.size()) return {};
+  const Material& material = scene.materials[m];
+  const bool bump_map = valid_ref(scene, material.normal_texture) && !scene.tangents.empty() && !scene.normals.empty();
+  const bool diffuse = valid_ref(scene, material.base_color_texture) ||
+                       valid_ref(scene, material.metallic_roughness_texture) ||
+                       valid_ref(scene, material.transmission_texture) || bump_map;
+  const glm::vec3 emission = scene.whitted[m].emission;
+  const bool emissive = valid_ref(scene, material.emissive_texture) && emission != glm::vec3(0.0f);
+  if (!diffuse && !emissive) return {};
+  // The corners' texture coordinates must span the pixel as one smooth patch does: close
+  // to a parallelogram, and over few texels (a UV seam or an atlas jump between corners
+  // fails one or the other; so does a texture minified beyond what the samples resolve).
+  const TextureRef* refs[5] = {&material.base_color_texture, &material.metallic_roughness_texture,
+                               &material.transmission_texture, &material.emissive_texture, &material.normal_texture};
+  float texels = 0.0f;  // the widest footprint edge, in texels
+  for (const TextureRef* ref : refs) {
+    if (!valid_ref(scene, *ref)) continue;
+    glm::vec2 st[4];
+    for (int k = 0; k < 4; ++k) st[k] = ref->apply(ref->texcoord == 1 ? c[k].uv1 : c[k].uv0);
+    const Texture& texture = scene.textures[size_t(ref->index)];
+    const glm::vec2 size(float(texture.width), float(texture.height));
+    const glm::vec2 e1 = (st[1] - st[0]) * size, e2 = (st[2] - st[0]) * size;
+    const glm::vec2 twist = (st[0] + st[3] - st[1] - st[2]) * size;
+    const float edge = std::max(glm::length(e1), glm::length(e2));
+    if (!(edge <= kFootprintMaxTexels && glm::length(twist) <= 0.5f * edge + 1e-3f)) return {};
+    texels = std::max(texels, edge);
+  }
+
+  auto bilerp = [](const auto& tl, const auto& tr, const auto& bl, const auto& br, float s, float t) {
+    return (1.0f - t) * ((1.0f - s) * tl + s * tr) + t * ((1.0f - s) * bl + s * br);
+  };
+  auto uv_at = [&](glm::vec2 SurfaceProbe::*uv, float s, float t) {
+    return bilerp(c[0].*uv, c[1].*uv, c[2].*uv, c[3].*uv, s, t);
+  };
+  // With the normal map and few lights, each sample is lit light by light at its own normal
+  // (Lambert and the Phong highlight, as the shader lights a hit), the lights' directions
+  // and strengths and the map's frame interpolated between the corners'; otherwise only
+  // the albedo varies. The corners' lights are recomputed from their hits and shadow bits
+  // and must add up to the irradiance the shader found (no partial shadow, no light lost
+  // below the flat triangle).
+  const int lights = int(scene.lights.size());
+  bool per_light = bump_map && lights <= kFootprintLights;
+  glm::vec3 frame[4][3], strength[4][kFootprintLights], to_light[4][kFootprintLights];
+  for (int k = 0; k < 4 && per_light; ++k) {
+    const size_t t3 = size_t(f[k]->prim) * 3;
+    const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+    const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    const glm::vec3 n = interpolated_normal(scene, t3, f[k]->u, f[k]->v, ng);
+    const TextureRef& ref = material.normal_texture;
+    per_light = normal_map_frame(scene, t3, f[k]->u, f[k]->v, n, frame[k]);
+    if (!per_light) break;
+    for (glm::vec3& axis : frame[k]) axis *= f[k]->side;
+    // The shader's normal at the corner: the map's, unless it faced away (then ng).
+    const glm::vec3 rgb(sample_ref(scene, ref, c[k].uv0, c[k].uv1));
+    per_light = glm::length(mapped_in_frame(frame[k], rgb, material.normal_scale, frame[k][2]) - c[k].normal) < 1e-4f;
+    glm::vec3 irradiance(0.0f);
+    for (int l = 0; l < lights && per_light; ++l) {
+      float tmax;
+      glm::vec3 scale;
+      strength[k][l] = glm::vec3(0.0f);
+      to_light[k][l] = glm::vec3(0.0f);
+      if (!light_towards(scene.lights[size_t(l)], c[k].position, to_light[k][l], tmax, scale)) continue;
+      const float cos_s = glm::dot(c[k].normal, to_light[k][l]);
+      if (!(cos_s > 0.0f) || ((c[k].shadowed >> (l % 32)) & 1u)) continue;
+      strength[k][l] = scale * 0.318309886f;  // 1 / pi, as the shader
+      irradiance += strength[k][l] * cos_s;
+    }
+    const glm::vec3 miss = glm::abs(irradiance - f[k]->irradiance);
+    per_light = per_light && glm::all(glm::lessThanEqual(miss, 0.02f * f[k]->irradiance + 1e-6f));
+  }
+  auto direct = [&](glm::vec3 albedo, glm::vec3 specular, float shininess, glm::vec3 n, glm::vec3 wo,
+                    const glm::vec3* light_strength, const glm::vec3* light_direction) {
+    glm::vec3 sum(0.0f);
+    for (int l = 0; l < lights; ++l) {
+      const float cos_s = glm::dot(n, light_direction[l]);
+      if (!(cos_s > 0.0f)) continue;
+      const glm::vec3 r = 2.0f * cos_s * n - light_direction[l];
+      const float cos_r = std::max(glm::dot(r, wo), 0.0f);
+      const float lobe = shininess == 1.0f ? cos_r : std::pow(cos_r, shininess);
+      const float phong = (shininess + 2.0f) * 0.5f * lobe;  // pi x normalised Phong
+      sum += light_strength[l] * cos_s * (albedo + specular * phong);
+    }
+    return sum;
+  };
+  glm::vec3 light(0.0f), at_corners(0.0f);
+  for (int k = 0; k < 4; ++k) {
+    light += 0.25f * f[k]->irradiance;
+    if (diffuse) {
+      const glm::vec3 albedo = diffuse_albedo(scene, m, c[k].uv0, c[k].uv1);
+      at_corners += 0.25f * (per_light ? direct(albedo, c[k].specular, c[k].shininess, c[k].normal, c[k].view,
+                                                strength[k], to_light[k])
+                                       : albedo * f[k]->irradiance);
+    }
+    if (emissive) at_corners += 0.25f * emission * glm::vec3(sample_ref(scene, material.emissive_texture, c[k].uv0, c[k].uv1));
+  }
+  const bool lit = diffuse && light != glm::vec3(0.0f);
+
+  // The pixel's mean of what the corners' mean estimates, at n x n points.
+  auto footprint_mean = [&](int n) {
+    glm::vec3 sum(0.0f);
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const float s = (float(i) + 0.5f) / float(n), t = (float(j) + 0.5f) / float(n);
+        const glm::vec2 uv0 = uv_at(&SurfaceProbe::uv0, s, t), uv1 = uv_at(&SurfaceProbe::uv1, s, t);
+        if (emissive) sum += emission * glm::vec3(sample_ref(scene, material.emissive_texture, uv0, uv1));
+        if (!lit) continue;
+        const glm::vec3 albedo = diffuse_albedo(scene, m, uv0, uv1);
+        if (!per_light) {
+          sum += albedo * light;
+          continue;
+        }
+        // The normal map at the sample, in the corners' frames interpolated.
+        glm::vec3 at[3];
+        for (int a = 0; a < 3; ++a) at[a] = bilerp(frame[0][a], frame[1][a], frame[2][a], frame[3][a], s, t);
+        const glm::vec3 rgb(sample_ref(scene, material.normal_texture, uv0, uv1));
+        const glm::vec3 normal = mapped_in_frame(at, rgb, material.normal_scale, c[0].normal);
+        glm::vec3 light_strength[kFootprintLights], light_direction[kFootprintLights];
+        for (int l = 0; l < lights; ++l) {
+          light_strength[l] = bilerp(strength[0][l], strength[1][l], strength[2][l], strength[3][l], s, t);
+          const glm::vec3 w = bilerp(to_light[0][l], to_light[1][l], to_light[2][l], to_light[3][l], s, t);
+          const float wl = glm::length(w);
+          light_direction[l] = wl > 1e-12f ? w / wl : glm::vec3(0.0f);
+        }
+        const glm::vec3 wo = glm::normalize(bilerp(c[0].view, c[1].view, c[2].view, c[3].view, s, t));
+        sum += direct(albedo, bilerp(c[0].specular, c[1].specular, c[2].specular, c[3].specular, s, t),
+                      bilerp(c[0].shininess, c[1].shininess, c[2].shininess, c[3].shininess, s, t), normal, wo,
+                      light_strength, light_direction);
+      }
+    return sum / float(n * n);
+  };
+  // 2 x 2 samples first; where what they find could show, one sample per texel cell of the
+  // bilinear texture along an edge and one more (3 at least, kFootprintSamples at most).
+  const glm::vec3 coarse = footprint_mean(2) - at_corners;
+  if (glm::all(glm::lessThan(glm::abs(coarse), settled))) return {coarse, true};
+  const int n = std::clamp(int(std::ceil(texels)) + 2, 3, kFootprintSamples);
+  return {footprint_mean(n) - at_corners, true};
 }
 
 }  // namespace zz

@@ -15,6 +15,7 @@
 
 #include <vector>
 
+#include "render/footprint_probe.h"
 #include "render/specular_peak.h"
 #include "scene/texture.h"
 
@@ -46,5 +47,28 @@ std::vector<TexturePyramid> texture_pyramids(const Scene& scene);
 // or where the footprint spans half the texture or more (a UV seam, not detail).
 glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyramid>& pyramids,
                                 const SurfaceProbe corners[4], glm::vec3 corner_mean);
+
+// The texture footprint correction (ours): what a pixel finished at level 1 lacks because
+// the mean of its four corner samples is not the mean of the texture over the pixel. With
+// the corners (TL, TR, BL, BR) on one material, the pixel's texture coordinates are their
+// bilinear interpolation; the base-colour (diffuse albedo) and emissive textures are
+// averaged over it at up to kFootprintSamples^2 points (the box filter the lattice and the
+// reference apply, without rays), and
+//   delta = mean_s(A_s E_s) - mean_k(A_k E_k) + emission * (mean_s(T_s) - mean_k(T_k)),
+// over samples s and corners k, with A the diffuse albedo, T the emissive texture and E the
+// direct light per unit albedo (FootprintProbe::irradiance): at a sample, the corners' mean,
+// moved to first order (FootprintProbe::gradient) by the normal map's normal there. Exact
+// where light and visibility are even over the pixel, which is where its corners agree.
+// Does not apply to other pixels (a miss, two materials, a UV seam or atlas jump, no texture).
+inline constexpr int kFootprintSamples = 4;
+inline constexpr float kFootprintMaxTexels = 4.0f * kFootprintSamples;
+struct FootprintDelta {
+  glm::vec3 delta{0.0f};
+  bool applies = false;  // the pixel is one patch of a textured material (delta may still be 0)
+};
+// `settled`: per channel, a delta the 2 x 2 first estimate may keep when it stays below it
+// in every channel (what could not show on the display); finer sampling otherwise.
+FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
+                                       const FootprintProbe* const footprint[4], glm::vec3 settled);
 
 }  // namespace zz

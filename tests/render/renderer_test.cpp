@@ -10,6 +10,7 @@
 #include <string>
 #include <thread>
 
+#include "aa/corner_field.h"  // kCornerFieldBudget
 #include "test_scenes.h"
 
 namespace zz {
@@ -314,11 +315,11 @@ TEST(Renderer, A4kFrameWithEveryFlagFitsTheCornerFieldsBudget) {
   RenderSettings s;
   s.width = 3840;
   s.height = 2160;
-  s.adaptive.highlights = s.adaptive.textures = s.adaptive.curvature = true;
+  s.adaptive.highlights = s.adaptive.textures = s.adaptive.curvature = s.adaptive.footprint = true;
   s.adaptive.signature = kSignatureAll;
   const CornerFieldPlan plan = corner_field_plan(s);
   EXPECT_GT(plan.blocks, 0u);
-  EXPECT_LE(plan.bytes, uint64_t(1) << 30);  // kCornerFieldBudget
+  EXPECT_LE(plan.bytes, kCornerFieldBudget);
   EXPECT_GT(plan.bytes, uint64_t(3841) * 2161 * 36);  // it does hold the flags' bands
 }
 
