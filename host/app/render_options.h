@@ -52,8 +52,10 @@ struct AdaptiveOptions {
   // more rays than it removes error on the Khronos scenes).
   bool highlights = true;
   bool textures = false;
-  // Unrefined pixels take the texture's mean over the pixel (render/texture_detail.h).
-  bool footprint = false;
+  // Unrefined pixels take the texture's mean over the pixel, relit at each sample's
+  // normal-mapped normal (render/texture_detail.h): no rays, on because it removes error
+  // (car 1024^2, FLIP: 2.07x -> 1.48x the lattice's) for time only (+0.6 s of car's 1.8 s).
+  bool footprint = true;
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
   bool curvature = true;
   // Zones interpolated across more radiance than the display shows are traced

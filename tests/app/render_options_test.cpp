@@ -42,6 +42,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_FALSE(o.render.adaptive.textures);
   EXPECT_TRUE(o.render.adaptive.curvature);
   EXPECT_TRUE(o.render.adaptive.hdr_zones);
+  EXPECT_TRUE(o.render.adaptive.footprint);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
@@ -65,7 +66,7 @@ TEST(RenderOptions, NamesBecomeEnums) {
 TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   BatchOptions o;
   ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights",
-                   "--hdr-zones", "on"},
+                   "--hdr-zones", "on", "--footprint", "on"},
                   o),
             "");
   AdaptiveSettings s;
@@ -74,14 +75,16 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   EXPECT_TRUE(s.textures);
   EXPECT_TRUE(s.curvature);
   EXPECT_TRUE(s.hdr_zones);
+  EXPECT_TRUE(s.footprint);
   EXPECT_EQ(s.signature, unsigned(kSignatureLights));
   EXPECT_FLOAT_EQ(s.eps, 0.05f);
   BatchOptions off;
-  ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off", "--hdr-zones", "off"},
+  ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off", "--hdr-zones", "off",
+                   "--footprint", "off"},
                   off),
             "");
   apply_adaptive_options(off.render.adaptive, s);
-  EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones);
+  EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones || s.footprint);
 }
 
 TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {
@@ -113,7 +116,7 @@ TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
   for (std::vector<std::string> bad : std::vector<std::vector<std::string>>{
            {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
            {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"},
-           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--edge-material", "yes"},
+           {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--footprint", "2"}, {"--edge-material", "yes"},
            {"--hdr-zones", "1"}}) {
     BatchOptions o;
     bad.insert(bad.begin(), "a.json");

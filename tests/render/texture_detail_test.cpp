@@ -1,8 +1,10 @@
 // The texture detail flag (render/texture_detail.h): the pyramid's box means and the
-// detail a pixel's corners miss.
+// detail a pixel's corners miss; the texture footprint correction.
 #include "render/texture_detail.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "scene/scene.h"
 
@@ -86,6 +88,131 @@ TEST(TextureDetail, NoEstimateAcrossMaterialsOrSeams) {
   s.corners(28.0f / 64, 37.0f / 64, c);
   for (SurfaceProbe& p : c) p.material = ~0u;  // misses
   EXPECT_EQ(hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f)), glm::vec3(0.0f));
+}
+
+// The footprint correction's probes for StrokeScene's pixel: one triangle (prim 0), no light.
+struct FootprintCorners {
+  SurfaceProbe c[4];
+  FootprintProbe f[4];
+  const FootprintProbe* p[4] = {&f[0], &f[1], &f[2], &f[3]};
+};
+
+Scene& with_triangle(Scene& scene) {
+  scene.positions = {glm::vec3(0.0f), glm::vec3(1.0f, 0.0f, 0.0f), glm::vec3(0.0f, 1.0f, 0.0f)};
+  return scene;
+}
+
+TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
+  StrokeScene s;
+  with_triangle(s.scene);
+  FootprintCorners k;
+  // Corners 3 texels apart on black texels, the stroke's texel between them: the bilinear
+  // texture's mean over the footprint is 1/3 (its hat, 2 texels wide, inside the 3).
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  const FootprintDelta fine = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(fine.applies);
+  EXPECT_NEAR(fine.delta.r, 1.0f / 3.0f, 0.02f);  // 4 x 4 samples: 0.344
+  // Where the first 2 x 2 estimate could not show, it stays.
+  const FootprintDelta coarse = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1.0f));
+  EXPECT_NEAR(coarse.delta.r, 0.375f, 1e-5f);
+  // Far from the stroke: nothing to add, but the correction applies (no curvature term).
+  s.corners(2.0f / 64, 5.0f / 64, k.c);
+  const FootprintDelta black = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  EXPECT_TRUE(black.applies);
+  EXPECT_EQ(black.delta, glm::vec3(0.0f));
+}
+
+TEST(TextureFootprint, NotAcrossMaterialsSeamsAtlasJumpsOrMisses) {
+  StrokeScene s;
+  with_triangle(s.scene);
+  FootprintCorners k;
+  auto applies = [&] { return texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies; };
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  ASSERT_TRUE(applies());
+  k.c[3].material = 1;  // an edge between materials
+  EXPECT_FALSE(applies());
+  s.corners(0.05f, 0.95f, k.c);  // a UV seam
+  EXPECT_FALSE(applies());
+  s.corners(0.2f, 0.5f, k.c);  // an atlas jump: 19 texels between neighbouring corners
+  EXPECT_FALSE(applies());
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  k.c[3].uv0 += glm::vec2(4.0f / 64, 0.0f);  // not one smooth patch: the quad is twisted
+  EXPECT_FALSE(applies());
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  k.f[2].prim = -1;  // a miss
+  EXPECT_FALSE(applies());
+}
+
+// A white diffuse plane z = 0 (normal +z, tangent +x) lit by a directional light from
+// (1, 0, 1), under a normal map that is flat but for column 32, whose normal faces the light.
+struct BumpScene {
+  Scene scene;
+  static constexpr float kIntensity = 2.0f;
+  const glm::vec3 to_light = glm::normalize(glm::vec3(1.0f, 0.0f, 1.0f));
+  BumpScene() {
+    const glm::vec3 tilted = to_light * 0.5f + 0.5f;
+    Texture t;
+    t.width = t.height = 64;
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x) t.texels.push_back(x == 32 ? glm::vec4(tilted, 1.0f) : glm::vec4(0.5f, 0.5f, 1.0f, 1.0f));
+    scene.textures.push_back(t);
+    Material m;
+    m.base_color = glm::vec3(1.0f);
+    m.metallic = 0.0f;
+    m.normal_texture.index = 0;
+    scene.materials.push_back(m);
+    scene.finalize_materials();
+    with_triangle(scene);
+    scene.normals.assign(3, glm::vec3(0.0f, 0.0f, 1.0f));
+    scene.tangents.assign(3, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+    Light light;
+    light.type = Light::Type::Directional;
+    light.direction = -to_light;
+    light.intensity = glm::vec3(kIntensity);
+    scene.lights.push_back(light);
+  }
+  // The lit Lambert radiance per unit albedo at normal n.
+  float lambert(glm::vec3 n) const { return kIntensity / float(M_PI) * std::max(glm::dot(n, to_light), 0.0f); }
+  void corners(float u0, float u1, FootprintCorners& k) const {
+    const float us[4] = {u0, u1, u0, u1}, vs[4] = {0.4f, 0.4f, 0.45f, 0.45f};
+    for (int i = 0; i < 4; ++i) {
+      k.c[i] = SurfaceProbe{};
+      k.c[i].material = 0;
+      k.c[i].uv0 = k.c[i].uv1 = {us[i], vs[i]};
+      k.c[i].position = glm::vec3(0.1f, 0.1f, 0.0f);
+      k.c[i].normal = glm::vec3(0.0f, 0.0f, 1.0f);
+      k.c[i].view = glm::vec3(0.0f, 0.0f, 1.0f);
+      k.c[i].shininess = 1.0f;  // no highlight: specular 0
+      k.f[i] = FootprintProbe{glm::vec3(lambert(k.c[i].normal)), 0, 0.1f, 0.1f, 1.0f};
+    }
+  }
+};
+
+TEST(TextureFootprint, ANormalMapBumpBetweenTheCornersIsLitAtItsNormal) {
+  const BumpScene s;
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(d.applies);
+  // The same mean by brute force: the bilinear normal map at 64 x 64 points of the footprint.
+  double mean = 0.0;
+  const Texture& map = s.scene.textures[0];
+  for (int i = 0; i < 64; ++i) {
+    const float u = (30.5f + 3.0f * (float(i) + 0.5f) / 64.0f) / 64.0f;
+    const glm::vec3 n = glm::normalize(glm::vec3(map.sample({u, 0.42f})) * 2.0f - 1.0f);
+    mean += s.lambert(n) / 64.0;
+  }
+  const float expected = float(mean) - s.lambert(glm::vec3(0.0f, 0.0f, 1.0f));
+  ASSERT_GT(expected, 0.02f);
+  EXPECT_NEAR(d.delta.r, expected, 0.1f * expected);
+  // A corner lit more than its recorded light says (a partial shadow): only the albedo
+  // varies, and it does not here.
+  k.f[1].irradiance *= 0.5f;
+  const FootprintDelta shadowed = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  EXPECT_TRUE(shadowed.applies);
+  EXPECT_NEAR(shadowed.delta.r, 0.0f, 1e-6f);
 }
 
 }  // namespace

@@ -273,7 +273,9 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "signatures, with the visibility map's material rule (`--edge-material on`: samples inside a "
                     "pixel on different materials flag it), with the HDR zone rule (`--hdr-zones on`: zones the "
                     "tables would interpolate between samples that differ by more than the display shows are "
-                    "traced), and every detector at once. *Removed* as above.", BEYOND_BASE, variants)
+                    "traced), with the texture footprint correction (`--footprint on`: unrefined textured pixels "
+                    "take the texture's mean over the pixel, relit at each sample's normal; no rays), and every "
+                    "detector at once. *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -299,7 +301,7 @@ def recommendation(choice: dict) -> list[str]:
              f"--edges {r['edges']} --signature {r.get('signature') or 'none'} "
              f"--highlights {r.get('highlights') or 'off'} --textures {r.get('textures') or 'off'} "
              f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
-             f"--hdr-zones {r.get('hdr') or 'off'}")
+             f"--hdr-zones {r.get('hdr') or 'off'} --footprint {r.get('footprint') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

@@ -15,7 +15,7 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     `lights`, the `secondary` and all signatures, both with the `secondary` and all
     signatures and the map's material rule (--edge-material on), that with the HDR zone
     rule (--hdr-zones on), all of these with the texture flag too, and both at eps 0.1 (the
-    second ablation table);
+    second ablation table), and that with the texture footprint correction (--footprint on);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -42,6 +42,7 @@ class Setting:
     curvature: str = "off"     # --curvature on | off: unrefined pixels to second order
     material: str = "off"      # --edge-material on | off: the visibility map flags material boundaries
     hdr: str = "off"           # --hdr-zones on | off: zones interpolated across more than the display shows are traced
+    footprint: str = "off"     # --footprint on | off: unrefined textured pixels take the texture's mean over the pixel
 
     @property
     def label(self) -> str:
@@ -58,7 +59,7 @@ class Setting:
         sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
                 + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
-                + ("-hz" if self.hdr == "on" else ""))
+                + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -70,7 +71,7 @@ class Setting:
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
                 + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
-                + ("/hz" if self.hdr == "on" else ""))
+                + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -85,7 +86,8 @@ class Setting:
         return ["--aa", "adaptive", "--eps", f"{self.eps:g}", "--edges", self.edges,
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
-                "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr]
+                "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
+                "--footprint", self.footprint]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -122,7 +124,9 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + sig all + material + hdr zones",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on"}),
                    ("both + sig all + material + hdr zones + textures",
-                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "textures": "on"})]
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "textures": "on"}),
+                   ("both + sig all + material + hdr zones + footprint",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
