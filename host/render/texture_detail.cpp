@@ -283,8 +283,9 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
       }
     return sum / float(n * n);
   };
-  // 2 x 2 samples first; where what they find could show, one sample per texel cell of the
-  // bilinear texture along an edge and one more (3 at least, kFootprintSamples at most).
+  // 2 x 2 samples first; where what they add could show, two more per side than the texels
+  // an edge crosses, so that each cell of the bilinear texture gets one (3 at least,
+  // kFootprintSamples at most: on the car, 6 gains 0.2 % display error over 4 at twice the reads).
   const glm::vec3 coarse = footprint_mean(2) - at_corners;
   if (glm::all(glm::lessThan(glm::abs(coarse), settled))) return {coarse, true};
   const int n = std::clamp(int(std::ceil(texels)) + 2, 3, kFootprintSamples);

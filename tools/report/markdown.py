@@ -61,7 +61,8 @@ def config_summary(rows: list[dict], scenes: list[str]) -> list[dict]:
 RULE = ("if some settings keep the display RMSE within 1.1x the uniform 25 lattice's in every target scene "
         "(room, car, glass), the one with the fewest mean primary rays/px; otherwise, among the settings that meet "
         "the rays target (mean <= 1.75 rays/px), the one with the lowest worst-scene display RMSE ratio; otherwise "
-        "the lowest worst-scene display RMSE ratio. Display RMSE, not linear: the linear ratios are nearly the same "
+        "the lowest worst-scene display RMSE ratio (ties, as when a change leaves the worst scene as it was, go to "
+        "the lower mean display RMSE ratio, then the lower mean FLIP ratio). Display RMSE, not linear: the linear ratios are nearly the same "
         "for every setting in a scene (they are dominated by saturated highlights that no eps on display colours "
         "refines), so they cannot rank settings. Rays/px and errors are deterministic; wall times on the shared "
         "machine are not, so time does not enter the rule.")
@@ -76,10 +77,11 @@ def choose_defaults(rows: list[dict], target_scenes: list[str]) -> dict:
     if meeting:
         chosen, why = min(meeting, key=lambda c: c["rays"]), "meets the error target at the fewest rays"
     elif cheap:
-        chosen, why = min(cheap, key=lambda c: c["err"]), ("no setting meets the error target; the most accurate "
-                                                           f"of those within {RAYS_TARGET} rays/px")
+        chosen, why = min(cheap, key=lambda c: (c["err"], c["mean"]["rmse_display"], c["mean"]["flip"])), (
+            f"no setting meets the error target; the most accurate of those within {RAYS_TARGET} rays/px")
     elif table:
-        chosen, why = min(table, key=lambda c: c["err"]), "no setting meets the error or the rays target; the most accurate"
+        chosen, why = (min(table, key=lambda c: (c["err"], c["mean"]["rmse_display"], c["mean"]["flip"])),
+                       "no setting meets the error or the rays target; the most accurate")
     label = chosen["label"] if chosen else CLI_DEFAULT.label
     return {"label": label, "summary": chosen, "why": why, "table": table, "scenes": scenes}
 
