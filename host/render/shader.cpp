@@ -121,7 +121,7 @@ glm::vec3 mapped_normal(const Scene& scene, const Material& m, size_t t3, float 
 // normal (the geometric one where it degenerates), not yet turned towards the viewer.
 glm::vec3 surface_geometry(const Scene& scene, glm::vec3 dir, const LaneHits& hits, int i, float skipped,
                            SurfacePoint& s) {
-  const float u = hits.u[i], v = hits.v[i], w = 1.0f - u - v;
+  const float u = hits.u[i], v = hits.v[i];
   const size_t t3 = size_t(hits.prim[i]) * 3;
   const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
   s.hit = interpolate_hit(p0, p1, p2, u, v);
