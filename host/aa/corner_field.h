@@ -309,8 +309,7 @@ void gather_corners(const CornerFieldOf<S>& field, const TileTarget& target, con
   }
   if (probing) {
     const TileRect region = layout.region;
-    for (int y = region.y0; y < region.y1; ++y)
-    {
+    for (int y = region.y0; y < region.y1; ++y) {
       std::copy_n(field.hidden.get() + field.index(region.x0, y), region.width(),
                   grid.hidden.begin() + size_t(y - region.y0) * size_t(region.width()));
       if (footprint)

@@ -36,7 +36,8 @@ concept HiddenDetailSource =
 // A source that also says what a pixel finished at level 1 lacks because the mean of its
 // corners is not the mean over the pixel of what they sampled (render/texture_detail.h's
 // texture footprint): footprint_delta(tl, stride, mean) for the pixel whose corners are as
-// for hidden_radiance (`mean` the mean of their radiance), linear RGB in lanes 0-2, and in lane 3 1 where it applies (0 elsewhere).
+// for hidden_radiance (`mean` the mean of their radiance), linear RGB in lanes 0-2, and in
+// lane 3 1 where it applies (0 elsewhere).
 // Unlike the flags it colours pixels: the sampler adds it to an unrefined pixel's corner
 // mean, in place of the curvature correction (which would count the texture twice).
 template <class S>
