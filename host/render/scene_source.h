@@ -134,30 +134,53 @@ class SceneSource {
 
   int4 hash(const PathSignature4& seen, const Rgb4& colour) const {
     alignas(16) int32_t s[4];
+    uint32_t shadowed[4] = {}, shows[4] = {};
+    if (parts_ & kSignatureLights) {
+      for (int i = 0; i < 4; ++i)
+        for (int l = 0; l < 32; ++l) shadowed[i] |= ((seen.shadowed[i] >> l) & 1u) << (l % kLightSlots);
+      lights_shown(colour, seen.light_radiance, shadowed, shows);
+    }
     for (int i = 0; i < 4; ++i) {
       uint32_t h = 0;
       if (parts_ & kSignatureObject) h = signature_mix(h, seen.object[i]);
       if (parts_ & kSignatureSecondary) h = signature_mix(signature_mix(h ^ 0x53454344u, seen.reflected[i]), seen.refracted[i]);
-      uint32_t shadowed = 0, shows = 0;
-      if (parts_ & kSignatureLights) {
-        for (int l = 0; l < 32; ++l) shadowed |= ((seen.shadowed[i] >> l) & 1u) << (l % kLightSlots);
-        const glm::vec3 c(colour.r[i], colour.g[i], colour.b[i]);
-        for (int slot = 0; slot < kLightSlots; ++slot)
-          shows |= uint32_t(light_shows(c, seen.light_radiance[slot][i], (shadowed >> slot) & 1u)) << slot;
-      }
-      s[i] = make_signature(h >> (32 - kWhatBits), shows, shadowed);
+      s[i] = make_signature(h >> (32 - kWhatBits), shows[i], shadowed[i]);
     }
     return int4(s[0], s[1], s[2], s[3]);
   }
 
-  // Whether adding `light` to the sample's radiance without it (`colour`, less `light` where
-  // the light reached it) moves a displayed channel by an 8-bit step or more.
-  bool light_shows(glm::vec3 colour, glm::vec3 light, bool shadowed) const {
-    if (!(light.r > 0.0f || light.g > 0.0f || light.b > 0.0f)) return false;
-    const glm::vec3 without = shadowed ? colour : glm::max(colour - light, glm::vec3(0.0f));
-    const float4 base(without.r, without.g, without.b, 0.0f), lit(without.r + light.r, without.g + light.g,
-                                                                  without.b + light.b, 0.0f);
-    return ((tonemap_.apply4(lit) - tonemap_.apply4(base) >= float4(kDisplayStep)).bits() & 0x7) != 0;
+  // Per lane, bit `slot` of shows[lane]: whether adding the slot's light to the sample's
+  // radiance without it (`colour`, less the light where it reached the sample) moves a
+  // displayed channel by an 8-bit step or more. One end of each comparison is the lane's
+  // own colour, tone-mapped once; the other is tone-mapped for the four lanes at a time.
+  void lights_shown(const Rgb4& colour, const glm::vec3 (*light)[4], const uint32_t shadowed[4],
+                    uint32_t shows[4]) const {
+    const Rgb4 shown = tonemap_.apply4(colour);
+    alignas(16) float cr[4], cg[4], cb[4];
+    colour.r.store(cr), colour.g.store(cg), colour.b.store(cb);
+    for (int slot = 0; slot < kLightSlots; ++slot) {
+      alignas(16) float r[4], g[4], b[4];
+      bool blocked_lane[4], any = false;
+      for (int i = 0; i < 4; ++i) {
+        const glm::vec3 l = light[slot][i];
+        const bool lit = l.r > 0.0f || l.g > 0.0f || l.b > 0.0f;
+        const bool blocked = (shadowed[i] >> slot) & 1u;
+        any |= lit;
+        blocked_lane[i] = blocked;
+        // No light: the other end is the colour itself, which never shows.
+        const glm::vec3 c(cr[i], cg[i], cb[i]);
+        const glm::vec3 other = !lit ? c : blocked ? c + l : glm::max(c - l, glm::vec3(0.0f));
+        r[i] = other.r, g[i] = other.g, b[i] = other.b;
+      }
+      if (!any) continue;
+      const Rgb4 t = tonemap_.apply4(Rgb4{float4::load(r), float4::load(g), float4::load(b)});
+      // Where the light was blocked, the other end is the brighter one.
+      const mask4 brighter = _mm_castsi128_ps(int4(-blocked_lane[0], -blocked_lane[1], -blocked_lane[2], -blocked_lane[3]));
+      const Rgb4 hi = select(brighter, t, shown), lo = select(brighter, shown, t);
+      const float4 step(kDisplayStep);
+      const int bits = ((hi.r - lo.r >= step) | (hi.g - lo.g >= step) | (hi.b - lo.b >= step)).bits();
+      for (int i = 0; i < 4; ++i) shows[i] |= uint32_t((bits >> i) & 1) << slot;
+    }
   }
   static constexpr float kDisplayStep = 1.0f / 255.0f;
 
