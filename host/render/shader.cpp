@@ -14,9 +14,9 @@ namespace zz {
 namespace {
 
 // Scales the specular of lane `lane`'s probes at `node` and below it in the path tree.
-void scale_probes(SurfaceProbe (*probes)[4], int node, int lane, glm::vec3 weight) {
+void scale_probes(const ProbeTree& probes, int node, int lane, glm::vec3 weight) {
   if (node >= kProbeNodes) return;
-  probes[node][lane].specular *= weight;
+  probes.at(node, lane).specular *= weight;
   scale_probes(probes, reflected_node(node), lane, weight);
   scale_probes(probes, refracted_node(node), lane, weight);
 }
@@ -455,7 +455,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (signature && signature->footprint)
       signature->footprint[i] = FootprintProbe{glm::vec3(0.0f), prim, u, v, s.front ? 1.0f : -1.0f};
     if (signature && signature->probes)
-      signature->probes[signature->node][i] = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
+      signature->probes.at(signature->node, i) = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
                                                0u, mat_index, uv0, uv1};
     out[0][i] = emission.r;
     out[1][i] = emission.g;
@@ -720,7 +720,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
 
   if (signature && signature->probes)
     for (int i = 0; i < 4; ++i)
-      if (shaded[i]) signature->probes[signature->node][i].shadowed = signature->shadowed[i];
+      if (shaded[i]) signature->probes.at(signature->node, i).shadowed = signature->shadowed[i];
 
   Rgb4 result{float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
   // NaN (e.g. from a degenerate normal) never leaves the shader; +Inf is capped.

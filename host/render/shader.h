@@ -12,6 +12,7 @@
 // alpha never tests coverage (ALGORITHM-independent: the AA code only sees a SampleSource).
 #pragma once
 
+#include <cstddef>
 #include <vector>
 
 #include "accel/bvh.h"
@@ -46,6 +47,18 @@ inline constexpr int kProbeNodes = 6;
 constexpr int reflected_node(int k) { return 2 * k + 1; }
 constexpr int refracted_node(int k) { return 2 * k + 2; }
 
+// Where a camera packet's path-tree probes go: node k of lane i is at(k, i), each lane's
+// nodes contiguous from `first` + i x `lane_stride` bytes: the caller's per-corner records,
+// written in place.
+struct ProbeTree {
+  SurfaceProbe* first = nullptr;
+  ptrdiff_t lane_stride = 0;
+  SurfaceProbe& at(int node, int lane) const {
+    return reinterpret_cast<SurfaceProbe*>(reinterpret_cast<std::byte*>(first) + lane * lane_stride)[node];
+  }
+  explicit operator bool() const { return first != nullptr; }
+};
+
 // What each lane of a camera packet saw, for the sample signatures (aa/signature.h):
 // indices + 1 of the materials hit (0 = nothing: background, or no such ray).
 struct PathSignature4 {
@@ -56,12 +69,12 @@ struct PathSignature4 {
   glm::vec3 (*light_radiance)[4] = nullptr;
   uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
   uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
-  // Where the caller wants them (a camera packet only): probes[k][lane], the surface of node
+  // Where the caller wants them (a camera packet only): probes.at(k, lane), the surface of node
   // k of each lane's path tree (probe_nodes below) for the highlight flag, its specular
   // scaled by the path's weight from the camera and by Beer's absorption along it: the
   // highlight radiance it may send to the camera. Left as they were where the lane's path
   // has no such node; specular 0 where the node's ray hits nothing.
-  SurfaceProbe (*probes)[4] = nullptr;
+  ProbeTree probes;
   int node = 0;  // this packet's node of the tree
   // Where the caller wants them (a camera packet only): per lane, the primary hit's data
   // for the texture footprint correction (render/texture_detail.h).
