@@ -22,6 +22,12 @@ void scale_probes(const ProbeTree& probes, int node, int lane, glm::vec3 weight)
 }
 
 constexpr float kInvPi = 0.318309886f;
+// A camera packet's signature holds what its reflection's reflection hit where the path
+// to that hit keeps at least this share of the light: chrome seen in chrome (the car's
+// bumper: display error 1.109x -> 1.049x the lattice's for +0.008 rays/px at 1024²). A
+// dim reflection's reflection cannot show its edges; signing it anyway cost glass +0.06
+// rays/px for 1 %.
+constexpr float kSignedMirrorPath = 0.5f;
 constexpr float kRadianceMax = 1e30f;  // keeps sums finite however bright the lights
 
 int count_lanes(mask4 m) { return std::popcount(unsigned(m.bits())); }
@@ -631,12 +637,18 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       const bool probe_refracted = probing && refracted_node(signature->node) < kProbeNodes;
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        if ((signature && depth == 0) || probe_reflected) seen_reflected.emplace();
+        if ((signature && depth <= 1) || probe_reflected) seen_reflected.emplace();
         if (probe_reflected) seen_reflected->probes = signature->probes, seen_reflected->node = reflected_node(signature->node);
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
                                         float4::load(reflect_path), counters, seen_reflected ? &*seen_reflected : nullptr);
-        if (seen_reflected)
-          for (int i = 0; i < 4; ++i) signature->reflected[i] = do_reflect[i] ? seen_reflected->object[i] : 0;
+        if (seen_reflected) {
+          const PathSignature4& seen = *seen_reflected;
+          for (int i = 0; i < 4; ++i)
+            signature->reflected[i] =
+                !do_reflect[i] ? 0u
+                : depth == 0   ? (seen.object[i] * 0x9E3779B1u) ^ seen.reflected[i]
+                : reflect_path[i] >= kSignedMirrorPath ? seen.object[i] : 0u;
+        }
         for (int i = 0; i < 4; ++i)
           if (do_reflect[i]) {
             out[0][i] += reflect_weight[i].r * c.r[i];

@@ -67,7 +67,9 @@ struct PathSignature4 {
   // Where the caller wants it (a camera packet only): [l % kLightSlots][lane], the largest
   // unshadowed contribution (linear RGB, per channel) of the lights in that slot.
   glm::vec3 (*light_radiance)[4] = nullptr;
-  uint32_t reflected[4] = {};  // the first hit of the primary hit's reflection ray
+  // The first hit of the primary hit's reflection ray, combined with what that hit's own
+  // reflection ray hits where that path keeps at least half the light (a mirror in a mirror).
+  uint32_t reflected[4] = {};
   uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
   // Where the caller wants them (a camera packet only): probes.at(k, lane), the surface of node
   // k of each lane's path tree (probe_nodes below) for the highlight flag, its specular

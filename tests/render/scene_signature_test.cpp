@@ -153,6 +153,44 @@ TEST(SceneSignature, MirrorImagesOfDifferentObjectsDiffer) {
   EXPECT_EQ(sig_all[0], sig_all[2]);        // lane-independent: same point, same signature
 }
 
+// A mirror floor, a mirror wall at y = 4 facing it, and behind the camera a red box left and
+// a green one right: camera rays hit the floor, its reflection rays the wall, and the
+// wall's reflection rays the boxes. `floor_reflectance` is the floor's metal base colour.
+Scene mirror_in_mirror(float floor_reflectance) {
+  Scene s = test::lit_floor(0.5f, 60.0f, 3.0f);
+  Material mirror;
+  mirror.base_color = glm::vec3(0.9f);
+  mirror.metallic = 1.0f;
+  mirror.roughness = 0.0f;
+  s.materials[0] = mirror;
+  s.materials[0].base_color = glm::vec3(floor_reflectance);
+  s.materials.push_back(mirror);
+  s.materials.push_back(test::diffuse_material({0.8f, 0.1f, 0.1f}));
+  s.materials.push_back(test::diffuse_material({0.1f, 0.8f, 0.1f}));
+  test::add_quad(s, {-30, 4, -1}, {-30, 4, 40}, {30, 4, 40}, {30, 4, -1}, 1);
+  test::add_box(s, {-40.0f, -16.0f, -1.0f}, {0.0f, -12.0f, 60.0f}, 2);
+  test::add_box(s, {0.0f, -16.0f, -1.0f}, {40.0f, -12.0f, 60.0f}, 3);
+  s.cameras[0] = Camera::look_at({0, -6, 3}, {0, 0, 0}, {0, 0, 1}, 0.8f);
+  s.finalize_materials();
+  return s;
+}
+
+TEST(SceneSignature, AMirrorSeenInAMirrorSignsWhatItShows) {
+  // Chrome reflecting chrome (the car's bumper): the first reflection hits the same wall
+  // left and right, the second different boxes; with both mirrors bright that shows.
+  const float4 px(18.0f, 46.0f, 18.0f, 46.0f), py(50.0f);
+  const Probe bright = probe(mirror_in_mirror(0.9f), kSignatureSecondary, px, py, 64, 64);
+  EXPECT_GT(bright.colour.r[0], 2.0f * bright.colour.g[0]);  // the red box, twice reflected
+  EXPECT_GT(bright.colour.g[1], 2.0f * bright.colour.r[1]);  // the green one
+  EXPECT_NE(bright.signature[0], bright.signature[1]);
+  EXPECT_EQ(bright.signature[0], bright.signature[2]);  // same point, same signature
+  // A dim floor passes under half the light on to the wall (kSignedMirrorPath): what the
+  // wall shows through it is left to the colour comparison.
+  const Probe dim = probe(mirror_in_mirror(0.3f), kSignatureSecondary, px, py, 64, 64);
+  EXPECT_GT(dim.colour.r[0], 2.0f * dim.colour.g[0]);
+  EXPECT_EQ(dim.signature[0], dim.signature[1]);
+}
+
 TEST(SceneSignature, SignaturesDoNotChangeTheImageOrTheRays) {
   // Signatures are bookkeeping: the same colours and ray counts, whatever the parts.
   const Scene s = two_shadows();
