@@ -205,24 +205,44 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
   return corner_rays;
 }
 
+// What level 1 traced at a block's corners: corner (i, j) at [j * stride + i].
+struct CornerView {
+  const float4* linear;
+  const float4* display;
+  const int32_t* signature;
+  ptrdiff_t stride;
+};
+
 // The hidden-detail flags (hidden_detail.h) of a w x h block of pixels: pixel (i, j)'s TL
-// corner is probes[j * probe_stride + i] and linear[j * linear_stride + i] (a ring of
-// probes around the block must exist), its flag goes to flags[j * flag_stride + i] and,
-// when `footprint` is non-null, its footprint delta to footprint[j * flag_stride + i].
+// corner is probes[j * probe_stride + i] and corners' (i, j) (a ring of probes around the
+// block must exist), its flag goes to flags[j * flag_stride + i] and, when `footprint` is
+// non-null, its footprint delta to footprint[j * flag_stride + i]. A pixel that level 1
+// refines whatever the map says (its corners differ, or it is flagged) never uses its
+// delta, which is then left at 0.
 template <HiddenDetailSource S>
-void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff_t probe_stride,
-                       const float4* linear, ptrdiff_t linear_stride, int w, int h, const AdaptiveSettings& settings,
-                       uint8_t* flags, float4* footprint, ptrdiff_t flag_stride) {
+void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff_t probe_stride, CornerView corners,
+                       int w, int h, const AdaptiveSettings& settings, uint8_t* flags, float4* footprint,
+                       ptrdiff_t flag_stride) {
   const float4 eps(settings.eps);
   const bool flagging = settings.highlights || settings.textures;
+  const ptrdiff_t cs = corners.stride;
   for (int j = 0; j < h; ++j)
     for (int i = 0; i < w; ++i) {
-      const float4* c = linear + j * linear_stride + i;
+      const ptrdiff_t at = j * cs + i;
+      const float4* c = corners.linear + at;
       const typename S::Probe* tl = probes + j * probe_stride + i;
-      const float4 mean = corner_mean(c[0], c[1], c[linear_stride], c[linear_stride + 1]);
-      flags[j * flag_stride + i] = flagging && hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps);
+      const float4 mean = corner_mean(c[0], c[1], c[cs], c[cs + 1]);
+      const bool flagged = flagging && hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps);
+      flags[j * flag_stride + i] = flagged;
       if constexpr (FootprintSource<S>) {
-        if (footprint) footprint[j * flag_stride + i] = source.footprint_delta(tl, probe_stride, mean);
+        if (!footprint) continue;
+        const float4* d = corners.display + at;
+        const int32_t* g = corners.signature + at;
+        const bool refined =
+            decide_level1(soa_from_aos(d[0], d[1], d[cs], d[cs + 1]), int4(g[0], g[1], g[cs], g[cs + 1]), eps,
+                          flagged, false)
+                .refine;
+        footprint[j * flag_stride + i] = refined ? float4(0.0f) : source.footprint_delta(tl, probe_stride, mean);
       }
     }
 }
@@ -235,8 +255,10 @@ void flag_hidden_pixels(const S& source, const CornerLayout& layout, const typen
   assert(layout.ring >= 1);  // the highlight flag reads the normals one corner beyond the pixel's
   const TileRect region = layout.region;
   const size_t first = size_t(layout.index(region.x0, region.y0));
-  flag_hidden_block(source, probes + first, layout.width, grid.linear.data() + first, layout.width, region.width(),
-                    region.height(), settings, grid.hidden.data(),
+  const CornerView corners{grid.linear.data() + first, grid.display.data() + first, grid.signature.data() + first,
+                           layout.width};
+  flag_hidden_block(source, probes + first, layout.width, corners, region.width(), region.height(), settings,
+                    grid.hidden.data(),
                     corrects_footprint<S>(settings) ? grid.footprint.data() : nullptr, region.width());
 }
 

@@ -115,6 +115,9 @@ struct CornerField {
     }
   }
   float4* footprint_at(size_t i) const { return footprint ? footprint.get() + i : nullptr; }
+  CornerView corners(size_t i) const {
+    return {linear.get() + i, display.get() + i, signature.get() + i, ptrdiff_t(rect.width)};
+  }
 
   static int blocks_across(int corners) { return (corners + kCornerBlock - 1) / kCornerBlock; }
   static size_t column_band_size(const CornerRect& r) { return size_t(r.height) * 2 * kBandHalf; }
@@ -225,9 +228,9 @@ void trace_field_block(S& source, const AdaptiveSettings& settings, const Corner
       const InteriorPixels along_x = interior_pixels(bx, width), along_y = interior_pixels(by, height);
       if (along_x.count() > 0 && along_y.count() > 0) {
         const size_t tl = field.index(field.rect.x0 + along_x.first, field.rect.y0 + along_y.first);
-        flag_hidden_block(source, probes + (along_y.first - by) * bw + (along_x.first - bx), bw,
-                          field.linear.get() + tl, width, along_x.count(), along_y.count(), settings,
-                          field.hidden.get() + tl, field.footprint_at(tl), width);
+        flag_hidden_block(source, probes + (along_y.first - by) * bw + (along_x.first - bx), bw, field.corners(tl),
+                          along_x.count(), along_y.count(), settings, field.hidden.get() + tl, field.footprint_at(tl),
+                          width);
       }
     }
   }
@@ -256,12 +259,11 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
     // Pixels have a stencil in the field where their TL corner is at offsets 1 .. size - 3.
     const int last_x = width - 3, last_y = height - 3;
     uint8_t* hidden = field.hidden.get();
-    const float4* linear = field.linear.get();
     if (task < size_t(columns)) {
       const int c = int(task) + 1, boundary = c * kCornerBlock;
       for (int x = std::max(1, boundary - 2); x <= std::min(boundary, last_x); ++x) {
         const size_t tl = size_t(width) + size_t(x);
-        flag_hidden_block(source, &field.in_column_band(c, x, 1), 2 * kBandHalf, linear + tl, width, 1, last_y,
+        flag_hidden_block(source, &field.in_column_band(c, x, 1), 2 * kBandHalf, field.corners(tl), 1, last_y,
                           settings, hidden + tl, field.footprint_at(tl), width);
       }
     } else {
@@ -272,7 +274,7 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
           const InteriorPixels along_x = interior_pixels(bx, width);
           if (along_x.count() == 0) continue;
           const size_t tl = size_t(y) * size_t(width) + size_t(along_x.first);
-          flag_hidden_block(source, &field.in_row_band(r, along_x.first, y), width, linear + tl, width,
+          flag_hidden_block(source, &field.in_row_band(r, along_x.first, y), width, field.corners(tl),
                             along_x.count(), 1, settings, hidden + tl, field.footprint_at(tl), width);
         }
     }
