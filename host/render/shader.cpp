@@ -8,6 +8,7 @@
 
 #include "aa/signature.h"  // kLightSlots
 #include "render/normal_map.h"
+#include "render/surface_material.h"
 
 namespace zz {
 
@@ -62,18 +63,6 @@ struct LaneHits {
 };
 
 // Texture coordinates at barycentrics (u, v) of triangle t3 / 3, both sets.
-struct Texcoords {
-  glm::vec2 uv0, uv1;
-  Texcoords(const Scene& scene, size_t t3, float u, float v) {
-    const float w = 1.0f - u - v;
-    uv0 = w * scene.uvs[t3] + u * scene.uvs[t3 + 1] + v * scene.uvs[t3 + 2];
-    uv1 = scene.uvs1.empty() ? uv0 : w * scene.uvs1[t3] + u * scene.uvs1[t3 + 1] + v * scene.uvs1[t3 + 2];
-  }
-  glm::vec4 sample(const Scene& scene, const TextureRef& ref) const {
-    return scene.textures[size_t(ref.index)].sample(ref.apply(ref.texcoord == 1 ? uv1 : uv0));
-  }
-};
-
 // glTF coverage at a point: 1 opaque; MASK gives 0 or 1 by the cutoff; BLEND the alpha.
 float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
   if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
@@ -83,34 +72,14 @@ float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
   return std::clamp(a, 0.0f, 1.0f);
 }
 
-// The Whitted material at a point: the material's own, or (textured metallic, roughness,
-// transmission, or a base texture that tints mirror or glass) evaluated into `local`.
-// `albedo` receives the diffuse reflectance with the base texture applied.
+// The Whitted material at a hit (render/surface_material.h); untextured kernels skip the
+// lookups.
 template <bool kTextured>
 const WhittedMaterial& material_at(const Scene& scene, uint32_t index, const Texcoords* tc, WhittedMaterial& local,
                                    glm::vec3& albedo) {
-  const WhittedMaterial& w = scene.whitted[index];
-  albedo = w.diffuse;
-  if constexpr (kTextured) {
-    const Material& m = scene.materials[index];
-    glm::vec4 base(1.0f);
-    if (m.base_color_texture.used()) base = tc->sample(scene, m.base_color_texture);
-    if (m.varies_per_hit()) {
-      PbrSample p{m.base_color * glm::vec3(base), m.metallic, m.roughness, m.transmission};
-      if (m.metallic_roughness_texture.used()) {  // glTF: G = roughness, B = metallic
-        const glm::vec4 mr = tc->sample(scene, m.metallic_roughness_texture);
-        p.roughness *= mr.g;
-        p.metallic *= mr.b;
-      }
-      if (m.transmission_texture.used()) p.transmission *= tc->sample(scene, m.transmission_texture).r;
-      local = w;
-      whitted_surface(local, p);
-      albedo = local.diffuse;
-      return local;
-    }
-    albedo *= glm::vec3(base);
-  }
-  return w;
+  if constexpr (kTextured) return textured_material(scene, index, *tc, local, albedo);
+  albedo = scene.whitted[index].diffuse;
+  return scene.whitted[index];
 }
 
 // The tangent-space normal map's normal, in world space (glTF: n = 2 * texel - 1, x and y

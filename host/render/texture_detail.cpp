@@ -6,6 +6,7 @@
 
 #include "render/lighting.h"
 #include "render/normal_map.h"
+#include "render/surface_material.h"
 #include "scene/materials.h"
 #include "scene/scene.h"
 
@@ -118,28 +119,12 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 
 namespace {
 
-glm::vec4 sample_ref(const Scene& scene, const TextureRef& ref, glm::vec2 uv0, glm::vec2 uv1) {
-  return scene.textures[size_t(ref.index)].sample(ref.apply(ref.texcoord == 1 ? uv1 : uv0));
-}
-
-// The diffuse albedo the shader gives material `m` at these texture coordinates (as
-// render/shader.cpp's material_at does).
-glm::vec3 diffuse_albedo(const Scene& scene, uint32_t m, glm::vec2 uv0, glm::vec2 uv1) {
-  const Material& material = scene.materials[m];
-  glm::vec4 base(1.0f);
-  if (material.base_color_texture.used()) base = sample_ref(scene, material.base_color_texture, uv0, uv1);
-  if (!material.varies_per_hit()) return scene.whitted[m].diffuse * glm::vec3(base);
-  PbrSample p{material.base_color * glm::vec3(base), material.metallic, material.roughness, material.transmission};
-  if (material.metallic_roughness_texture.used()) {
-    const glm::vec4 mr = sample_ref(scene, material.metallic_roughness_texture, uv0, uv1);
-    p.roughness *= mr.g;
-    p.metallic *= mr.b;
-  }
-  if (material.transmission_texture.used())
-    p.transmission *= sample_ref(scene, material.transmission_texture, uv0, uv1).r;
-  WhittedMaterial local = scene.whitted[m];
-  whitted_surface(local, p);
-  return local.diffuse;
+// The diffuse albedo the shader gives material `m` at these texture coordinates.
+glm::vec3 diffuse_albedo(const Scene& scene, uint32_t m, const Texcoords& tc) {
+  WhittedMaterial local;
+  glm::vec3 albedo;
+  textured_material(scene, m, tc, local, albedo);
+  return albedo;
 }
 
 bool valid_ref(const Scene& scene, const TextureRef& ref) {
@@ -206,7 +191,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (!per_light) break;
     for (glm::vec3& axis : frame[k]) axis *= f[k]->side;
     // The shader's normal at the corner: the map's, unless it faced away (then ng).
-    const glm::vec3 rgb(sample_ref(scene, ref, c[k].uv0, c[k].uv1));
+    const glm::vec3 rgb(Texcoords(c[k].uv0, c[k].uv1).sample(scene, ref));
     per_light = glm::length(mapped_in_frame(frame[k], rgb, material.normal_scale, frame[k][2]) - c[k].normal) < 1e-4f;
     glm::vec3 irradiance(0.0f);
     for (int l = 0; l < lights && per_light; ++l) {
@@ -241,12 +226,13 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   for (int k = 0; k < 4; ++k) {
     light += 0.25f * f[k]->irradiance;
     if (diffuse) {
-      const glm::vec3 albedo = diffuse_albedo(scene, m, c[k].uv0, c[k].uv1);
+      const glm::vec3 albedo = diffuse_albedo(scene, m, Texcoords(c[k].uv0, c[k].uv1));
       at_corners += 0.25f * (per_light ? direct(albedo, c[k].specular, c[k].shininess, c[k].normal, c[k].view,
                                                 strength[k], to_light[k])
                                        : albedo * f[k]->irradiance);
     }
-    if (emissive) at_corners += 0.25f * emission * glm::vec3(sample_ref(scene, material.emissive_texture, c[k].uv0, c[k].uv1));
+    if (emissive)
+      at_corners += 0.25f * emission * glm::vec3(Texcoords(c[k].uv0, c[k].uv1).sample(scene, material.emissive_texture));
   }
   const bool lit = diffuse && light != glm::vec3(0.0f);
 
@@ -256,10 +242,10 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i) {
         const float s = (float(i) + 0.5f) / float(n), t = (float(j) + 0.5f) / float(n);
-        const glm::vec2 uv0 = uv_at(&SurfaceProbe::uv0, s, t), uv1 = uv_at(&SurfaceProbe::uv1, s, t);
-        if (emissive) sum += emission * glm::vec3(sample_ref(scene, material.emissive_texture, uv0, uv1));
+        const Texcoords tc(uv_at(&SurfaceProbe::uv0, s, t), uv_at(&SurfaceProbe::uv1, s, t));
+        if (emissive) sum += emission * glm::vec3(tc.sample(scene, material.emissive_texture));
         if (!lit) continue;
-        const glm::vec3 albedo = diffuse_albedo(scene, m, uv0, uv1);
+        const glm::vec3 albedo = diffuse_albedo(scene, m, tc);
         if (!per_light) {
           sum += albedo * light;
           continue;
@@ -267,7 +253,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
         // The normal map at the sample, in the corners' frames interpolated.
         glm::vec3 at[3];
         for (int a = 0; a < 3; ++a) at[a] = bilerp(frame[0][a], frame[1][a], frame[2][a], frame[3][a], s, t);
-        const glm::vec3 rgb(sample_ref(scene, material.normal_texture, uv0, uv1));
+        const glm::vec3 rgb(tc.sample(scene, material.normal_texture));
         const glm::vec3 normal = mapped_in_frame(at, rgb, material.normal_scale, c[0].normal);
         glm::vec3 light_strength[kFootprintLights], light_direction[kFootprintLights];
         for (int l = 0; l < lights; ++l) {
