@@ -66,6 +66,12 @@ inline Rgb4 sample4_signed(S& source, float4 px, float4 py, int4& sig) {
 inline constexpr int kLightSlots = 10;
 inline constexpr int kWhatBits = 32 - 2 * kLightSlots;
 inline constexpr uint32_t kSlotMask = (1u << kLightSlots) - 1u;
+// Per-light bits (bit l for light l % 32) folded into slots: bit l goes to slot l % kLightSlots.
+constexpr uint32_t fold_to_slots(uint32_t per_light) {
+  uint32_t slots = 0;
+  for (int shift = 0; shift < 32; shift += kLightSlots) slots |= per_light >> shift;
+  return slots & kSlotMask;
+}
 inline int32_t make_signature(uint32_t what, uint32_t shows, uint32_t shadowed) {
   return int32_t((what << (2 * kLightSlots)) | ((shows & kSlotMask) << kLightSlots) | (shadowed & kSlotMask));
 }

@@ -135,8 +135,7 @@ class SceneSource {
     alignas(16) int32_t s[4];
     uint32_t shadowed[4] = {}, shows[4] = {};
     if (parts_ & kSignatureLights) {
-      for (int i = 0; i < 4; ++i)
-        for (int l = 0; l < 32; ++l) shadowed[i] |= ((seen.shadowed[i] >> l) & 1u) << (l % kLightSlots);
+      for (int i = 0; i < 4; ++i) shadowed[i] = fold_to_slots(seen.shadowed[i]);
       lights_shown(colour, seen.light_radiance, shadowed, shows);
     }
     for (int i = 0; i < 4; ++i) {

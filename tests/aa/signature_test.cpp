@@ -29,6 +29,13 @@ int4 whats(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
   return int4(make_signature(a, 0, 0), make_signature(b, 0, 0), make_signature(c, 0, 0), make_signature(d, 0, 0));
 }
 
+TEST(Signature, LightsFoldIntoSlotsByIndexModuloTheSlotCount) {
+  for (int l = 0; l < 32; ++l) EXPECT_EQ(fold_to_slots(1u << l), 1u << (l % kLightSlots)) << "light " << l;
+  EXPECT_EQ(fold_to_slots(0u), 0u);
+  EXPECT_EQ(fold_to_slots(~0u), kSlotMask);
+  EXPECT_EQ(fold_to_slots((1u << 3) | (1u << 13) | (1u << 31)), (1u << 3) | (1u << 1));
+}
+
 TEST(Signature, EqualColoursDifferentSignaturesAreADiscontinuity) {
   const Rgb4 grey{float4(0.5f), float4(0.5f), float4(0.5f)};
   const float4 eps(0.05f);
