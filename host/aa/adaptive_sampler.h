@@ -167,6 +167,7 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
                             float4* corner_lin, float4* corner_disp, int32_t* corner_sig, Probe* probes,
                             size_t probe_stride, AaStats& stats) {
   uint64_t corner_rays = 0;
+  [[maybe_unused]] Probe spare[3];
   for (int j = 0; j < h; j += 2) {
     const int j1 = std::min(j + 1, h - 1);
     for (int i = 0; i < w; i += 2) {
@@ -174,10 +175,19 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
       const float4 px(float(x0 + i), float(x0 + i1), float(x0 + i), float(x0 + i1));
       const float4 py(float(y0 + j), float(y0 + j), float(y0 + j1), float(y0 + j1));
       int4 sig;
-      Probe lanes[4];
+      const size_t at[4] = {j * probe_stride + i, j * probe_stride + i1, j1 * probe_stride + i,
+                            j1 * probe_stride + i1};
       Rgb4 c;
       if constexpr (HiddenDetailSource<S>) {
-        c = probes ? source.sample4(px, py, sig, lanes) : sample4_signed(source, px, py, sig);
+        if (probes) {
+          // Distinct lanes write their probes in place; a repeated lane writes to `spare`.
+          c = source.sample4(px, py, sig,
+                             ProbeLanes<Probe>(probes + at[0], i1 != i ? probes + at[1] : &spare[0],
+                                               j1 != j ? probes + at[2] : &spare[1],
+                                               i1 != i && j1 != j ? probes + at[3] : &spare[2]));
+        } else {
+          c = sample4_signed(source, px, py, sig);
+        }
       } else {
         c = sample4_signed(source, px, py, sig);
       }
@@ -189,14 +199,8 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
       sig.store(g);
       // Write lanes back to front so a repeated lane never overwrites a distinct one.
       const size_t idx[4] = {j * stride + i, j * stride + i1, j1 * stride + i, j1 * stride + i1};
-      const size_t at[4] = {j * probe_stride + i, j * probe_stride + i1, j1 * probe_stride + i,
-                            j1 * probe_stride + i1};
-      for (int lane = 3; lane >= 0; --lane) {
+      for (int lane = 3; lane >= 0; --lane)
         corner_lin[idx[lane]] = l[lane], corner_disp[idx[lane]] = t[lane], corner_sig[idx[lane]] = g[lane];
-        if constexpr (!std::is_same_v<Probe, NoProbe>) {
-          if (probes) probes[at[lane]] = lanes[lane];
-        }
-      }
       corner_rays += uint64_t(1 + (i1 != i)) * uint64_t(1 + (j1 != j));
     }
   }

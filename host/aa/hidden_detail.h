@@ -18,7 +18,16 @@
 
 namespace zz {
 
-// sample4(px, py, sig, probes) fills 4 probes; hidden_radiance(tl, stride, corner_mean,
+// Where sample4 puts each lane's probe: the caller's records, written in place.
+template <class Probe>
+struct ProbeLanes {
+  Probe* lane[4];
+  ProbeLanes(Probe* a, Probe* b, Probe* c, Probe* d) : lane{a, b, c, d} {}
+  ProbeLanes(Probe (&probes)[4]) : lane{&probes[0], &probes[1], &probes[2], &probes[3]} {}  // NOLINT: implicit
+  Probe& operator[](int i) const { return *lane[i]; }
+};
+
+// sample4(px, py, sig, probes) fills 4 probes (distinct records); hidden_radiance(tl, stride, corner_mean,
 // visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride], tl[stride + 1]
 // (TL, TR, BL, BR) in a grid with one more corner on every side (tl[-1 - stride] to
 // tl[2 + 2 stride] exist), and `corner_mean` is the mean of their linear radiance in lanes
@@ -29,7 +38,7 @@ concept HiddenDetailSource =
     SignedSampleSource<S> && requires(S& source, const S& csource, float4 px, float4 py, int4& sig,
                                       typename S::Probe* probes, ptrdiff_t stride, float4 mean,
                                       float4 visible) {
-      { source.sample4(px, py, sig, probes) } -> std::same_as<Rgb4>;
+      { source.sample4(px, py, sig, ProbeLanes<typename S::Probe>(probes, probes, probes, probes)) } -> std::same_as<Rgb4>;
       { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<float4>;
     };
 

@@ -67,18 +67,18 @@ class SceneSource {
     const SurfaceProbe& surface() const { return node[0]; }
   };
   // The shader writes the probes in place; nodes a lane's path lacks keep their defaults.
-  Rgb4 sample4(float4 px, float4 py, int4& signature, Probe probes[4]) {
-    for (int i = 0; i < 4; ++i) probes[i] = Probe{};
+  Rgb4 sample4(float4 px, float4 py, int4& signature, ProbeLanes<Probe> probes) {
     PathSignature4 seen;
-    seen.probes = ProbeTree{probes[0].node, ptrdiff_t(sizeof(Probe))};
-    FootprintProbe footprint[4];
-    if (detail_ && detail_->footprint) seen.footprint = footprint;
+    const bool footprint = detail_ && detail_->footprint;
+    for (int i = 0; i < 4; ++i) {
+      probes[i] = Probe{};
+      seen.probes.lane[i] = probes[i].node;
+      if (footprint) seen.footprint.lane[i] = &probes[i].footprint;
+    }
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
-    if (seen.footprint)
-      for (int i = 0; i < 4; ++i) probes[i].footprint = footprint[i];
     return c;
   }
 

@@ -12,7 +12,6 @@
 // alpha never tests coverage (ALGORITHM-independent: the AA code only sees a SampleSource).
 #pragma once
 
-#include <cstddef>
 #include <vector>
 
 #include "accel/bvh.h"
@@ -48,15 +47,18 @@ constexpr int reflected_node(int k) { return 2 * k + 1; }
 constexpr int refracted_node(int k) { return 2 * k + 2; }
 
 // Where a camera packet's path-tree probes go: node k of lane i is at(k, i), each lane's
-// nodes contiguous from `first` + i x `lane_stride` bytes: the caller's per-corner records,
-// written in place.
+// nodes contiguous from lane[i] (the caller's per-corner records, written in place).
 struct ProbeTree {
-  SurfaceProbe* first = nullptr;
-  ptrdiff_t lane_stride = 0;
-  SurfaceProbe& at(int node, int lane) const {
-    return reinterpret_cast<SurfaceProbe*>(reinterpret_cast<std::byte*>(first) + lane * lane_stride)[node];
-  }
-  explicit operator bool() const { return first != nullptr; }
+  SurfaceProbe* lane[4] = {};
+  SurfaceProbe& at(int node, int i) const { return lane[i][node]; }
+  explicit operator bool() const { return lane[0] != nullptr; }
+};
+
+// Where a camera packet's footprint probes go, lane by lane.
+struct FootprintLanes {
+  FootprintProbe* lane[4] = {};
+  FootprintProbe& operator[](int i) const { return *lane[i]; }
+  explicit operator bool() const { return lane[0] != nullptr; }
 };
 
 // What each lane of a camera packet saw, for the sample signatures (aa/signature.h):
@@ -80,7 +82,7 @@ struct PathSignature4 {
   int node = 0;  // this packet's node of the tree
   // Where the caller wants them (a camera packet only): per lane, the primary hit's data
   // for the texture footprint correction (render/texture_detail.h).
-  FootprintProbe* footprint = nullptr;
+  FootprintLanes footprint;
 };
 
 class Shader {

@@ -26,7 +26,7 @@ struct StencilSource {
     sig = int4(0);
     return sample4(px, py);
   }
-  Rgb4 sample4(float4 px, float4 py, int4& sig, Probe probes[4]) const {
+  Rgb4 sample4(float4 px, float4 py, int4& sig, ProbeLanes<Probe> probes) const {
     for (int i = 0; i < 4; ++i) probes[i] = {int32_t(px[i]), int32_t(py[i])};
     return sample4(px, py, sig);
   }
