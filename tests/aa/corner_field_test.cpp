@@ -77,6 +77,86 @@ TEST(CornerField, HiddenFlagsMatchThePerTilePathAcrossBlockBoundaries) {
     }
 }
 
+// A source whose footprint delta is asked for a pixel only where level 1 would not refine it
+// anyway: its corners' colours step at x = 3 and the highlight flag fires for pixels whose
+// TL corner is at y = 2.
+struct CountingFootprintSource {
+  struct Probe {
+    int32_t x = 0, y = 0;
+  };
+  mutable int asked = 0;
+  Rgb4 sample4(float4 px, float4 py) const {
+    const float4 c = select(px >= float4(3.0f), float4(0.9f), float4(0.1f));
+    (void)py;
+    return {c, c, c};
+  }
+  Rgb4 sample4(float4 px, float4 py, int4& sig) const {
+    sig = int4(0);
+    return sample4(px, py);
+  }
+  Rgb4 sample4(float4 px, float4 py, int4& sig, ProbeLanes<Probe> probes) const {
+    for (int i = 0; i < 4; ++i) probes[i] = {int32_t(px[i]), int32_t(py[i])};
+    return sample4(px, py, sig);
+  }
+  float4 hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
+    return tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);
+  }
+  float4 footprint_delta(const Probe*, ptrdiff_t, float4) const {
+    ++asked;
+    return float4(0.01f, 0.02f, 0.03f, 1.0f);
+  }
+};
+static_assert(FootprintSource<CountingFootprintSource>);
+
+TEST(CornerField, FootprintIsComputedOnlyForPixelsLevelOneLeavesUnrefined) {
+  // 8 x 6 pixels with a ring of corners: corner (i, j) of the grid is frame corner (i - 1, j - 1).
+  constexpr int kW = 8, kH = 6, kCw = kW + 3, kCh = kH + 3;
+  CountingFootprintSource source;
+  AdaptiveSettings settings;
+  settings.eps = 0.05f;
+  settings.highlights = true;
+  settings.footprint = true;
+  using Probe = CountingFootprintSource::Probe;
+  std::vector<Probe> probes(size_t(kCw) * kCh);
+  std::vector<float4> linear(probes.size()), display(probes.size());
+  std::vector<int32_t> signature(probes.size());
+  for (int j = 0; j < kCh; ++j)
+    for (int i = 0; i < kCw; ++i) {
+      const size_t k = size_t(j) * kCw + i;
+      int4 sig;
+      Probe lanes[4];
+      const Rgb4 c = source.sample4(float4(float(i - 1)), float4(float(j - 1)), sig, lanes);
+      probes[k] = lanes[0];
+      linear[k] = float4(c.r[0], c.g[0], c.b[0], 0.0f);
+      display[k] = settings.tonemap.apply4(linear[k]);
+      signature[k] = 0;
+    }
+  const size_t tl = size_t(kCw) + 1;  // frame corner (0, 0)
+  std::vector<uint8_t> flags(size_t(kW) * kH);
+  std::vector<float4> delta(size_t(kW) * kH, float4(-1.0f));
+  source.asked = 0;
+  flag_hidden_block(source, probes.data() + tl, kCw, CornerView{&linear[tl], &display[tl], &signature[tl], kCw}, kW,
+                    kH, settings, flags.data(), delta.data(), kW);
+  int unrefined = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const float4 d = delta[size_t(y) * kW + x];
+      const bool flagged = flags[size_t(y) * kW + x] != 0;
+      EXPECT_EQ(flagged, y == 2) << x << "," << y;
+      // The step between corners x = 2 and 3 refines pixel column 2; the flag refines row 2.
+      if (x == 2 || y == 2) {
+        EXPECT_EQ(d[3], 0.0f) << x << "," << y;
+        EXPECT_EQ(d[0], 0.0f) << x << "," << y;
+      } else {
+        ++unrefined;
+        EXPECT_EQ(d[3], 1.0f) << x << "," << y;
+        EXPECT_EQ(d[2], 0.03f) << x << "," << y;
+      }
+    }
+  EXPECT_EQ(source.asked, unrefined);
+  EXPECT_EQ(unrefined, (kW - 1) * (kH - 1));
+}
+
 // The field holds one flag byte per corner and the bands (2 x 3 corners of probes along
 // each inner block boundary), not a probe per corner.
 TEST(CornerField, ProbesAreKeptOnlyAlongBlockBoundaries) {
