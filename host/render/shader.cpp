@@ -31,6 +31,9 @@ constexpr float kInvPi = 0.318309886f;
 constexpr float kSignedMirrorPath = 0.5f;
 constexpr float kRadianceMax = 1e30f;  // keeps sums finite however bright the lights
 
+// A signature part for a hit and what the ray leaving it hit next (0 = nothing).
+uint32_t hit_then(uint32_t first, uint32_t next) { return (first * 0x9E3779B1u) ^ next; }
+
 int count_lanes(mask4 m) { return std::popcount(unsigned(m.bits())); }
 
 glm::vec3 lane(const float4& x, const float4& y, const float4& z, int i) { return {x[i], y[i], z[i]}; }
@@ -62,7 +65,6 @@ struct LaneHits {
   void take(const HitPacket4& h, int i) { t[i] = h.t[i], u[i] = h.u[i], v[i] = h.v[i], prim[i] = h.prim[i]; }
 };
 
-// Texture coordinates at barycentrics (u, v) of triangle t3 / 3, both sets.
 // glTF coverage at a point: 1 opaque; MASK gives 0 or 1 by the cutoff; BLEND the alpha.
 float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
   if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
@@ -615,7 +617,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           for (int i = 0; i < 4; ++i)
             signature->reflected[i] =
                 !do_reflect[i] ? 0u
-                : depth == 0   ? (seen.object[i] * 0x9E3779B1u) ^ seen.reflected[i]
+                : depth == 0   ? hit_then(seen.object[i], seen.reflected[i])
                 : reflect_path[i] >= kSignedMirrorPath ? seen.object[i] : 0u;
         }
         for (int i = 0; i < 4; ++i)
@@ -640,7 +642,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             const PathSignature4& seen = *seen_refracted;
             for (int i = 0; i < 4; ++i)
               signature->refracted[i] =
-                  !do_refract[i] ? 0u : depth == 0 ? (seen.object[i] * 0x9E3779B1u) ^ seen.refracted[i] : seen.object[i];
+                  !do_refract[i] ? 0u : depth == 0 ? hit_then(seen.object[i], seen.refracted[i]) : seen.object[i];
           }
           for (int i = 0; i < 4; ++i)
             if (do_refract[i]) {
