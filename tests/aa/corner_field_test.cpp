@@ -17,11 +17,14 @@ namespace {
 // stencil read is checked against the positions it should hold.
 std::atomic<int> g_misplaced{0};
 
-struct StencilSource {
+// A source without signatures whose probes hold the corner they were taken at;
+// Derived::colour(px, py) is its radiance.
+template <class Derived>
+struct PositionProbes {
   struct Probe {
     int32_t x = 0, y = 0;
   };
-  Rgb4 sample4(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
+  Rgb4 sample4(float4 px, float4 py) const { return static_cast<const Derived&>(*this).colour(px, py); }
   Rgb4 sample4(float4 px, float4 py, int4& sig) const {
     sig = int4(0);
     return sample4(px, py);
@@ -30,6 +33,10 @@ struct StencilSource {
     for (int i = 0; i < 4; ++i) probes[i] = {int32_t(px[i]), int32_t(py[i])};
     return sample4(px, py, sig);
   }
+};
+
+struct StencilSource : PositionProbes<StencilSource> {
+  Rgb4 colour(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
   float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4, float4) const {
     uint32_t h = 2166136261u;
     for (int j = -1; j <= 2; ++j)
@@ -80,23 +87,11 @@ TEST(CornerField, HiddenFlagsMatchThePerTilePathAcrossBlockBoundaries) {
 // A source whose footprint delta is asked for a pixel only where level 1 would not refine it
 // anyway: its corners' colours step at x = 3 and the highlight flag fires for pixels whose
 // TL corner is at y = 2.
-struct CountingFootprintSource {
-  struct Probe {
-    int32_t x = 0, y = 0;
-  };
+struct CountingFootprintSource : PositionProbes<CountingFootprintSource> {
   mutable int asked = 0;
-  Rgb4 sample4(float4 px, float4 py) const {
+  Rgb4 colour(float4 px, float4) const {
     const float4 c = select(px >= float4(3.0f), float4(0.9f), float4(0.1f));
-    (void)py;
     return {c, c, c};
-  }
-  Rgb4 sample4(float4 px, float4 py, int4& sig) const {
-    sig = int4(0);
-    return sample4(px, py);
-  }
-  Rgb4 sample4(float4 px, float4 py, int4& sig, ProbeLanes<Probe> probes) const {
-    for (int i = 0; i < 4; ++i) probes[i] = {int32_t(px[i]), int32_t(py[i])};
-    return sample4(px, py, sig);
   }
   float4 hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
     return tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);

@@ -21,11 +21,7 @@ namespace {
 Scene box_scene() {
   Scene s = test::lit_floor(0.6f, 80.0f, 3.0f);
   s.lights[0].position = {1.5f, 1.0f, 3.0f};
-  Material metal;
-  metal.base_color = glm::vec3(0.9f);
-  metal.metallic = 1.0f;
-  metal.roughness = 0.0f;
-  s.materials.push_back(metal);
+  s.materials.push_back(test::mirror_material(glm::vec3(0.9f)));
   s.materials.push_back(test::glass_material(1.5f));
   test::add_box(s, {-0.8f, -0.6f, 0.0f}, {0.2f, 0.4f, 0.7f}, 1);
   // The glass box floats 1 mm above the floor: a ray refracted out at a bottom edge that

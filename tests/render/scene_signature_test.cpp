@@ -125,11 +125,7 @@ TEST(SceneSignature, MirrorImagesOfDifferentObjectsDiffer) {
   // A mirror floor reflects a red box on the left and a green one on the right: the floor
   // is one object, what its reflection rays hit is not.
   Scene s = test::lit_floor(0.5f, 60.0f, 3.0f);
-  Material mirror;
-  mirror.base_color = glm::vec3(0.9f);
-  mirror.metallic = 1.0f;
-  mirror.roughness = 0.0f;
-  s.materials[0] = mirror;
+  s.materials[0] = test::mirror_material(glm::vec3(0.9f));
   s.materials.push_back(test::diffuse_material({0.8f, 0.1f, 0.1f}));
   s.materials.push_back(test::diffuse_material({0.1f, 0.8f, 0.1f}));
   test::add_box(s, {-3.0f, -1.0f, 0.0f}, {-1.0f, 1.0f, 8.0f}, 1);
@@ -158,13 +154,8 @@ TEST(SceneSignature, MirrorImagesOfDifferentObjectsDiffer) {
 // wall's reflection rays the boxes. `floor_reflectance` is the floor's metal base colour.
 Scene mirror_in_mirror(float floor_reflectance) {
   Scene s = test::lit_floor(0.5f, 60.0f, 3.0f);
-  Material mirror;
-  mirror.base_color = glm::vec3(0.9f);
-  mirror.metallic = 1.0f;
-  mirror.roughness = 0.0f;
-  s.materials[0] = mirror;
-  s.materials[0].base_color = glm::vec3(floor_reflectance);
-  s.materials.push_back(mirror);
+  s.materials[0] = test::mirror_material(glm::vec3(floor_reflectance));
+  s.materials.push_back(test::mirror_material(glm::vec3(0.9f)));
   s.materials.push_back(test::diffuse_material({0.8f, 0.1f, 0.1f}));
   s.materials.push_back(test::diffuse_material({0.1f, 0.8f, 0.1f}));
   test::add_quad(s, {-30, 4, -1}, {-30, 4, 40}, {30, 4, 40}, {30, 4, -1}, 1);

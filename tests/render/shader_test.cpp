@@ -77,11 +77,7 @@ TEST(Shader, MissReturnsBackground) {
 TEST(Shader, MirrorReflectsTheBackgroundAtF0) {
   // A perfect metal mirror (F0 = base colour) reflecting the background straight back.
   Scene s;
-  Material mirror;
-  mirror.base_color = glm::vec3(0.9f, 0.5f, 0.2f);
-  mirror.metallic = 1.0f;
-  mirror.roughness = 0.0f;
-  s.materials.push_back(mirror);
+  s.materials.push_back(test::mirror_material(glm::vec3(0.9f, 0.5f, 0.2f)));
   test::add_quad(s, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 0);
   s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.5f));
   s.background = glm::vec3(1.0f);

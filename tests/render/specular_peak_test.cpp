@@ -286,10 +286,7 @@ TEST(SpecularPeak, RendererRefinesThePixelWithThePinpointHighlight) {
 // (20, 20). Unfolded, the ceiling is a floor at z = -5 seen through the mirror plane.
 TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   Scene s;
-  Material mirror;
-  mirror.base_color = glm::vec3(0.9f);
-  mirror.metallic = 1.0f;
-  mirror.roughness = 0.0f;
+  const Material mirror = test::mirror_material(glm::vec3(0.9f));
   Material gloss = test::diffuse_material(glm::vec3(0.3f));
   gloss.roughness = 0.0f;  // Phong exponent 10000
   s.materials = {mirror, gloss};
@@ -360,10 +357,7 @@ TEST(SpecularPeak, ProbesSeeThroughGlass) {
 // probe's highlight is scaled by every weight on its path from the camera.
 TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   Scene s;
-  Material mirror;
-  mirror.base_color = glm::vec3(0.9f);
-  mirror.metallic = 1.0f;
-  mirror.roughness = 0.0f;
+  const Material mirror = test::mirror_material(glm::vec3(0.9f));
   Material gloss = test::diffuse_material(glm::vec3(0.3f));
   gloss.roughness = 0.0f;
   s.materials = {mirror, test::glass_material(1.5f), gloss};

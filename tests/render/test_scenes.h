@@ -65,6 +65,15 @@ inline Material diffuse_material(glm::vec3 albedo) {
   return m;
 }
 
+// A perfect metal mirror: F0 = `reflectance`, no diffuse, a highlight of exponent 10000.
+inline Material mirror_material(glm::vec3 reflectance) {
+  Material m;
+  m.base_color = reflectance;
+  m.metallic = 1.0f;
+  m.roughness = 0.0f;
+  return m;
+}
+
 inline Material glass_material(float ior) {
   Material m;
   m.base_color = glm::vec3(1.0f);
