@@ -74,6 +74,41 @@ TEST(Curvature, AnEdgeBesideThePixelLeavesThePlainMean) {
   EXPECT_EQ(f.radiance[3 * 24 + 12].r, 0.5f);
 }
 
+// A bowl with a faint step at x = 9.5 (0.02 brighter before it, below eps): not curvature.
+struct BowlWithFaintStep {
+  BowlSource bowl;
+  float step = 0.02f;
+  Rgb4 sample4(float4 px, float4 py) const {
+    const Rgb4 c = bowl.sample4(px, py);
+    const float4 v = c.r + select(px < float4(9.5f), float4(step), float4(0.0f));
+    return {v, v, v};
+  }
+};
+
+TEST(Curvature, AFaintStepInTheRingLeavesThePlainMean) {
+  // Pixels 8, 9 and 10 have the step between two of the four corners of each row (8: in its
+  // ring on the right, 9: inside it, 10: in its ring on the left); the correction would read
+  // the step as curvature (its rows' sum of second differences is +-2 step, moving the pixel
+  // by step / 24, a display step at 0.02). Pixels 3 to 6 and 12 to 40 are on the bowl alone.
+  const BowlWithFaintStep source;
+  AdaptiveSettings s;
+  const Film plain = test::render(source, 48, 40, s, 16);
+  s.curvature = true;
+  AaStats stats;
+  const Film corrected = test::render(source, 48, 40, s, 16, 1, {}, &stats);
+  ASSERT_EQ(stats.level2_pixels, 0u);
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 48; ++x) {
+      const size_t i = size_t(y) * 48 + x;
+      if (x >= 8 && x <= 10) {
+        EXPECT_EQ(corrected.radiance[i].r, plain.radiance[i].r) << x << "," << y;
+      } else if ((x >= 3 && x <= 6) || x >= 12) {
+        const double want = source.bowl.pixel(x, y) + (x < 9 ? source.step : 0.0f);
+        EXPECT_NEAR(corrected.radiance[i].r, want, 2e-7) << x << "," << y;
+      }
+    }
+}
+
 // 1e9 on every third column of corners, 1e3 elsewhere: the display is white everywhere
 // (no two corners differ by eps), but the second differences are HDR steps, not shading.
 struct SaturatedColumns {
