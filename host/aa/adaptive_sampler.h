@@ -217,6 +217,46 @@ struct CornerView {
   ptrdiff_t stride;
 };
 
+// The footprint correction's per-corner share (FootprintSource::footprint_corner) for the
+// two rows of corners under one row of pixels, made when a pixel first needs it: each corner
+// serves up to four pixels. Row 0 is the pixels' top corners, row 1 their bottom ones;
+// next_row() moves down a row, keeping the bottom row's. Per thread, reused.
+template <class S>
+struct FootprintRows {
+  void reset(int) {}
+};
+template <FootprintSource S>
+struct FootprintRows<S> {
+  using Corner = typename S::FootprintCorner;
+  std::vector<Corner>* rows = nullptr;
+  std::vector<uint8_t>* ready = nullptr;
+  size_t width = 0;
+  int top = 0;  // which half of `rows` holds row 0
+
+  void reset(int corners_per_row) {
+    thread_local std::vector<Corner> storage;
+    thread_local std::vector<uint8_t> made;
+    width = size_t(corners_per_row);
+    if (storage.size() < 2 * width) storage.resize(2 * width);
+    made.assign(2 * width, 0);
+    rows = &storage;
+    ready = &made;
+    top = 0;
+  }
+  void next_row() {
+    std::fill_n(ready->begin() + ptrdiff_t(size_t(top) * width), width, uint8_t(0));
+    top ^= 1;
+  }
+  const Corner* at(const S& source, const typename S::Probe* probe, int row, int column) {
+    const size_t k = size_t(top ^ row) * width + size_t(column);
+    if (!(*ready)[k]) {
+      (*rows)[k] = source.footprint_corner(*probe);
+      (*ready)[k] = 1;
+    }
+    return &(*rows)[k];
+  }
+};
+
 // The hidden-detail flags (hidden_detail.h) of a w x h block of pixels: pixel (i, j)'s TL
 // corner is probes[j * probe_stride + i] and corners' (i, j) (a ring of probes around the
 // block must exist), its flag goes to flags[j * flag_stride + i] and, when `footprint` is
@@ -230,7 +270,14 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
   const float4 eps(settings.eps);
   const bool flagging = settings.highlights || settings.textures;
   const ptrdiff_t cs = corners.stride;
-  for (int j = 0; j < h; ++j)
+  [[maybe_unused]] FootprintRows<S> prepared;
+  if constexpr (FootprintSource<S>) {
+    if (footprint) prepared.reset(w + 1);
+  }
+  for (int j = 0; j < h; ++j) {
+    if constexpr (FootprintSource<S>) {
+      if (footprint && j > 0) prepared.next_row();
+    }
     for (int i = 0; i < w; ++i) {
       const ptrdiff_t at = j * cs + i;
       const float4* c = corners.linear + at;
@@ -246,9 +293,17 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
             decide_level1(soa_from_aos(d[0], d[1], d[cs], d[cs + 1]), int4(g[0], g[1], g[cs], g[cs + 1]), eps,
                           flagged, false)
                 .refine;
-        footprint[j * flag_stride + i] = refined ? float4(0.0f) : source.footprint_delta(tl, probe_stride, mean);
+        if (refined) {
+          footprint[j * flag_stride + i] = float4(0.0f);
+          continue;
+        }
+        const typename S::FootprintCorner* const four[4] = {
+            prepared.at(source, tl, 0, i), prepared.at(source, tl + 1, 0, i + 1),
+            prepared.at(source, tl + probe_stride, 1, i), prepared.at(source, tl + probe_stride + 1, 1, i + 1)};
+        footprint[j * flag_stride + i] = source.footprint_delta(tl, probe_stride, four, mean);
       }
     }
+  }
 }
 
 // The hidden-detail flag of every region pixel from the probes of a tile's own corner grid

@@ -44,16 +44,21 @@ concept HiddenDetailSource =
 
 // A source that also says what a pixel finished at level 1 lacks because the mean of its
 // corners is not the mean over the pixel of what they sampled (render/texture_detail.h's
-// texture footprint): footprint_delta(tl, stride, mean) for the pixel whose corners are as
-// for hidden_radiance (`mean` the mean of their radiance), linear RGB in lanes 0-2, and in
-// lane 3 1 where it applies (0 elsewhere).
+// texture footprint): footprint_delta(tl, stride, prepared, mean) for the pixel whose
+// corners are as for hidden_radiance (`mean` the mean of their radiance, `prepared` what
+// footprint_corner made of each corner, TL, TR, BL, BR), linear RGB in lanes 0-2, and in
+// lane 3 1 where it applies (0 elsewhere). footprint_corner is a corner's share of the
+// work, asked once per corner rather than once for each of the four pixels around it.
 // Unlike the flags it colours pixels: the sampler adds it to an unrefined pixel's corner
 // mean, in place of the curvature correction (which would count the texture twice).
 template <class S>
-concept FootprintSource = HiddenDetailSource<S> && requires(const S& csource, const typename S::Probe* probes,
-                                                            ptrdiff_t stride, float4 mean) {
-  { csource.footprint_delta(probes, stride, mean) } -> std::same_as<float4>;
-};
+concept FootprintSource =
+    HiddenDetailSource<S> && requires(const S& csource, const typename S::Probe* probes,
+                                      const typename S::FootprintCorner* const* prepared, ptrdiff_t stride,
+                                      float4 mean) {
+      { csource.footprint_corner(*probes) } -> std::same_as<typename S::FootprintCorner>;
+      { csource.footprint_delta(probes, stride, prepared, mean) } -> std::same_as<float4>;
+    };
 
 // Whether the pixel whose box-filtered value is `corner_mean` (linear RGB in lanes 0-2)
 // hides more than it shows: asks the source what its corners (`tl` and `stride` as for

@@ -103,17 +103,24 @@ class SceneSource {
   }
 
   // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h);
-  // lane 3 is 1 where the correction applies, 0 elsewhere.
+  // lane 3 is 1 where the correction applies, 0 elsewhere. `prepared`: footprint_corner of
+  // the four corners.
   // `mean`: the corners' mean radiance; a first estimate is kept where it moves the display
   // by less than half a step.
-  float4 footprint_delta(const Probe* tl, ptrdiff_t stride, float4 mean) const {
+  using FootprintCorner = zz::FootprintCorner;
+  FootprintCorner footprint_corner(const Probe& corner) const {
+    if (!detail_ || !detail_->footprint) return {};
+    return zz::footprint_corner(shader_.scene(), corner.surface(), corner.footprint);
+  }
+  float4 footprint_delta(const Probe* tl, ptrdiff_t stride, const FootprintCorner* const prepared[4],
+                         float4 mean) const {
     if (!detail_ || !detail_->footprint) return float4(0.0f);
     const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
     const FootprintProbe* const light[4] = {&tl[0].footprint, &tl[1].footprint, &tl[stride].footprint,
                                             &tl[stride + 1].footprint};
     const float4 settled = float4(0.5f / 255.0f) / tonemap_.slope4(mean);
-    const FootprintDelta d =
-        texture_footprint_delta(shader_.scene(), corners, light, glm::vec3(settled[0], settled[1], settled[2]));
+    const FootprintDelta d = texture_footprint_delta(shader_.scene(), corners, light, prepared,
+                                                     glm::vec3(settled[0], settled[1], settled[2]));
     return float4(d.delta.r, d.delta.g, d.delta.b, d.applies ? 1.0f : 0.0f);
   }
 
@@ -191,5 +198,6 @@ class SceneSource {
 
 static_assert(SignedSampleSource<SceneSource>);
 static_assert(HiddenDetailSource<SceneSource>);
+static_assert(FootprintSource<SceneSource>);
 
 }  // namespace zz

@@ -133,20 +133,112 @@ bool valid_ref(const Scene& scene, const TextureRef& ref) {
 
 }  // namespace
 
+namespace {
+
+// What the material asks of the footprint correction.
+struct FootprintUse {
+  bool bump_map = false;  // a normal map with the tangents and normals it needs
+  bool diffuse = false;   // a texture varies the diffuse albedo or the normal
+  bool emissive = false;  // an emissive texture with a non-zero factor
+};
+
+FootprintUse footprint_use(const Scene& scene, uint32_t m) {
+  const Material& material = scene.materials[m];
+  FootprintUse use;
+  use.bump_map = valid_ref(scene, material.normal_texture) && !scene.tangents.empty() && !scene.normals.empty();
+  use.diffuse = valid_ref(scene, material.base_color_texture) || valid_ref(scene, material.metallic_roughness_texture) ||
+                valid_ref(scene, material.transmission_texture) || use.bump_map;
+  use.emissive = valid_ref(scene, material.emissive_texture) && scene.whitted[m].emission != glm::vec3(0.0f);
+  return use;
+}
+
+// Direct light at a point lit light by light (Lambert and the Phong highlight, as the
+// shader lights a hit).
+glm::vec3 direct_light(int lights, glm::vec3 albedo, glm::vec3 specular, float shininess, glm::vec3 n, glm::vec3 wo,
+                       const glm::vec3* light_strength, const glm::vec3* light_direction) {
+  glm::vec3 sum(0.0f);
+  for (int l = 0; l < lights; ++l) {
+    const float cos_s = glm::dot(n, light_direction[l]);
+    if (!(cos_s > 0.0f)) continue;
+    const glm::vec3 r = 2.0f * cos_s * n - light_direction[l];
+    const float cos_r = std::max(glm::dot(r, wo), 0.0f);
+    const float lobe = shininess == 1.0f ? cos_r : std::pow(cos_r, shininess);
+    const float phong = (shininess + 2.0f) * 0.5f * lobe;  // pi x normalised Phong
+    sum += light_strength[l] * cos_s * (albedo + specular * phong);
+  }
+  return sum;
+}
+
+}  // namespace
+
+FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, const FootprintProbe& f) {
+  FootprintCorner k;
+  const uint32_t m = c.material;
+  if (m >= scene.materials.size() || f.prim < 0 || size_t(f.prim) * 3 >= scene.positions.size()) return k;
+  const FootprintUse use = footprint_use(scene, m);
+  if (!use.diffuse && !use.emissive) return k;
+  k.valid = true;
+  const Material& material = scene.materials[m];
+  // With the normal map and few lights, the corner's lights are recomputed from its hit
+  // and shadow bits; they must add up to the irradiance the shader found (no partial
+  // shadow, no light lost below the flat triangle).
+  const int lights = int(scene.lights.size());
+  bool per_light = use.bump_map && lights <= kFootprintLights;
+  if (per_light) {
+    const size_t t3 = size_t(f.prim) * 3;
+    const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+    const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    const glm::vec3 n = interpolated_normal(scene, t3, f.u, f.v, ng);
+    per_light = normal_map_frame(scene, t3, f.u, f.v, n, k.frame);
+    if (per_light) {
+      for (glm::vec3& axis : k.frame) axis *= f.side;
+      // The shader's normal at the corner: the map's, unless it faced away (then ng).
+      const glm::vec3 rgb(Texcoords(c.uv0, c.uv1).sample(scene, material.normal_texture));
+      per_light = glm::length(mapped_in_frame(k.frame, rgb, material.normal_scale, k.frame[2]) - c.normal) < 1e-4f;
+    }
+    glm::vec3 irradiance(0.0f);
+    for (int l = 0; l < lights && per_light; ++l) {
+      float tmax;
+      glm::vec3 scale;
+      k.strength[l] = glm::vec3(0.0f);
+      k.to_light[l] = glm::vec3(0.0f);
+      if (!light_towards(scene.lights[size_t(l)], c.position, k.to_light[l], tmax, scale)) continue;
+      const float cos_s = glm::dot(c.normal, k.to_light[l]);
+      if (!(cos_s > 0.0f) || ((c.shadowed >> (l % 32)) & 1u)) continue;
+      k.strength[l] = scale * 0.318309886f;  // 1 / pi, as the shader
+      irradiance += k.strength[l] * cos_s;
+    }
+    const glm::vec3 miss = glm::abs(irradiance - f.irradiance);
+    per_light = per_light && glm::all(glm::lessThanEqual(miss, 0.02f * f.irradiance + 1e-6f));
+  }
+  k.per_light = per_light;
+  if (use.diffuse) {
+    const glm::vec3 albedo = diffuse_albedo(scene, m, Texcoords(c.uv0, c.uv1));
+    k.albedo_lit = albedo * f.irradiance;
+    if (per_light) k.lit = direct_light(lights, albedo, c.specular, c.shininess, c.normal, c.view, k.strength, k.to_light);
+  }
+  if (use.emissive) k.emissive_texel = glm::vec3(Texcoords(c.uv0, c.uv1).sample(scene, material.emissive_texture));
+  return k;
+}
+
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[4], const FootprintProbe* const f[4],
                                        glm::vec3 settled) {
+  const FootprintCorner k[4] = {footprint_corner(scene, c[0], *f[0]), footprint_corner(scene, c[1], *f[1]),
+                                footprint_corner(scene, c[2], *f[2]), footprint_corner(scene, c[3], *f[3])};
+  const FootprintCorner* const corners[4] = {&k[0], &k[1], &k[2], &k[3]};
+  return texture_footprint_delta(scene, c, f, corners, settled);
+}
+
+FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[4], const FootprintProbe* const f[4],
+                                       const FootprintCorner* const k[4], glm::vec3 settled) {
   const uint32_t m = c[0].material;
   if (m >= scene.materials.size()) return {};
-  for (int k = 0; k < 4; ++k)
-    if (c[k].material != m || f[k]->prim < 0 || size_t(f[k]->prim) * 3 >= scene.positions.size()) return {};
+  for (int i = 0; i < 4; ++i)
+    if (c[i].material != m || !k[i]->valid) return {};
   const Material& material = scene.materials[m];
-  const bool bump_map = valid_ref(scene, material.normal_texture) && !scene.tangents.empty() && !scene.normals.empty();
-  const bool diffuse = valid_ref(scene, material.base_color_texture) ||
-                       valid_ref(scene, material.metallic_roughness_texture) ||
-                       valid_ref(scene, material.transmission_texture) || bump_map;
+  const FootprintUse use = footprint_use(scene, m);
+  const bool diffuse = use.diffuse, emissive = use.emissive;
   const glm::vec3 emission = scene.whitted[m].emission;
-  const bool emissive = valid_ref(scene, material.emissive_texture) && emission != glm::vec3(0.0f);
-  if (!diffuse && !emissive) return {};
   // The corners' texture coordinates must span the pixel as one smooth patch does: close
   // to a parallelogram, and over few texels (a UV seam or an atlas jump between corners
   // fails one or the other; so does a texture minified beyond what the samples resolve).
@@ -156,7 +248,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   for (const TextureRef* ref : refs) {
     if (!valid_ref(scene, *ref)) continue;
     glm::vec2 st[4];
-    for (int k = 0; k < 4; ++k) st[k] = ref->apply(ref->texcoord == 1 ? c[k].uv1 : c[k].uv0);
+    for (int i = 0; i < 4; ++i) st[i] = ref->apply(ref->texcoord == 1 ? c[i].uv1 : c[i].uv0);
     const Texture& texture = scene.textures[size_t(ref->index)];
     const glm::vec2 size(float(texture.width), float(texture.height));
     const glm::vec2 e1 = (st[1] - st[0]) * size, e2 = (st[2] - st[0]) * size;
@@ -172,67 +264,16 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   auto uv_at = [&](glm::vec2 SurfaceProbe::*uv, float s, float t) {
     return bilerp(c[0].*uv, c[1].*uv, c[2].*uv, c[3].*uv, s, t);
   };
-  // With the normal map and few lights, each sample is lit light by light at its own normal
-  // (Lambert and the Phong highlight, as the shader lights a hit), the lights' directions
-  // and strengths and the map's frame interpolated between the corners'; otherwise only
-  // the albedo varies. The corners' lights are recomputed from their hits and shadow bits
-  // and must add up to the irradiance the shader found (no partial shadow, no light lost
-  // below the flat triangle).
+  // With the normal map and few lights, each sample is lit light by light at its own normal,
+  // the lights' directions and strengths and the map's frame interpolated between the
+  // corners' (footprint_corner); otherwise only the albedo varies.
   const int lights = int(scene.lights.size());
-  bool per_light = bump_map && lights <= kFootprintLights;
-  glm::vec3 frame[4][3], strength[4][kFootprintLights], to_light[4][kFootprintLights];
-  for (int k = 0; k < 4 && per_light; ++k) {
-    const size_t t3 = size_t(f[k]->prim) * 3;
-    const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-    const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-    const glm::vec3 n = interpolated_normal(scene, t3, f[k]->u, f[k]->v, ng);
-    const TextureRef& ref = material.normal_texture;
-    per_light = normal_map_frame(scene, t3, f[k]->u, f[k]->v, n, frame[k]);
-    if (!per_light) break;
-    for (glm::vec3& axis : frame[k]) axis *= f[k]->side;
-    // The shader's normal at the corner: the map's, unless it faced away (then ng).
-    const glm::vec3 rgb(Texcoords(c[k].uv0, c[k].uv1).sample(scene, ref));
-    per_light = glm::length(mapped_in_frame(frame[k], rgb, material.normal_scale, frame[k][2]) - c[k].normal) < 1e-4f;
-    glm::vec3 irradiance(0.0f);
-    for (int l = 0; l < lights && per_light; ++l) {
-      float tmax;
-      glm::vec3 scale;
-      strength[k][l] = glm::vec3(0.0f);
-      to_light[k][l] = glm::vec3(0.0f);
-      if (!light_towards(scene.lights[size_t(l)], c[k].position, to_light[k][l], tmax, scale)) continue;
-      const float cos_s = glm::dot(c[k].normal, to_light[k][l]);
-      if (!(cos_s > 0.0f) || ((c[k].shadowed >> (l % 32)) & 1u)) continue;
-      strength[k][l] = scale * 0.318309886f;  // 1 / pi, as the shader
-      irradiance += strength[k][l] * cos_s;
-    }
-    const glm::vec3 miss = glm::abs(irradiance - f[k]->irradiance);
-    per_light = per_light && glm::all(glm::lessThanEqual(miss, 0.02f * f[k]->irradiance + 1e-6f));
-  }
-  auto direct = [&](glm::vec3 albedo, glm::vec3 specular, float shininess, glm::vec3 n, glm::vec3 wo,
-                    const glm::vec3* light_strength, const glm::vec3* light_direction) {
-    glm::vec3 sum(0.0f);
-    for (int l = 0; l < lights; ++l) {
-      const float cos_s = glm::dot(n, light_direction[l]);
-      if (!(cos_s > 0.0f)) continue;
-      const glm::vec3 r = 2.0f * cos_s * n - light_direction[l];
-      const float cos_r = std::max(glm::dot(r, wo), 0.0f);
-      const float lobe = shininess == 1.0f ? cos_r : std::pow(cos_r, shininess);
-      const float phong = (shininess + 2.0f) * 0.5f * lobe;  // pi x normalised Phong
-      sum += light_strength[l] * cos_s * (albedo + specular * phong);
-    }
-    return sum;
-  };
+  const bool per_light = k[0]->per_light && k[1]->per_light && k[2]->per_light && k[3]->per_light;
   glm::vec3 light(0.0f), at_corners(0.0f);
-  for (int k = 0; k < 4; ++k) {
-    light += 0.25f * f[k]->irradiance;
-    if (diffuse) {
-      const glm::vec3 albedo = diffuse_albedo(scene, m, Texcoords(c[k].uv0, c[k].uv1));
-      at_corners += 0.25f * (per_light ? direct(albedo, c[k].specular, c[k].shininess, c[k].normal, c[k].view,
-                                                strength[k], to_light[k])
-                                       : albedo * f[k]->irradiance);
-    }
-    if (emissive)
-      at_corners += 0.25f * emission * glm::vec3(Texcoords(c[k].uv0, c[k].uv1).sample(scene, material.emissive_texture));
+  for (int i = 0; i < 4; ++i) {
+    light += 0.25f * f[i]->irradiance;
+    if (diffuse) at_corners += 0.25f * (per_light ? k[i]->lit : k[i]->albedo_lit);
+    if (emissive) at_corners += 0.25f * emission * k[i]->emissive_texel;
   }
   const bool lit = diffuse && light != glm::vec3(0.0f);
 
@@ -252,20 +293,20 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
         }
         // The normal map at the sample, in the corners' frames interpolated.
         glm::vec3 at[3];
-        for (int a = 0; a < 3; ++a) at[a] = bilerp(frame[0][a], frame[1][a], frame[2][a], frame[3][a], s, t);
+        for (int a = 0; a < 3; ++a) at[a] = bilerp(k[0]->frame[a], k[1]->frame[a], k[2]->frame[a], k[3]->frame[a], s, t);
         const glm::vec3 rgb(tc.sample(scene, material.normal_texture));
         const glm::vec3 normal = mapped_in_frame(at, rgb, material.normal_scale, c[0].normal);
         glm::vec3 light_strength[kFootprintLights], light_direction[kFootprintLights];
         for (int l = 0; l < lights; ++l) {
-          light_strength[l] = bilerp(strength[0][l], strength[1][l], strength[2][l], strength[3][l], s, t);
-          const glm::vec3 w = bilerp(to_light[0][l], to_light[1][l], to_light[2][l], to_light[3][l], s, t);
+          light_strength[l] = bilerp(k[0]->strength[l], k[1]->strength[l], k[2]->strength[l], k[3]->strength[l], s, t);
+          const glm::vec3 w = bilerp(k[0]->to_light[l], k[1]->to_light[l], k[2]->to_light[l], k[3]->to_light[l], s, t);
           const float wl = glm::length(w);
           light_direction[l] = wl > 1e-12f ? w / wl : glm::vec3(0.0f);
         }
         const glm::vec3 wo = glm::normalize(bilerp(c[0].view, c[1].view, c[2].view, c[3].view, s, t));
-        sum += direct(albedo, bilerp(c[0].specular, c[1].specular, c[2].specular, c[3].specular, s, t),
-                      bilerp(c[0].shininess, c[1].shininess, c[2].shininess, c[3].shininess, s, t), normal, wo,
-                      light_strength, light_direction);
+        sum += direct_light(lights, albedo, bilerp(c[0].specular, c[1].specular, c[2].specular, c[3].specular, s, t),
+                            bilerp(c[0].shininess, c[1].shininess, c[2].shininess, c[3].shininess, s, t), normal, wo,
+                            light_strength, light_direction);
       }
     return sum / float(n * n);
   };

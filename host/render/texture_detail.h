@@ -66,8 +66,29 @@ struct FootprintDelta {
   glm::vec3 delta{0.0f};
   bool applies = false;  // the pixel is one patch of a textured material (delta may still be 0)
 };
+// What the correction needs of one corner beyond its probes, the same for each of the
+// four pixels that share it (footprint_corner makes it once per corner): with the normal
+// map and few lights, the map's frame and each light's strength and direction, recomputed
+// from the hit and checked against the irradiance the shader found; the corner's diffuse
+// light both ways (light by light, and albedo x irradiance); its emissive texel.
+struct FootprintCorner {
+  bool valid = false;      // a hit on a material whose textures the correction follows
+  bool per_light = false;  // frame, strength and to_light hold, and add up to the shader's light
+  glm::vec3 frame[3]{};
+  glm::vec3 strength[kFootprintLights]{}, to_light[kFootprintLights]{};
+  glm::vec3 lit{0.0f};         // light by light at the corner's normal (with per_light)
+  glm::vec3 albedo_lit{0.0f};  // albedo x FootprintProbe::irradiance
+  glm::vec3 emissive_texel{0.0f};
+};
+FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner, const FootprintProbe& footprint);
+
 // `settled`: per channel, a delta the 2 x 2 first estimate may keep when it stays below it
 // in every channel (what could not show on the display); finer sampling otherwise.
+// `prepared`: footprint_corner of each corner.
+FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
+                                       const FootprintProbe* const footprint[4],
+                                       const FootprintCorner* const prepared[4], glm::vec3 settled);
+// The same, preparing the four corners itself.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4], glm::vec3 settled);
 

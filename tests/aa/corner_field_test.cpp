@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstring>
+#include <map>
 
 #include "test_sources.h"
 
@@ -96,10 +97,22 @@ struct CountingFootprintSource : PositionProbes<CountingFootprintSource> {
   float4 hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
     return tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);
   }
-  float4 footprint_delta(const Probe*, ptrdiff_t, float4) const {
+  // A corner's share is its position, made once per corner: `prepared` counts per corner.
+  struct FootprintCorner {
+    int32_t x = -100, y = -100;
+  };
+  mutable std::map<std::pair<int, int>, int> prepared;
+  FootprintCorner footprint_corner(const Probe& p) const {
+    ++prepared[{p.x, p.y}];
+    return {p.x, p.y};
+  }
+  float4 footprint_delta(const Probe* tl, ptrdiff_t, const FootprintCorner* const corners[4], float4) const {
     ++asked;
+    for (int k = 0; k < 4; ++k)
+      if (corners[k]->x != tl->x + (k & 1) || corners[k]->y != tl->y + (k >> 1)) ++misplaced;
     return float4(0.01f, 0.02f, 0.03f, 1.0f);
   }
+  mutable int misplaced = 0;
 };
 static_assert(FootprintSource<CountingFootprintSource>);
 
@@ -150,6 +163,26 @@ TEST(CornerField, FootprintIsComputedOnlyForPixelsLevelOneLeavesUnrefined) {
     }
   EXPECT_EQ(source.asked, unrefined);
   EXPECT_EQ(unrefined, (kW - 1) * (kH - 1));
+  // Each pixel got its own four corners' shares; every corner of an unrefined pixel was
+  // prepared exactly once (not once per pixel around it), and no other corner was.
+  EXPECT_EQ(source.misplaced, 0);
+  int corners_used = 0;
+  for (int y = 0; y <= kH; ++y)
+    for (int x = 0; x <= kW; ++x) {
+      bool used = false;
+      for (int py = y - 1; py <= y; ++py)
+        for (int px = x - 1; px <= x; ++px)
+          used |= px >= 0 && py >= 0 && px < kW && py < kH && px != 2 && py != 2;
+      const auto it = source.prepared.find({x, y});
+      if (used) {
+        corners_used += 1;
+        ASSERT_NE(it, source.prepared.end()) << x << "," << y;
+        EXPECT_EQ(it->second, 1) << x << "," << y;
+      } else {
+        EXPECT_EQ(it, source.prepared.end()) << x << "," << y;
+      }
+    }
+  EXPECT_EQ(int(source.prepared.size()), corners_used);
 }
 
 // The field holds one flag byte per corner and the bands (2 x 3 corners of probes along
