@@ -17,6 +17,64 @@
 
 namespace zz {
 
+// The light signature's test (signature.h): a light shows where it moves the display by
+// an 8-bit step. kBoundMargin: how far the tone map's table may stray from its slope.
+inline constexpr float kDisplayStep = 1.0f / 255.0f;
+inline constexpr float kBoundMargin = 1.1f;
+
+// Per lane, bit `slot` of shows[lane] (set, never cleared): whether adding the slot's
+// light to the sample's radiance without it (`colour`, less the light where it reached the
+// sample) moves a displayed channel by an 8-bit step or more. The tone map T is concave, so with
+// s = T'(colour) and d the radiance between the two ends, T moves by at least s d where
+// the light reached (the other end is below: a bound that can say yes) and by at most s d
+// where it was blocked (above: one that can say no). Those bounds decide most lanes, with
+// kBoundMargin for the tone map's table chords (under 5 % off its slope). A slot with a
+// lane left undecided tone-maps the other ends, four lanes at a time, and decides all
+// four exactly.
+inline void lights_shown(const ToneMap& tonemap, const Rgb4& colour, const glm::vec3 (*light)[4],
+                         const uint32_t shadowed[4], uint32_t shows[4]) {
+  const Rgb4 slope{tonemap.slope4(colour.r), tonemap.slope4(colour.g), tonemap.slope4(colour.b)};
+  Rgb4 shown;
+  bool tone_mapped = false;
+  alignas(16) float cr[4], cg[4], cb[4];
+  colour.r.store(cr), colour.g.store(cg), colour.b.store(cb);
+  const float4 step(kDisplayStep), above(kDisplayStep * kBoundMargin), below(kDisplayStep / kBoundMargin);
+  for (int slot = 0; slot < kLightSlots; ++slot) {
+    alignas(16) float r[4], g[4], b[4], dr[4], dg[4], db[4];
+    bool blocked_lane[4], any = false;
+    for (int i = 0; i < 4; ++i) {
+      const glm::vec3 l = light[slot][i];
+      const bool lit = l.r > 0.0f || l.g > 0.0f || l.b > 0.0f;
+      const bool blocked = (shadowed[i] >> slot) & 1u;
+      any |= lit;
+      blocked_lane[i] = blocked;
+      // No light: the other end is the colour itself, which never shows.
+      const glm::vec3 c(cr[i], cg[i], cb[i]);
+      const glm::vec3 other = !lit ? c : blocked ? c + l : glm::max(c - l, glm::vec3(0.0f));
+      const glm::vec3 d = glm::abs(other - c);
+      r[i] = other.r, g[i] = other.g, b[i] = other.b;
+      dr[i] = d.r, dg[i] = d.g, db[i] = d.b;
+    }
+    if (!any) continue;
+    const mask4 brighter = _mm_castsi128_ps(int4(-blocked_lane[0], -blocked_lane[1], -blocked_lane[2], -blocked_lane[3]));
+    const float4 bound_r = slope.r * float4::load(dr), bound_g = slope.g * float4::load(dg),
+                 bound_b = slope.b * float4::load(db);
+    const float4 largest = max(max(bound_r, bound_g), bound_b);
+    const float4 apart = max(max(float4::load(dr), float4::load(dg)), float4::load(db));
+    const mask4 surely = andnot(brighter, largest >= above);  // reached: T moves by at least the bound
+    const mask4 never = (brighter & (largest < below)) | (apart <= float4(0.0f));  // blocked: by at most it
+    int bits = surely.bits();
+    if ((surely | never).bits() != 0xf) {
+      if (!tone_mapped) shown = tonemap.apply4(colour), tone_mapped = true;
+      const Rgb4 t = tonemap.apply4(Rgb4{float4::load(r), float4::load(g), float4::load(b)});
+      // Where the light was blocked, the other end is the brighter one.
+      const Rgb4 hi = select(brighter, t, shown), lo = select(brighter, shown, t);
+      bits = ((hi.r - lo.r >= step) | (hi.g - lo.g >= step) | (hi.b - lo.b >= step)).bits();
+    }
+    for (int i = 0; i < 4; ++i) shows[i] |= uint32_t((bits >> i) & 1) << slot;
+  }
+}
+
 // What the source looks for between a pixel's corners, made once per frame.
 struct HiddenDetail {
   bool highlights = false;               // render/specular_peak.h
@@ -143,7 +201,7 @@ class SceneSource {
     uint32_t shadowed[4] = {}, shows[4] = {};
     if (parts_ & kSignatureLights) {
       for (int i = 0; i < 4; ++i) shadowed[i] = fold_to_slots(seen.shadowed[i]);
-      lights_shown(colour, seen.light_radiance, shadowed, shows);
+      lights_shown(tonemap_, colour, seen.light_radiance, shadowed, shows);
     }
     for (int i = 0; i < 4; ++i) {
       uint32_t h = 0;
@@ -154,40 +212,6 @@ class SceneSource {
     return int4(s[0], s[1], s[2], s[3]);
   }
 
-  // Per lane, bit `slot` of shows[lane]: whether adding the slot's light to the sample's
-  // radiance without it (`colour`, less the light where it reached the sample) moves a
-  // displayed channel by an 8-bit step or more. One end of each comparison is the lane's
-  // own colour, tone-mapped once; the other is tone-mapped for the four lanes at a time.
-  void lights_shown(const Rgb4& colour, const glm::vec3 (*light)[4], const uint32_t shadowed[4],
-                    uint32_t shows[4]) const {
-    const Rgb4 shown = tonemap_.apply4(colour);
-    alignas(16) float cr[4], cg[4], cb[4];
-    colour.r.store(cr), colour.g.store(cg), colour.b.store(cb);
-    for (int slot = 0; slot < kLightSlots; ++slot) {
-      alignas(16) float r[4], g[4], b[4];
-      bool blocked_lane[4], any = false;
-      for (int i = 0; i < 4; ++i) {
-        const glm::vec3 l = light[slot][i];
-        const bool lit = l.r > 0.0f || l.g > 0.0f || l.b > 0.0f;
-        const bool blocked = (shadowed[i] >> slot) & 1u;
-        any |= lit;
-        blocked_lane[i] = blocked;
-        // No light: the other end is the colour itself, which never shows.
-        const glm::vec3 c(cr[i], cg[i], cb[i]);
-        const glm::vec3 other = !lit ? c : blocked ? c + l : glm::max(c - l, glm::vec3(0.0f));
-        r[i] = other.r, g[i] = other.g, b[i] = other.b;
-      }
-      if (!any) continue;
-      const Rgb4 t = tonemap_.apply4(Rgb4{float4::load(r), float4::load(g), float4::load(b)});
-      // Where the light was blocked, the other end is the brighter one.
-      const mask4 brighter = _mm_castsi128_ps(int4(-blocked_lane[0], -blocked_lane[1], -blocked_lane[2], -blocked_lane[3]));
-      const Rgb4 hi = select(brighter, t, shown), lo = select(brighter, shown, t);
-      const float4 step(kDisplayStep);
-      const int bits = ((hi.r - lo.r >= step) | (hi.g - lo.g >= step) | (hi.b - lo.b >= step)).bits();
-      for (int i = 0; i < 4; ++i) shows[i] |= uint32_t((bits >> i) & 1) << slot;
-    }
-  }
-  static constexpr float kDisplayStep = 1.0f / 255.0f;
 
   const Shader& shader_;
   const CameraRays& camera_;

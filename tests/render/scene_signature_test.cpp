@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "aa/adaptive_pixel.h"
 #include "render/renderer.h"
@@ -198,6 +199,62 @@ TEST(SceneSignature, SignaturesDoNotChangeTheImageOrTheRays) {
   }
   EXPECT_EQ(plain.counters.total(), signed_source.counters.total());
   EXPECT_EQ(plain.counters.shadow, signed_source.counters.shadow);
+}
+
+// lights_shown decides most lanes from the tone map's slope; whatever it decides must be
+// what tone-mapping both ends says: colours from black to far past white, lights from
+// invisible to dominant, reached or blocked, at three exposures.
+TEST(SceneSignature, LightsShownAgreesWithToneMappingBothEnds) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  auto magnitude = [&] { return std::pow(10.0f, -5.0f + 7.0f * unit(rng)); };  // 1e-5 .. 1e2
+  int bounded = 0, shown = 0, total = 0;
+  for (float exposure : {0.3f, 1.0f, 4.0f}) {
+    const ToneMap tm{exposure};
+    for (int round = 0; round < 4000; ++round) {
+      glm::vec3 colour[4], light[kLightSlots][4];
+      uint32_t shadowed[4];
+      for (int i = 0; i < 4; ++i) {
+        colour[i] = unit(rng) < 0.05f ? glm::vec3(0.0f) : glm::vec3(magnitude(), magnitude(), magnitude());
+        shadowed[i] = uint32_t(rng()) & ((1u << kLightSlots) - 1u);
+        for (int l = 0; l < kLightSlots; ++l) {
+          const float k = unit(rng) < 0.2f ? 0.0f : magnitude();
+          light[l][i] = k * glm::vec3(unit(rng), unit(rng), unit(rng));
+          // A reached light is part of the colour: at most all of it.
+          if (!((shadowed[i] >> l) & 1u)) light[l][i] = glm::min(light[l][i], colour[i] * unit(rng) * 1.2f);
+        }
+      }
+      const Rgb4 c{float4(colour[0].r, colour[1].r, colour[2].r, colour[3].r),
+                   float4(colour[0].g, colour[1].g, colour[2].g, colour[3].g),
+                   float4(colour[0].b, colour[1].b, colour[2].b, colour[3].b)};
+      uint32_t shows[4] = {};
+      lights_shown(tm, c, light, shadowed, shows);
+      for (int i = 0; i < 4; ++i)
+        for (int l = 0; l < kLightSlots; ++l) {
+          const glm::vec3 a = colour[i], d = light[l][i];
+          const bool lit = d.r > 0.0f || d.g > 0.0f || d.b > 0.0f;
+          const bool blocked = (shadowed[i] >> l) & 1u;
+          const glm::vec3 other = !lit ? a : blocked ? a + d : glm::max(a - d, glm::vec3(0.0f));
+          bool want = false;
+          for (int ch = 0; ch < 3; ++ch)
+            want |= std::fabs(tm.apply(other[ch]) - tm.apply(a[ch])) >= kDisplayStep;
+          const bool got = (shows[i] >> l) & 1u;
+          ASSERT_EQ(got, want) << "exposure " << exposure << " colour " << a.r << "," << a.g << "," << a.b
+                               << " light " << d.r << "," << d.g << "," << d.b << " blocked " << blocked;
+          ++total;
+          shown += want;
+          // How often the slope's bound alone could decide (for the record, not the contract).
+          const float s = std::max({tm.slope4(float4(a.r))[0] * std::fabs(other.r - a.r),
+                                    tm.slope4(float4(a.g))[0] * std::fabs(other.g - a.g),
+                                    tm.slope4(float4(a.b))[0] * std::fabs(other.b - a.b)});
+          bounded += blocked ? s < kDisplayStep / kBoundMargin : s >= kDisplayStep * kBoundMargin;
+        }
+    }
+  }
+  // Both answers occur often, and the bounds decide a good share on their own.
+  EXPECT_GT(shown, total / 5);
+  EXPECT_LT(shown, total * 4 / 5);
+  EXPECT_GT(bounded, total / 4);
 }
 
 }  // namespace
