@@ -62,7 +62,8 @@ struct RenderCallbacks {
 
 // Level 1 for the whole region at once (aa/corner_field.h): the memory it takes and the
 // blocks it is traced in before the tiles; zeros when the renderer traces corners per
-// tile instead (not adaptive, corner_field off, or above kCornerFieldBudget).
+// tile instead (not adaptive, corner_field off, or above kCornerFieldBudget). `bytes` is
+// an upper bound: a scene without textures leaves the footprint correction's part unused.
 struct CornerFieldPlan {
   uint64_t bytes = 0;
   size_t blocks = 0;
