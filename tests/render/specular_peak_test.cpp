@@ -32,6 +32,20 @@ TEST(SpecularPeak, DistanceFromTheOriginToTheHullOfFourPoints) {
   EXPECT_TRUE(std::isinf(origin_distance_to_hull(bad)));
 }
 
+// The flag's cheap rejection: exp(-2 s d^2) is never below the lobe, and for the narrow
+// lobes of glossy surfaces (100 <= s <= 1e5) close to it wherever the lobe is at least a
+// hundredth of its peak, so that it rejects nearly what the exact lobe would. (Wide lobes
+// it bounds loosely: the exact lobe is then computed, as before.)
+TEST(SpecularPeak, TheLobeBoundHoldsAndIsTight) {
+  for (float s : {1.0f, 2.0f, 10.0f, 100.0f, 1e3f, 1e4f, 1e6f})
+    for (int i = 0; i <= 4000; ++i) {
+      const float d = 2.0f * float(i) / 4000.0f;
+      const float lobe = lobe_at(d, s), bound = lobe_bound(d, s);
+      ASSERT_GE(bound, lobe) << "s " << s << " d " << d;
+      if (s >= 100.0f && s <= 1e5f && lobe > 0.01f) EXPECT_LT(bound, 1.15f * lobe) << "s " << s << " d " << d;
+    }
+}
+
 TEST(SpecularPeak, BilinearQuadArea) {
   const glm::vec2 unit[4] = {{0, 0}, {1, 0}, {0, 1}, {1, 1}};  // TL, TR, BL, BR
   EXPECT_FLOAT_EQ(bilinear_quad_area(unit), 1.0f);
