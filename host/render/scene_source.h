@@ -24,13 +24,13 @@ inline constexpr float kBoundMargin = 1.1f;
 
 // Per lane, bit `slot` of shows[lane] (set, never cleared): whether adding the slot's
 // light to the sample's radiance without it (`colour`, less the light where it reached the
-// sample) moves a displayed channel by an 8-bit step or more. The tone map T is concave, so with
-// s = T'(colour) and d the radiance between the two ends, T moves by at least s d where
-// the light reached (the other end is below: a bound that can say yes) and by at most s d
-// where it was blocked (above: one that can say no). Those bounds decide most lanes, with
-// kBoundMargin for the tone map's table chords (under 5 % off its slope). A slot with a
-// lane left undecided tone-maps the other ends, four lanes at a time, and decides all
-// four exactly.
+// sample) moves a displayed channel by an 8-bit step or more. The tone map T is concave,
+// so with s = T'(colour) and d the radiance between the two ends, T moves by at least s d
+// where the light reached (the other end is below: a bound that can say yes) and by at
+// most s d where it was blocked (above: one that can say no). Those bounds decide most
+// lanes, with kBoundMargin for the tone map's table chords (under 5 % off its slope). A
+// slot with a lane left undecided tone-maps the other ends, four lanes at a time, and
+// decides all four exactly.
 inline void lights_shown(const ToneMap& tonemap, const Rgb4& colour, const glm::vec3 (*light)[4],
                          const uint32_t shadowed[4], uint32_t shows[4]) {
   const Rgb4 slope{tonemap.slope4(colour.r), tonemap.slope4(colour.g), tonemap.slope4(colour.b)};
@@ -56,7 +56,8 @@ inline void lights_shown(const ToneMap& tonemap, const Rgb4& colour, const glm::
       dr[i] = d.r, dg[i] = d.g, db[i] = d.b;
     }
     if (!any) continue;
-    const mask4 brighter = _mm_castsi128_ps(int4(-blocked_lane[0], -blocked_lane[1], -blocked_lane[2], -blocked_lane[3]));
+    const mask4 brighter =
+        _mm_castsi128_ps(int4(-blocked_lane[0], -blocked_lane[1], -blocked_lane[2], -blocked_lane[3]));
     const float4 bound_r = slope.r * float4::load(dr), bound_g = slope.g * float4::load(dg),
                  bound_b = slope.b * float4::load(db);
     const float4 largest = max(max(bound_r, bound_g), bound_b);

@@ -146,7 +146,8 @@ FootprintUse footprint_use(const Scene& scene, uint32_t m) {
   const Material& material = scene.materials[m];
   FootprintUse use;
   use.bump_map = valid_ref(scene, material.normal_texture) && !scene.tangents.empty() && !scene.normals.empty();
-  use.diffuse = valid_ref(scene, material.base_color_texture) || valid_ref(scene, material.metallic_roughness_texture) ||
+  use.diffuse = valid_ref(scene, material.base_color_texture) ||
+                valid_ref(scene, material.metallic_roughness_texture) ||
                 valid_ref(scene, material.transmission_texture) || use.bump_map;
   use.emissive = valid_ref(scene, material.emissive_texture) && scene.whitted[m].emission != glm::vec3(0.0f);
   return use;
@@ -215,7 +216,8 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, cons
   if (use.diffuse) {
     const glm::vec3 albedo = diffuse_albedo(scene, m, Texcoords(c.uv0, c.uv1));
     k.albedo_lit = albedo * f.irradiance;
-    if (per_light) k.lit = direct_light(lights, albedo, c.specular, c.shininess, c.normal, c.view, k.strength, k.to_light);
+    if (per_light)
+      k.lit = direct_light(lights, albedo, c.specular, c.shininess, c.normal, c.view, k.strength, k.to_light);
   }
   if (use.emissive) k.emissive_texel = glm::vec3(Texcoords(c.uv0, c.uv1).sample(scene, material.emissive_texture));
   return k;
@@ -293,7 +295,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
         }
         // The normal map at the sample, in the corners' frames interpolated.
         glm::vec3 at[3];
-        for (int a = 0; a < 3; ++a) at[a] = bilerp(k[0]->frame[a], k[1]->frame[a], k[2]->frame[a], k[3]->frame[a], s, t);
+        for (int a = 0; a < 3; ++a)
+          at[a] = bilerp(k[0]->frame[a], k[1]->frame[a], k[2]->frame[a], k[3]->frame[a], s, t);
         const glm::vec3 rgb(tc.sample(scene, material.normal_texture));
         const glm::vec3 normal = mapped_in_frame(at, rgb, material.normal_scale, c[0].normal);
         glm::vec3 light_strength[kFootprintLights], light_direction[kFootprintLights];
