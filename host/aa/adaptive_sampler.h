@@ -222,9 +222,7 @@ struct CornerView {
 // serves up to four pixels. Row 0 is the pixels' top corners, row 1 their bottom ones;
 // next_row() moves down a row, keeping the bottom row's. Per thread, reused.
 template <class S>
-struct FootprintRows {
-  void reset(int) {}
-};
+struct FootprintRows {};  // a source without the correction: flag_hidden_block never asks
 template <FootprintSource S>
 struct FootprintRows<S> {
   using Corner = typename S::FootprintCorner;

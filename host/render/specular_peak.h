@@ -102,10 +102,10 @@ inline constexpr float kStepCosine = 0.9f;
 // four 2-D points (0 when inside), and the area of the quad p0 p1 p3 p2 (bilinear order:
 // TL, TR, BR, BL).
 float origin_distance_to_hull(const glm::vec2 p[4]);
+float bilinear_quad_area(const glm::vec2 p[4]);
 // The Phong lobe cos^s of the mirror direction's angle where |n - h| = distance, and an
 // upper bound of it that costs one exp.
 float lobe_at(float distance, float shininess);
 float lobe_bound(float distance, float shininess);
-float bilinear_quad_area(const glm::vec2 p[4]);
 
 }  // namespace zz

@@ -131,10 +131,6 @@ bool valid_ref(const Scene& scene, const TextureRef& ref) {
   return ref.used() && size_t(ref.index) < scene.textures.size();
 }
 
-}  // namespace
-
-namespace {
-
 // What the material asks of the footprint correction.
 struct FootprintUse {
   bool bump_map = false;  // a normal map with the tangents and normals it needs

@@ -89,7 +89,7 @@ TEST(Curvature, AFaintStepInTheRingLeavesThePlainMean) {
   // Pixels 8, 9 and 10 have the step between two of the four corners of each row (8: in its
   // ring on the right, 9: inside it, 10: in its ring on the left); the correction would read
   // the step as curvature (its rows' sum of second differences is +-2 step, moving the pixel
-  // by step / 24, a display step at 0.02). Pixels 3 to 6 and 12 to 40 are on the bowl alone.
+  // by step / 24, a display step at 0.02). Pixels 3 to 6 and 12 onwards are on the bowl alone.
   const BowlWithFaintStep source;
   AdaptiveSettings s;
   const Film plain = test::render(source, 48, 40, s, 16);

@@ -42,7 +42,9 @@ TEST(SpecularPeak, TheLobeBoundHoldsAndIsTight) {
       const float d = 2.0f * float(i) / 4000.0f;
       const float lobe = lobe_at(d, s), bound = lobe_bound(d, s);
       ASSERT_GE(bound, lobe) << "s " << s << " d " << d;
-      if (s >= 100.0f && s <= 1e5f && lobe > 0.01f) EXPECT_LT(bound, 1.15f * lobe) << "s " << s << " d " << d;
+      if (s >= 100.0f && s <= 1e5f && lobe > 0.01f) {
+        EXPECT_LT(bound, 1.15f * lobe) << "s " << s << " d " << d;
+      }
     }
 }
 
