@@ -13,6 +13,7 @@
 #include "aa/signature.h"
 #include "render/shader.h"
 #include "render/texture_detail.h"
+#include "render/texture_range.h"
 #include "scene/camera.h"
 
 namespace zz {
@@ -84,12 +85,14 @@ struct HiddenDetail {
   // Normal steps wider than this are the visibility map's (normal_interpolation_error).
   float step_limit = std::numeric_limits<float>::infinity();
   std::vector<TexturePyramid> pyramids;  // with textures: texture_pyramids(scene)
+  std::vector<TextureSpread> normal_spreads;  // with highlights: normal_map_spreads(scene)
 
   HiddenDetail() = default;
   HiddenDetail(const Scene& scene, const AdaptiveSettings& s)
       : highlights(s.highlights), textures(s.textures), footprint(s.footprint) {
     if (s.map_crease > 0.0f) step_limit = s.map_crease;
     if (textures) pyramids = texture_pyramids(scene);
+    if (highlights) normal_spreads = normal_map_spreads(scene);
   }
 };
 
@@ -154,7 +157,7 @@ class SceneSource {
         const SurfaceProbe c[4] = {tl[0].node[k], tl[1].node[k], tl[stride].node[k], tl[stride + 1].node[k]};
         if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
         const ProbeStencil stencil(&tl->node[k], sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
-        h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit);
+        h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit, &detail_->normal_spreads);
       }
     if (detail_->textures)
       h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "render/lighting.h"
+#include "render/texture_range.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -105,7 +106,8 @@ float normal_interpolation_error(const ProbeStencil& stencil, float step_limit) 
 }
 
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec3 visible,
-                           const ProbeStencil* stencil, float step_limit) {
+                           const ProbeStencil* stencil, float step_limit,
+                           const std::vector<TextureSpread>* normal_spreads) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -126,7 +128,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
   float extent = 0.0f;
   for (int k = 1; k < 4; ++k) extent = std::max(extent, glm::length(c[k].position - c[0].position));
 
-  float normal_error = stencil ? -1.0f : 0.0f;  // < 0: not computed yet
+  float normal_error = -1.0f;  // < 0: not computed yet
   glm::vec3 hidden(0.0f);
   for (size_t l = 0; l < scene.lights.size(); ++l) {
     if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
@@ -165,7 +167,9 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
       for (int j = k + 1; j < 4; ++j) span2 = std::max(span2, glm::dot(d3[k] - d3[j], d3[k] - d3[j]));
     }
     if (!std::isfinite(nearest) || !std::isfinite(span2)) continue;
-    if (normal_error < 0.0f) normal_error = normal_interpolation_error(*stencil, step_limit);
+    if (normal_error < 0.0f)
+      normal_error = (stencil ? normal_interpolation_error(*stencil, step_limit) : 0.0f) +
+                     (normal_spreads ? normal_map_spread(scene, *normal_spreads, c) : 0.0f);
     const float span = std::sqrt(span2) + 2.0f * normal_error;
     span2 = span * span;
     // The lobe exp(-2 s theta^2) has |f''| <= 4 s, so where it is wide against the pixel the

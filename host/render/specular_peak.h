@@ -35,10 +35,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 namespace zz {
 
 struct Scene;
+class TextureSpread;
 
 // What the highlight test needs of a camera ray's first hit.
 struct SurfaceProbe {
@@ -79,10 +81,13 @@ inline bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f ||
 // far the normals inside the pixel may lie from the bilinear interpolation of the
 // corners'; it is computed only for a light that gets past the cheap bounds. Without it,
 // the bilinear model alone.
-// `step_limit` as for normal_interpolation_error.
+// `step_limit` as for normal_interpolation_error. With `normal_spreads` (normal_map_spreads
+// in render/texture_range.h), the hull is widened as well by how far the corners' normal
+// map may turn the normals between them (normal_map_spread).
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], glm::vec3 visible,
                            const ProbeStencil* stencil = nullptr,
-                           float step_limit = std::numeric_limits<float>::infinity());
+                           float step_limit = std::numeric_limits<float>::infinity(),
+                           const std::vector<TextureSpread>* normal_spreads = nullptr);
 
 // The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are the stencil's (0, 0),
 // (1, 0), (0, 1), (1, 1), from second differences along rows and columns at each of them

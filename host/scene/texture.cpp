@@ -18,6 +18,8 @@ float reduce(float u, TextureWrap wrap) {
   return u;
 }
 
+}  // namespace
+
 // Texel index i wrapped into [0, n) (OpenGL 4.6 §8.14.2 wrap functions).
 int wrap_index(long i, int n, TextureWrap wrap) {
   // Inside the texture every mode is the identity: the bilinear footprint of a reduced
@@ -37,8 +39,6 @@ int wrap_index(long i, int n, TextureWrap wrap) {
   }
   return 0;
 }
-
-}  // namespace
 
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0 || texel_count() < size_t(width) * size_t(height)) return glm::vec4(1.0f);

@@ -41,4 +41,7 @@ struct Texture {
   glm::vec4 sample(glm::vec2 uv) const;
 };
 
+// Texel index i wrapped into [0, n) by the wrap mode (OpenGL 4.6 §8.14.2).
+int wrap_index(long i, int n, TextureWrap wrap);
+
 }  // namespace zz
