@@ -33,6 +33,7 @@
 #include "render/memory_budget.h"
 #include "render/primary_hits.h"
 #include "render/renderer.h"
+#include "render/texture_range.h"
 #include "scene/loader.h"
 
 namespace zz {
@@ -124,6 +125,8 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
                     settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
         (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0) +
         corner_plan.bytes;
+    // The highlight flag's spreads of the scene's normal maps (render/texture_range.h).
+    if (settings.aa == AaMode::Adaptive && settings.adaptive.highlights) frame_need += normal_map_spread_bytes(scene);
     // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
     // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
     size_t layer_count = 0;

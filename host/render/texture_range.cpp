@@ -165,6 +165,29 @@ TextureMoments TextureSpread::over(const Texture& base, glm::vec2 lo, glm::vec2 
   return r;
 }
 
+uint64_t TextureSpread::bytes(int width, int height) {
+  if (width <= 0 || height <= 0) return 0;
+  uint64_t total = 0;
+  int w = std::max(1, width >> kFirstBlock), h = std::max(1, height >> kFirstBlock);
+  for (;;) {
+    total += uint64_t(w) * uint64_t(h) * sizeof(TextureMoments);
+    if (w == 1 && h == 1) return total;
+    w = std::max(1, w / 2), h = std::max(1, h / 2);
+  }
+}
+
+uint64_t normal_map_spread_bytes(const Scene& scene) {
+  std::vector<bool> counted(scene.textures.size(), false);
+  uint64_t total = 0;
+  for (const Material& m : scene.materials) {
+    const size_t i = size_t(m.normal_texture.index);
+    if (!m.normal_texture.used() || i >= counted.size() || counted[i]) continue;
+    counted[i] = true;
+    total += TextureSpread::bytes(scene.textures[i].width, scene.textures[i].height);
+  }
+  return total;
+}
+
 glm::vec3 TextureMoments::deviation() const {
   if (!(count > 0.0f)) return glm::vec3(0.0f);
   const glm::vec3 mean = sum / count;

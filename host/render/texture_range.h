@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include <cstdint>
 #include <vector>
 
 #include "render/specular_peak.h"
@@ -35,6 +36,8 @@ class TextureSpread {
   // 5 x 5 of them, otherwise the blocks of the finest level on which it spans at most 3 x 3
   // (a few texels around it then count too). `base` must be the texture this was built from.
   TextureMoments over(const Texture& base, glm::vec2 lo, glm::vec2 hi) const;
+  // Bytes the pyramid of a width x height texture holds.
+  static uint64_t bytes(int width, int height);
 
  private:
   // Level i's block (x, y) sums base texels [x B, (x + 1) B) x [y B, (y + 1) B) with
@@ -49,6 +52,8 @@ class TextureSpread {
 // Spreads of the scene's normal maps (one per scene texture, empty unless a material uses
 // it as its normal texture).
 std::vector<TextureSpread> normal_map_spreads(const Scene& scene);
+// What normal_map_spreads will hold, in bytes (about 1.9 per texel), for the frame's memory check.
+uint64_t normal_map_spread_bytes(const Scene& scene);
 
 // How far (a distance between unit normals) the normal map typically turns the normals
 // inside the pixel whose corners are `corners` away from the bilinear interpolation of

@@ -166,5 +166,21 @@ TEST(NormalMapSpread, WidensTheHighlightFlagUnderANoisyMap) {
   EXPECT_EQ(hidden_highlight(lit, c, visible, nullptr, INFINITY, &flat.spreads), glm::vec3(0.0f));
 }
 
+// The frame's memory check counts the pyramid: 4 x 4 blocks and their halvings, each normal
+// map once however many materials use it.
+TEST(NormalMapSpread, BytesCountEachLevelAndEachMapOnce) {
+  EXPECT_EQ(TextureSpread::bytes(64, 64), uint64_t(16 * 16 + 8 * 8 + 4 * 4 + 2 * 2 + 1) * sizeof(TextureMoments));
+  EXPECT_EQ(TextureSpread::bytes(3, 100), uint64_t(25 + 12 + 6 + 3 + 1) * sizeof(TextureMoments));
+  EXPECT_EQ(TextureSpread::bytes(0, 100), 0u);
+  NormalMapped one(0.1f);
+  const uint64_t single = normal_map_spread_bytes(one.scene);
+  EXPECT_EQ(single, TextureSpread::bytes(64, 64));
+  one.scene.materials.push_back(one.scene.materials[0]);  // a second material, the same map
+  EXPECT_EQ(normal_map_spread_bytes(one.scene), single);
+  one.scene.materials[1].normal_texture.index = -1;
+  one.scene.materials[0].normal_texture.index = -1;
+  EXPECT_EQ(normal_map_spread_bytes(one.scene), 0u);
+}
+
 }  // namespace
 }  // namespace zz
