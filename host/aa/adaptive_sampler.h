@@ -412,7 +412,9 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         const int hdr = settings.hdr_zones ? hdr_zones(l2, tonemap.exposure) : 0;
         // Hidden detail may be anywhere between E..H and smaller than the zones' spacing of
         // the tables' edge model: every zone.
-        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, g, settings.geo_policy, settings.refine_all || peak);
+        const int split = g && settings.geo_policy == GeoPolicy::Split ? split_zones(l2) : 0;
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, split, g, settings.geo_policy,
+                             settings.refine_all || peak);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);

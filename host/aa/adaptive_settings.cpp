@@ -8,8 +8,9 @@ namespace zz {
 
 GeoPolicy parse_geo_policy(std::string_view name) {
   if (name == "paper") return GeoPolicy::Paper;
+  if (name == "split") return GeoPolicy::Split;
   if (name == "all") return GeoPolicy::All;
-  throw Error("unknown geo policy '" + std::string(name) + "' (expected paper or all)");
+  throw Error("unknown geo policy '" + std::string(name) + "' (expected paper, split or all)");
 }
 
 Filter parse_filter(std::string_view name) {
@@ -25,7 +26,14 @@ const TableSet& parse_table_set(std::string_view name) {
   throw Error("unknown table set '" + std::string(name) + "' (expected one of: " + names + ")");
 }
 
-const char* to_string(GeoPolicy p) { return p == GeoPolicy::Paper ? "paper" : "all"; }
+const char* to_string(GeoPolicy p) {
+  switch (p) {
+    case GeoPolicy::Paper: return "paper";
+    case GeoPolicy::Split: return "split";
+    case GeoPolicy::All: return "all";
+  }
+  return "?";
+}
 const char* to_string(Filter f) { return f == Filter::Box ? "box" : "mitchell"; }
 
 }  // namespace zz

@@ -11,8 +11,10 @@ namespace zz {
 
 // What a pixel with the visibility map's geo flag traces (§9):
 //   Paper: the zone tables; every zone only when no level-2 mask fired.
+//   Split: as Paper, and the zones whose interpolation sources saw different things
+//          (signatures differ: split_zones in adaptive_pixel.h). Ours, beyond §9.
 //   All:   every zone.
-enum class GeoPolicy { Paper, All };
+enum class GeoPolicy { Paper, Split, All };
 enum class Filter { Box, Mitchell };
 
 struct AdaptiveSettings {

@@ -150,7 +150,7 @@ double rays_of(const PatternRecord& r, int zones) { return r.refined ? refined_r
 TableScore score_tables(const TableSet& t, const std::vector<PatternRecord>& records) {
   TableScore s;
   for (const PatternRecord& r : records) {
-    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, r.hdr, /*geo=*/false, GeoPolicy::Paper, false) : 0;
+    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, r.hdr, /*split=*/0, /*geo=*/false, GeoPolicy::Paper, false) : 0;
     s.error += r.error[z];
     s.rays += rays_of(r, z);
   }

@@ -19,7 +19,8 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
          "Adaptive: zone table set (default " + std::string(o.tables->name) + ")")
       ->check(CLI::IsMember(tables));
   add_choice(cmd, "--geo-policy", o.geo_policy, kGeoPolicies,
-             "Adaptive: geo pixels trace per tables (paper) or every zone (all)");
+             "Adaptive: geo pixels trace per tables (paper), also the zones between samples that saw "
+             "different things (split), or every zone (all)");
   add_choice(cmd, "--filter", o.filter, kFilters, "Adaptive: reconstruction filter");
   cmd->add_option_function<std::string>(
          "--signature", [&o](const std::string& text) { o.signature = parse_signature(text); },

@@ -26,7 +26,8 @@ enum class EdgeMode { Vulkan, Off };
 
 inline constexpr Choice<AaMode> kAaModes[] = {
     {"adaptive", AaMode::Adaptive}, {"none", AaMode::None}, {"uniform", AaMode::Uniform}};
-inline constexpr Choice<GeoPolicy> kGeoPolicies[] = {{"paper", GeoPolicy::Paper}, {"all", GeoPolicy::All}};
+inline constexpr Choice<GeoPolicy> kGeoPolicies[] = {
+    {"paper", GeoPolicy::Paper}, {"split", GeoPolicy::Split}, {"all", GeoPolicy::All}};
 inline constexpr Choice<Filter> kFilters[] = {{"box", Filter::Box}, {"mitchell", Filter::Mitchell}};
 inline constexpr Choice<UniformPattern> kUniformPatterns[] = {
     {"grid", UniformPattern::Grid}, {"stratified", UniformPattern::Stratified}, {"lattice", UniformPattern::Lattice}};
@@ -39,7 +40,7 @@ inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 struct AdaptiveOptions {
   float eps = 0.05f;
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
-  GeoPolicy geo_policy = GeoPolicy::Paper;
+  GeoPolicy geo_policy = GeoPolicy::Split;
   Filter filter = Filter::Box;
   // Parts of the sample signatures (aa/signature.h): all of them (object, shadowed lights,
   // what the first reflection and refraction rays hit), with the highlight flag, the

@@ -19,7 +19,7 @@ TEST(AdaptiveDeterminism, BitIdenticalAcrossTilesAndThreads) {
   const AnalyticImage star = make_analytic_image("star", 90);
   const GeoMap geo = analytic_geo_map(star, 4);
   for (Filter f : {Filter::Box, Filter::Mitchell})
-    for (GeoPolicy gp : {GeoPolicy::Paper, GeoPolicy::All})
+    for (GeoPolicy gp : {GeoPolicy::Paper, GeoPolicy::Split, GeoPolicy::All})
       for (unsigned sig : {kSignatureNone, kSignatureObject}) {  // signatures: corners carry one more array
         AdaptiveSettings s;
         s.filter = f;

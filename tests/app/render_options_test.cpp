@@ -35,7 +35,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_EQ(o.render.aa, AaMode::Adaptive);
   EXPECT_FLOAT_EQ(o.render.adaptive.eps, 0.05f);
   EXPECT_STREQ(o.render.adaptive.tables->name, "tuned");
-  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::Paper);
+  EXPECT_EQ(o.render.adaptive.geo_policy, GeoPolicy::Split);
   EXPECT_EQ(o.render.adaptive.filter, Filter::Box);
   EXPECT_EQ(o.render.adaptive.signature, unsigned(kSignatureAll));
   EXPECT_TRUE(o.render.adaptive.highlights);

@@ -276,8 +276,10 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "pixel on different materials flag it), with the HDR zone rule (`--hdr-zones on`: zones the "
                     "tables would interpolate between samples that differ by more than the display shows are "
                     "traced), with the texture footprint correction (`--footprint on`: unrefined textured pixels "
-                    "take the texture's mean over the pixel, relit at each sample's normal; no rays), and every "
-                    "detector at once. *Removed* as above.", BEYOND_BASE, variants)
+                    "take the texture's mean over the pixel, relit at each sample's normal; no rays), every "
+                    "detector at once, and that with geo policy split (`--geo-policy split`: pixels the map flags "
+                    "also trace the zones whose interpolation sources have different signatures). *Removed* as "
+                    "above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:

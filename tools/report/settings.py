@@ -15,7 +15,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     `lights`, the `secondary` and all signatures, both with the `secondary` and all
     signatures and the map's material rule (--edge-material on), that with the HDR zone
     rule (--hdr-zones on), all of these with the texture flag too, and both at eps 0.1 (the
-    second ablation table), and that with the texture footprint correction (--footprint on);
+    second ablation table), that with the texture footprint correction (--footprint on), and
+    that with geo policy split (--geo-policy split: geo pixels also trace the zones between
+    samples whose signatures differ);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -126,7 +128,9 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + sig all + material + hdr zones + textures",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "textures": "on"}),
                    ("both + sig all + material + hdr zones + footprint",
-                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on"})]
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on"}),
+                   ("both + sig all + material + hdr zones + footprint + geo split",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:

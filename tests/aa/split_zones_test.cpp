@@ -1,0 +1,51 @@
+// Zones between samples that saw different things (split_zones and GeoPolicy::Split in
+// aa/adaptive_pixel.h).
+#include <gtest/gtest.h>
+
+#include "test_sources.h"
+
+namespace zz {
+namespace {
+
+// A level-2 pixel whose canonical sample `other` (A B C D E F G H = 0..7) saw something
+// else than the seven others.
+Level2 level2_with_other(int other) {
+  alignas(16) int32_t s[8];
+  for (int i = 0; i < 8; ++i) s[i] = i == other ? make_signature(7u, 0, 0) : make_signature(3u, 0, 0);
+  Level2 l2{};
+  l2.corner_sig = int4(s[0], s[1], s[2], s[3]);
+  l2.efgh_sig = int4(s[4], s[5], s[6], s[7]);
+  return l2;
+}
+
+TEST(SplitZones, ASampleThatSawSomethingElseSplitsTheZonesInterpolatedFromIt) {
+  // §6: z0 from A, C, E; z1 E–G; z2 G–F; z3 F–H; z4 from H, B, D.
+  const int want[8] = {/*A*/ 0b00001, /*B*/ 0b10000, /*C*/ 0b00001, /*D*/ 0b10000,
+                       /*E*/ 0b00011, /*F*/ 0b01100, /*G*/ 0b00110, /*H*/ 0b11000};
+  for (int s = 0; s < 8; ++s) {
+    SCOPED_TRACE(s);
+    EXPECT_EQ(split_zones(level2_with_other(s)), want[s]);
+  }
+  EXPECT_EQ(split_zones(level2_with_other(-1)), 0);  // all eight saw the same
+  // A shadow from one light more is something else too (signature.h's light bits).
+  Level2 l2 = level2_with_other(-1);
+  l2.efgh_sig = int4(make_signature(3u, 0, 1u), make_signature(3u, 0, 0), make_signature(3u, 0, 0),
+                     make_signature(3u, 0, 0));
+  EXPECT_EQ(split_zones(l2), want[4]);
+}
+
+TEST(SplitZones, OnlyGeoPixelsUnderTheSplitPolicyTraceThem) {
+  const TableSet& t = *find_table_set("tuned");
+  const int split = 0b01100;
+  // b = c0 = c1 = 0 would make a geo pixel trace every zone: a mask that fired, with the
+  // tables' own zones, so that what split adds shows.
+  const int tables = t.zones(1, 0, 0);
+  ASSERT_NE(tables | split, tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::Split, false), tables | split);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/false, GeoPolicy::Split, false), tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::Paper, false), tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::All, false), kAllZones);
+}
+
+}  // namespace
+}  // namespace zz
