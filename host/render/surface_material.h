@@ -25,7 +25,7 @@ struct Texcoords {
     uv1 = scene.uvs1.empty() ? uv0 : w * scene.uvs1[t3] + u * scene.uvs1[t3 + 1] + v * scene.uvs1[t3 + 2];
   }
   glm::vec4 sample(const Scene& scene, const TextureRef& ref) const {
-    return scene.textures[size_t(ref.index)].sample(ref.apply(ref.texcoord == 1 ? uv1 : uv0));
+    return scene.textures[size_t(ref.index)].sample(ref.at(uv0, uv1));
   }
 };
 

@@ -78,7 +78,7 @@ Footprint footprint(const Scene& scene, const std::vector<TexturePyramid>& pyram
   const Texture& texture = scene.textures[index];
   glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
   for (int k = 0; k < 4; ++k) {
-    const glm::vec2 st = ref.apply(ref.texcoord == 1 ? c[k].uv1 : c[k].uv0);
+    const glm::vec2 st = ref.at(c[k].uv0, c[k].uv1);
     f.corners += 0.25f * glm::vec3(texture.sample(st));
     lo = glm::min(lo, st);
     hi = glm::max(hi, st);
@@ -246,7 +246,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   for (const TextureRef* ref : refs) {
     if (!valid_ref(scene, *ref)) continue;
     glm::vec2 st[4];
-    for (int i = 0; i < 4; ++i) st[i] = ref->apply(ref->texcoord == 1 ? c[i].uv1 : c[i].uv0);
+    for (int i = 0; i < 4; ++i) st[i] = ref->at(c[i].uv0, c[i].uv1);
     const Texture& texture = scene.textures[size_t(ref->index)];
     const glm::vec2 size(float(texture.width), float(texture.height));
     const glm::vec2 e1 = (st[1] - st[0]) * size, e2 = (st[2] - st[0]) * size;

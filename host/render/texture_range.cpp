@@ -176,15 +176,23 @@ uint64_t TextureSpread::bytes(int width, int height) {
   }
 }
 
+namespace {
+
+// Whether each scene texture is some material's normal map.
+std::vector<bool> normal_maps(const Scene& scene) {
+  std::vector<bool> used(scene.textures.size(), false);
+  for (const Material& m : scene.materials)
+    if (m.normal_texture.used() && size_t(m.normal_texture.index) < used.size()) used[size_t(m.normal_texture.index)] = true;
+  return used;
+}
+
+}  // namespace
+
 uint64_t normal_map_spread_bytes(const Scene& scene) {
-  std::vector<bool> counted(scene.textures.size(), false);
+  const std::vector<bool> used = normal_maps(scene);
   uint64_t total = 0;
-  for (const Material& m : scene.materials) {
-    const size_t i = size_t(m.normal_texture.index);
-    if (!m.normal_texture.used() || i >= counted.size() || counted[i]) continue;
-    counted[i] = true;
-    total += TextureSpread::bytes(scene.textures[i].width, scene.textures[i].height);
-  }
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) total += TextureSpread::bytes(scene.textures[i].width, scene.textures[i].height);
   return total;
 }
 
@@ -195,15 +203,14 @@ glm::vec3 TextureMoments::deviation() const {
 }
 
 std::vector<TextureSpread> normal_map_spreads(const Scene& scene) {
-  std::vector<TextureSpread> spreads(scene.textures.size());
-  for (const Material& m : scene.materials) {
-    const size_t i = size_t(m.normal_texture.index);
-    if (m.normal_texture.used() && i < spreads.size() && spreads[i].empty()) spreads[i] = TextureSpread(scene.textures[i]);
-  }
+  const std::vector<bool> used = normal_maps(scene);
+  std::vector<TextureSpread> spreads(used.size());
+  for (size_t i = 0; i < used.size(); ++i)
+    if (used[i]) spreads[i] = TextureSpread(scene.textures[i]);
   return spreads;
 }
 
-float normal_map_spread(const Scene& scene, const std::vector<TextureSpread>& ranges, const SurfaceProbe c[4]) {
+float normal_map_spread(const Scene& scene, const std::vector<TextureSpread>& spreads, const SurfaceProbe c[4]) {
   const uint32_t m = c[0].material;
   if (m >= scene.materials.size()) return 0.0f;
   for (int k = 1; k < 4; ++k)
@@ -211,14 +218,14 @@ float normal_map_spread(const Scene& scene, const std::vector<TextureSpread>& ra
   const Material& material = scene.materials[m];
   const TextureRef& ref = material.normal_texture;
   const size_t index = size_t(ref.index);
-  if (!ref.used() || index >= ranges.size() || ranges[index].empty()) return 0.0f;
+  if (!ref.used() || index >= spreads.size() || spreads[index].empty()) return 0.0f;
   glm::vec2 lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
   for (int k = 0; k < 4; ++k) {
-    const glm::vec2 st = ref.apply(ref.texcoord == 1 ? c[k].uv1 : c[k].uv0);
+    const glm::vec2 st = ref.at(c[k].uv0, c[k].uv1);
     lo = glm::min(lo, st);
     hi = glm::max(hi, st);
   }
-  const glm::vec3 deviation = ranges[index].over(scene.textures[index], lo, hi).deviation();
+  const glm::vec3 deviation = spreads[index].over(scene.textures[index], lo, hi).deviation();
   // Texel rgb maps to the tangent-space normal (2 rgb - 1) with x and y scaled
   // (render/normal_map.h): the normals' RMS distance from their mean, times kSpreadDeviations.
   const glm::vec3 scale(std::fabs(material.normal_scale), std::fabs(material.normal_scale), 1.0f);

@@ -2,9 +2,9 @@
 // (render/specular_peak.h): a normal map finer than the pixel (a metal's brushed or
 // hammered grain, 10 texels between two corners on the lamp) turns the normal between the
 // corners away from their bilinear interpolation, and the highlight of a shiny surface
-// then peaks on a texel no corner saw. The bound is the per-channel range of the texels
-// that filtering anywhere in the corners' texture-coordinate box reads, from a pyramid of
-// per-block minima and maxima (a conservative "min/max mip map").
+// then peaks on a texel no corner saw. How far the map turns the normals there is
+// estimated from the texels' RMS deviation over the corners' texture-coordinate box, from
+// a pyramid of per-block sums of the texels and of their squares.
 #pragma once
 
 #include <glm/glm.hpp>

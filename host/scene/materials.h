@@ -21,6 +21,8 @@ struct TextureRef {
 
   bool used() const { return index >= 0; }
   glm::vec2 apply(glm::vec2 uv) const { return transformed ? glm::vec2(transform * glm::vec3(uv, 1.0f)) : uv; }
+  // The texture's coordinates at a point with TEXCOORD_0 `uv0` and TEXCOORD_1 `uv1`.
+  glm::vec2 at(glm::vec2 uv0, glm::vec2 uv1) const { return apply(texcoord == 1 ? uv1 : uv0); }
 };
 
 enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
