@@ -82,8 +82,9 @@ struct FootprintCorner {
 };
 FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner, const FootprintProbe& footprint);
 
-// `settled`: per channel, a delta the 2 x 2 first estimate may keep when it stays below it
-// in every channel (what could not show on the display); finer sampling otherwise.
+// `settled`: per channel, half a display step: the 2 x 2 first estimate is kept when its
+// delta stays below it and its four samples agree within twice it, in every channel;
+// finer sampling otherwise.
 // `prepared`: footprint_corner of each corner.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4],
