@@ -122,6 +122,11 @@ inline int4 select(mask4 m, int4 a, int4 b) {
 }
 
 // ---- horizontal --------------------------------------------------------------
+inline float hsum(float4 a) {
+  __m128 t = _mm_add_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
+  t = _mm_add_ps(t, _mm_shuffle_ps(t, t, _MM_SHUFFLE(1, 0, 3, 2)));
+  return _mm_cvtss_f32(t);
+}
 inline float hmin(float4 a) {
   __m128 t = _mm_min_ps(a, _mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 3, 0, 1)));
   t = _mm_min_ps(t, _mm_shuffle_ps(t, t, _MM_SHUFFLE(1, 0, 3, 2)));

@@ -168,7 +168,7 @@ class SceneSource {
   // lane 3 is 1 where the correction applies, 0 elsewhere. `prepared`: footprint_corner of
   // the four corners.
   // `mean`: the corners' mean radiance; a first estimate is kept where it moves the display
-  // by less than half a step and its samples agree within one (texture_detail.h).
+  // by less than half a step and its samples agree within that (texture_detail.h).
   using FootprintCorner = zz::FootprintCorner;
   FootprintCorner footprint_corner(const Probe& corner) const {
     if (!detail_ || !detail_->footprint) return {};

@@ -166,6 +166,37 @@ glm::vec3 direct_light(int lights, glm::vec3 albedo, glm::vec3 specular, float s
   return sum;
 }
 
+// The same vector in all four lanes.
+vec3x4 splat(glm::vec3 v) { return {float4(v.x), float4(v.y), float4(v.z)}; }
+
+// The bilinear weights of the corners (TL, TR, BL, BR) at four points (s, t) of the pixel.
+struct Bilerp4 {
+  float4 w[4];
+  Bilerp4(float4 s, float4 t) {
+    const float4 one(1.0f);
+    w[0] = (one - t) * (one - s);
+    w[1] = (one - t) * s;
+    w[2] = t * (one - s);
+    w[3] = t * s;
+  }
+  float4 at(float a, float b, float c, float d) const { return w[0] * a + w[1] * b + w[2] * c + w[3] * d; }
+  vec3x4 at(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) const {
+    return {at(a.x, b.x, c.x, d.x), at(a.y, b.y, c.y, d.y), at(a.z, b.z, c.z, d.z)};
+  }
+  glm::vec2 lane(int i, glm::vec2 a, glm::vec2 b, glm::vec2 c, glm::vec2 d) const {
+    return w[0][i] * a + w[1][i] * b + w[2][i] * c + w[3][i] * d;
+  }
+};
+
+// Four samples of the texture `ref` names, at its coordinates interpolated between the
+// corners' (affine in the corners' uv, so the transform commutes with the interpolation).
+void sample4(const Scene& scene, const TextureRef& ref, const SurfaceProbe c[4], const Bilerp4& w, float4 rgba[4]) {
+  glm::vec2 st[4];
+  for (int i = 0; i < 4; ++i) st[i] = ref.at(c[i].uv0, c[i].uv1);
+  scene.textures[size_t(ref.index)].sample4(w.at(st[0].x, st[1].x, st[2].x, st[3].x),
+                                            w.at(st[0].y, st[1].y, st[2].y, st[3].y), rgba);
+}
+
 }  // namespace
 
 FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, const FootprintProbe& f) {
@@ -242,7 +273,6 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   // fails one or the other; so does a texture minified beyond what the samples resolve).
   const TextureRef* refs[5] = {&material.base_color_texture, &material.metallic_roughness_texture,
                                &material.transmission_texture, &material.emissive_texture, &material.normal_texture};
-  float texels = 0.0f;  // the widest footprint edge, in texels
   for (const TextureRef* ref : refs) {
     if (!valid_ref(scene, *ref)) continue;
     glm::vec2 st[4];
@@ -253,15 +283,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     const glm::vec2 twist = (st[0] + st[3] - st[1] - st[2]) * size;
     const float edge = std::max(glm::length(e1), glm::length(e2));
     if (!(edge <= kFootprintMaxTexels && glm::length(twist) <= 0.5f * edge + 1e-3f)) return {};
-    texels = std::max(texels, edge);
   }
 
-  auto bilerp = [](const auto& tl, const auto& tr, const auto& bl, const auto& br, float s, float t) {
-    return (1.0f - t) * ((1.0f - s) * tl + s * tr) + t * ((1.0f - s) * bl + s * br);
-  };
-  auto uv_at = [&](glm::vec2 SurfaceProbe::*uv, float s, float t) {
-    return bilerp(c[0].*uv, c[1].*uv, c[2].*uv, c[3].*uv, s, t);
-  };
   // With the normal map and few lights, each sample is lit light by light at its own normal,
   // the lights' directions and strengths and the map's frame interpolated between the
   // corners' (footprint_corner); otherwise only the albedo varies.
@@ -274,61 +297,112 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (emissive) at_corners += 0.25f * emission * k[i]->emissive_texel;
   }
   const bool lit = diffuse && light != glm::vec3(0.0f);
+  const WhittedMaterial& whitted = scene.whitted[m];
+  const bool plain_albedo = !material.varies_per_hit();  // albedo = diffuse x base texture
+  const vec3x4 zero = splat(glm::vec3(0.0f));
 
-  // The model's radiance at (s, t) of the pixel (corner TL at 0, 0; BR at 1, 1).
-  auto model_at = [&](float s, float t) {
-    glm::vec3 sum(0.0f);
-    const Texcoords tc(uv_at(&SurfaceProbe::uv0, s, t), uv_at(&SurfaceProbe::uv1, s, t));
-    if (emissive) sum += emission * glm::vec3(tc.sample(scene, material.emissive_texture));
-    if (!lit) return sum;
-    const glm::vec3 albedo = diffuse_albedo(scene, m, tc);
-    if (!per_light) return sum + albedo * light;
-    // The normal map at the sample, in the corners' frames interpolated.
-    glm::vec3 at[3];
-    for (int a = 0; a < 3; ++a)
-      at[a] = bilerp(k[0]->frame[a], k[1]->frame[a], k[2]->frame[a], k[3]->frame[a], s, t);
-    const glm::vec3 rgb(tc.sample(scene, material.normal_texture));
-    const glm::vec3 normal = mapped_in_frame(at, rgb, material.normal_scale, c[0].normal);
-    glm::vec3 light_strength[kFootprintLights], light_direction[kFootprintLights];
-    for (int l = 0; l < lights; ++l) {
-      light_strength[l] = bilerp(k[0]->strength[l], k[1]->strength[l], k[2]->strength[l], k[3]->strength[l], s, t);
-      const glm::vec3 w = bilerp(k[0]->to_light[l], k[1]->to_light[l], k[2]->to_light[l], k[3]->to_light[l], s, t);
-      const float wl = glm::length(w);
-      light_direction[l] = wl > 1e-12f ? w / wl : glm::vec3(0.0f);
+  // The model's radiance at four points (s, t) of the pixel at once (corner TL at 0, 0; BR
+  // at 1, 1), every quantity interpolated between the corners with the same four weights.
+  auto model4 = [&](float4 s, float4 t) {
+    const Bilerp4 w(s, t);
+    vec3x4 sum = zero;
+    if (emissive) {
+      float4 rgba[4];
+      sample4(scene, material.emissive_texture, c, w, rgba);
+      sum = vec3x4{rgba[0], rgba[1], rgba[2]} * splat(emission);
     }
-    const glm::vec3 wo = glm::normalize(bilerp(c[0].view, c[1].view, c[2].view, c[3].view, s, t));
-    sum += direct_light(lights, albedo, bilerp(c[0].specular, c[1].specular, c[2].specular, c[3].specular, s, t),
-                        bilerp(c[0].shininess, c[1].shininess, c[2].shininess, c[3].shininess, s, t), normal, wo,
-                        light_strength, light_direction);
+    if (!lit) return sum;
+    vec3x4 albedo;
+    if (plain_albedo) {
+      albedo = splat(whitted.diffuse);
+      if (material.base_color_texture.used()) {
+        float4 rgba[4];
+        sample4(scene, material.base_color_texture, c, w, rgba);
+        albedo = albedo * vec3x4{rgba[0], rgba[1], rgba[2]};
+      }
+    } else {  // metallic, roughness or transmission textured: the material, lane by lane
+      alignas(16) float ax[4], ay[4], az[4];
+      for (int lane = 0; lane < 4; ++lane) {
+        const glm::vec3 a = diffuse_albedo(scene, m, Texcoords(w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
+                                                               w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
+        ax[lane] = a.x;
+        ay[lane] = a.y;
+        az[lane] = a.z;
+      }
+      albedo = {float4::load(ax), float4::load(ay), float4::load(az)};
+    }
+    if (!per_light) return sum + albedo * splat(light);
+    // The normal map at the samples, in the corners' frames interpolated (mapped_in_frame).
+    float4 rgb[4];
+    sample4(scene, material.normal_texture, c, w, rgb);
+    const float4 scale(material.normal_scale);
+    const vec3x4 mapped =
+        w.at(k[0]->frame[0], k[1]->frame[0], k[2]->frame[0], k[3]->frame[0]) * ((rgb[0] * 2.0f - 1.0f) * scale) +
+        w.at(k[0]->frame[1], k[1]->frame[1], k[2]->frame[1], k[3]->frame[1]) * ((rgb[1] * 2.0f - 1.0f) * scale) +
+        w.at(k[0]->frame[2], k[1]->frame[2], k[2]->frame[2], k[3]->frame[2]) * (rgb[2] * 2.0f - 1.0f);
+    const float4 mapped_len = sqrt(dot(mapped, mapped));
+    const vec3x4 normal = select((mapped_len > float4(1e-12f)) & isfinite(mapped_len),
+                                 mapped * rcp_exact(mapped_len), splat(c[0].normal));
+    const vec3x4 view = w.at(c[0].view, c[1].view, c[2].view, c[3].view);
+    const vec3x4 wo = view * rcp_exact(sqrt(dot(view, view)));
+    const vec3x4 specular = w.at(c[0].specular, c[1].specular, c[2].specular, c[3].specular);
+    const float4 shininess = w.at(c[0].shininess, c[1].shininess, c[2].shininess, c[3].shininess);
+    const bool phong_linear = (shininess != float4(1.0f)).none();
+    for (int l = 0; l < lights; ++l) {
+      const vec3x4 to = w.at(k[0]->to_light[l], k[1]->to_light[l], k[2]->to_light[l], k[3]->to_light[l]);
+      const float4 to_len = sqrt(dot(to, to));
+      const vec3x4 direction = select(to_len > float4(1e-12f), to * rcp_exact(to_len), zero);
+      // direct_light's Lambert and Phong terms.
+      const float4 cos_s = dot(normal, direction);
+      const vec3x4 r = normal * (float4(2.0f) * cos_s) - direction;
+      const float4 cos_r = max(dot(r, wo), float4(0.0f));
+      float4 lobe = cos_r;
+      if (!phong_linear) {
+        alignas(16) float x[4], e[4];
+        cos_r.store(x);
+        shininess.store(e);
+        for (int lane = 0; lane < 4; ++lane) x[lane] = e[lane] == 1.0f ? x[lane] : std::pow(x[lane], e[lane]);
+        lobe = float4::load(x);
+      }
+      const float4 phong = (shininess + 2.0f) * float4(0.5f) * lobe;
+      const vec3x4 strength = w.at(k[0]->strength[l], k[1]->strength[l], k[2]->strength[l], k[3]->strength[l]);
+      const vec3x4 term = strength * cos_s * (albedo + specular * phong);
+      sum = sum + select(cos_s > float4(0.0f), term, zero);
+    }
     return sum;
   };
-  // The pixel's mean of the model at n x n points; `spread`: per channel, the largest
-  // difference between two of them.
+  static_assert(kFootprintSamples % 2 == 0);
+  // The pixel's mean of the model at n x n points, four at a time (n even: whole groups);
+  // `spread`: per channel, the largest difference between two of them.
   auto footprint_mean = [&](int n, glm::vec3& spread) {
-    glm::vec3 sum(0.0f), lo(std::numeric_limits<float>::infinity()), hi(-std::numeric_limits<float>::infinity());
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const glm::vec3 v = model_at((float(i) + 0.5f) / float(n), (float(j) + 0.5f) / float(n));
-        sum += v;
-        lo = glm::min(lo, v);
-        hi = glm::max(hi, v);
+    const int count = n * n;
+    vec3x4 sum = zero;
+    vec3x4 lo = splat(glm::vec3(std::numeric_limits<float>::infinity())), hi = splat(-glm::vec3(std::numeric_limits<float>::infinity()));
+    for (int first = 0; first < count; first += 4) {
+      alignas(16) float ss[4], ts[4];
+      for (int lane = 0; lane < 4; ++lane) {
+        ss[lane] = (float((first + lane) % n) + 0.5f) / float(n);
+        ts[lane] = (float((first + lane) / n) + 0.5f) / float(n);
       }
-    spread = hi - lo;
-    return sum / float(n * n);
+      const vec3x4 v = model4(float4::load(ss), float4::load(ts));
+      sum = sum + v;
+      lo = {min(lo.x, v.x), min(lo.y, v.y), min(lo.z, v.z)};
+      hi = {max(hi.x, v.x), max(hi.y, v.y), max(hi.z, v.z)};
+    }
+    spread = glm::vec3(hmax(hi.x) - hmin(lo.x), hmax(hi.y) - hmin(lo.y), hmax(hi.z) - hmin(lo.z));
+    return glm::vec3(hsum(sum.x), hsum(sum.y), hsum(sum.z)) / float(count);
   };
-  // 2 x 2 samples first. They settle the pixel where what they add could not show and
-  // they agree with each other within one display step (twice `settled`): a 2 x 2 mean
-  // whose samples disagree more than that can be a step off the pixel's mean (on the car's
-  // fabric floor, a display step on 26 000 pixels that FLIP counted: 1.44x the lattice's
-  // error, 1.39x with the agreement test). Otherwise two more per side than the texels an
-  // edge crosses, so that each cell of the bilinear texture gets one (3 at least,
-  // kFootprintSamples at most: on the car, 6 gains 0.2 % display error over 4 at twice the reads).
+  // 2 x 2 samples first. They settle the pixel where what they add could not show and no
+  // two of them differ by more (`settled`, half a display step); otherwise 4 x 4. On the
+  // car's fabric floor, 2 x 2 means whose samples disagree were a display step off the
+  // pixel's on 26 000 pixels, which FLIP counts (1.44x the lattice's error without the
+  // agreement test; 1.33x with it and 4 x 4 everywhere else, where 3 x 3 at about a texel
+  // per pixel gave 1.36x; 5 x 5 gains 0.03 more for 1.6 times the reads).
   glm::vec3 spread;
   const glm::vec3 coarse = footprint_mean(2, spread) - at_corners;
-  if (glm::all(glm::lessThan(glm::abs(coarse), settled)) && glm::all(glm::lessThan(spread, 2.0f * settled)))
+  if (glm::all(glm::lessThan(glm::abs(coarse), settled)) && glm::all(glm::lessThan(spread, settled)))
     return {coarse, true};
-  const int n = std::clamp(int(std::ceil(texels)) + 2, 3, kFootprintSamples);
-  return {footprint_mean(n, spread) - at_corners, true};
+  return {footprint_mean(kFootprintSamples, spread) - at_corners, true};
 }
 
 }  // namespace zz

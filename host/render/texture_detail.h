@@ -60,7 +60,7 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 // moved to first order (FootprintProbe::gradient) by the normal map's normal there. Exact
 // where light and visibility are even over the pixel, which is where its corners agree.
 // Does not apply to other pixels (a miss, two materials, a UV seam or atlas jump, no texture).
-inline constexpr int kFootprintSamples = 4;
+inline constexpr int kFootprintSamples = 4;  // even: the samples go four at a time
 inline constexpr float kFootprintMaxTexels = 4.0f * kFootprintSamples;
 struct FootprintDelta {
   glm::vec3 delta{0.0f};
@@ -83,8 +83,8 @@ struct FootprintCorner {
 FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner, const FootprintProbe& footprint);
 
 // `settled`: per channel, half a display step: the 2 x 2 first estimate is kept when its
-// delta stays below it and its four samples agree within twice it, in every channel;
-// finer sampling otherwise.
+// delta stays below it and no two of its four samples differ by more, in every channel;
+// kFootprintSamples^2 samples otherwise (four at a time, in SSE lanes).
 // `prepared`: footprint_corner of each corner.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4],

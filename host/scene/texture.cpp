@@ -63,4 +63,37 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
   return (a * (1.0f - tx) + b * tx) * (1.0f - ty) + (c * (1.0f - tx) + d * tx) * ty;
 }
 
+void Texture::sample4(float4 u, float4 v, float4 rgba[4]) const {
+  alignas(16) float c[4][4];  // c[channel][lane]
+  alignas(16) float us[4], vs[4];
+  u.store(us);
+  v.store(vs);
+  const bool bilinear_rgba8 = filter == TextureFilter::Linear && texels.empty() && width > 0 && height > 0 &&
+                              texels8.size() >= size_t(width) * size_t(height);
+  for (int lane = 0; lane < 4; ++lane) {
+    if (!bilinear_rgba8 || !std::isfinite(us[lane]) || !std::isfinite(vs[lane])) {
+      const glm::vec4 t = sample(glm::vec2(us[lane], vs[lane]));
+      for (int ch = 0; ch < 4; ++ch) c[ch][lane] = t[ch];
+      continue;
+    }
+    // sample()'s bilinear path, with the four texels' bytes decoded into their weighted sum.
+    const float x = reduce(us[lane], wrap_s) * float(width) - 0.5f, y = reduce(vs[lane], wrap_t) * float(height) - 0.5f;
+    const float fx = std::floor(x), fy = std::floor(y);
+    const float tx = x - fx, ty = y - fy;
+    const long ix = long(fx), iy = long(fy);
+    const size_t x0 = size_t(wrap_index(ix, width, wrap_s)), x1 = size_t(wrap_index(ix + 1, width, wrap_s));
+    const size_t r0 = size_t(wrap_index(iy, height, wrap_t)) * size_t(width);
+    const size_t r1 = size_t(wrap_index(iy + 1, height, wrap_t)) * size_t(width);
+    const uint32_t p[4] = {texels8[r0 + x0], texels8[r0 + x1], texels8[r1 + x0], texels8[r1 + x1]};
+    for (int ch = 0; ch < 4; ++ch) {
+      const std::array<float, 256>& table = ch == 3 ? alpha_of_byte : colour_of_byte;
+      const unsigned shift = 8u * unsigned(ch);
+      const float a = table[(p[0] >> shift) & 0xffu], b = table[(p[1] >> shift) & 0xffu];
+      const float cc = table[(p[2] >> shift) & 0xffu], d = table[(p[3] >> shift) & 0xffu];
+      c[ch][lane] = (a * (1.0f - tx) + b * tx) * (1.0f - ty) + (cc * (1.0f - tx) + d * tx) * ty;
+    }
+  }
+  for (int ch = 0; ch < 4; ++ch) rgba[ch] = float4::load(c[ch]);
+}
+
 }  // namespace zz

@@ -15,6 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/simd.h"
+
 namespace zz {
 
 enum class TextureWrap : uint8_t { Repeat, ClampToEdge, MirroredRepeat };
@@ -39,6 +41,9 @@ struct Texture {
             alpha_of_byte[p >> 24]};
   }
   glm::vec4 sample(glm::vec2 uv) const;
+  // Four lanes of sample() at (u[i], v[i]), returned as R, G, B, A rows; the same floats as
+  // sample() gives lane by lane.
+  void sample4(float4 u, float4 v, float4 rgba[4]) const;
 };
 
 // Texel index i wrapped into [0, n) by the wrap mode (OpenGL 4.6 §8.14.2).

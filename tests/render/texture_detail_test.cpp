@@ -116,10 +116,10 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   // Where the first 2 x 2 estimate could not show, it stays.
   const FootprintDelta coarse = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1.0f));
   EXPECT_NEAR(coarse.delta.r, 0.375f, 1e-5f);
-  // A first estimate that could not show is still refined where its four samples disagree
-  // by a display step or more (twice `settled`). Corners one texel further right: one on
-  // the stroke's flank (0.5), so their mean is 0.25; two of the 2 x 2 samples see 0.75,
-  // two see 0, so the first estimate adds 0.125 < settled, but its spread 0.75 >= 2 settled.
+  // A first estimate that could not show is still refined where two of its four samples
+  // differ by `settled` or more. Corners one texel further right: one on the stroke's flank
+  // (0.5), so their mean is 0.25; two of the 2 x 2 samples see 0.75, two see 0, so the
+  // first estimate adds 0.125 < settled, but its spread is 0.75 >= settled.
   // The texture's mean over the footprint is 0.875 / 3: the delta is 0.042 (4 x 4: 0.0625).
   s.corners(32.0f / 64, 35.0f / 64, k.c);
   const FootprintDelta disagreeing = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.2f));

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
+#include <limits>
 
 #include "gltf_fixture.h"
 #include "scene/loader.h"
@@ -147,6 +148,47 @@ TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
       }
     }
   }
+}
+
+// sample4 (the texture footprint's four lanes) returns lane by lane what sample() returns,
+// bit for bit, for both storages, every wrap mode and filter, and the inputs sample()
+// treats apart (non-finite and huge coordinates).
+TEST(Texture, FourLanesSampleAsOne) {
+  Texture bytes;
+  bytes.width = 5;
+  bytes.height = 3;
+  for (int i = 0; i < 256; ++i) {
+    bytes.colour_of_byte[size_t(i)] = std::pow((i / 255.0f + 0.055f) / 1.055f, 2.4f);
+    bytes.alpha_of_byte[size_t(i)] = float(i) * (1.0f / 255.0f);
+  }
+  for (uint32_t p = 0; p < 15; ++p)
+    bytes.texels8.push_back((p * 53u) % 256u | ((p * 29u + 3u) % 256u) << 8 | ((p * 71u) % 256u) << 16 |
+                            ((200u - p * 11u) % 256u) << 24);
+  Texture floats = bytes;
+  floats.texels8.clear();
+  for (size_t i = 0; i < bytes.texel_count(); ++i) floats.texels.push_back(bytes.texel(i));
+  const float odd[] = {std::nanf(""), std::numeric_limits<float>::infinity(), 1e20f, -3e9f};
+  for (Texture* t : {&bytes, &floats})
+    for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat})
+      for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Nearest}) {
+        t->wrap_s = t->wrap_t = wrap;
+        t->filter = filter;
+        for (int k = 0; k < 100; ++k) {
+          alignas(16) float u[4], v[4];
+          for (int lane = 0; lane < 4; ++lane) {
+            u[lane] = -1.3f + 0.0137f * float(4 * k + lane);
+            v[lane] = 2.1f - 0.0091f * float(4 * k + lane);
+          }
+          if (k < 4) u[k] = odd[k];
+          float4 rgba[4];
+          t->sample4(float4::load(u), float4::load(v), rgba);
+          for (int lane = 0; lane < 4; ++lane) {
+            const glm::vec4 one = t->sample(glm::vec2(u[lane], v[lane]));
+            for (int c = 0; c < 4; ++c)
+              ASSERT_EQ(rgba[c][lane], one[c]) << "uv " << u[lane] << "," << v[lane] << " channel " << c;
+          }
+        }
+      }
 }
 
 TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
