@@ -377,7 +377,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   auto footprint_mean = [&](int n, glm::vec3& spread) {
     const int count = n * n;
     vec3x4 sum = zero;
-    vec3x4 lo = splat(glm::vec3(std::numeric_limits<float>::infinity())), hi = splat(-glm::vec3(std::numeric_limits<float>::infinity()));
+    const glm::vec3 inf(std::numeric_limits<float>::infinity());
+    vec3x4 lo = splat(inf), hi = splat(-inf);
     for (int first = 0; first < count; first += 4) {
       alignas(16) float ss[4], ts[4];
       for (int lane = 0; lane < 4; ++lane) {
