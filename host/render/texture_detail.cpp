@@ -188,14 +188,22 @@ struct Bilerp4 {
   }
 };
 
-// Four samples of the texture `ref` names, at its coordinates interpolated between the
-// corners' (affine in the corners' uv, so the transform commutes with the interpolation).
-void sample4(const Scene& scene, const TextureRef& ref, const SurfaceProbe c[4], const Bilerp4& w, float4 rgba[4]) {
+// A texture the footprint's samples read, with its coordinates at the four corners: a
+// sample's are theirs interpolated (affine in the corners' uv, so the texture transform
+// commutes with the interpolation).
+struct CornerTexture {
+  const Texture* texture = nullptr;
   glm::vec2 st[4];
-  for (int i = 0; i < 4; ++i) st[i] = ref.at(c[i].uv0, c[i].uv1);
-  scene.textures[size_t(ref.index)].sample4(w.at(st[0].x, st[1].x, st[2].x, st[3].x),
-                                            w.at(st[0].y, st[1].y, st[2].y, st[3].y), rgba);
-}
+  CornerTexture() = default;
+  CornerTexture(const Scene& scene, const TextureRef& ref, const SurfaceProbe c[4]) {
+    if (!valid_ref(scene, ref)) return;
+    texture = &scene.textures[size_t(ref.index)];
+    for (int i = 0; i < 4; ++i) st[i] = ref.at(c[i].uv0, c[i].uv1);
+  }
+  void sample4(const Bilerp4& w, float4 rgba[4]) const {
+    texture->sample4(w.at(st[0].x, st[1].x, st[2].x, st[3].x), w.at(st[0].y, st[1].y, st[2].y, st[3].y), rgba);
+  }
+};
 
 }  // namespace
 
@@ -300,6 +308,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   const WhittedMaterial& whitted = scene.whitted[m];
   const bool plain_albedo = !material.varies_per_hit();  // albedo = diffuse x base texture
   const vec3x4 zero = splat(glm::vec3(0.0f));
+  const CornerTexture emissive_map(scene, material.emissive_texture, c), base_map(scene, material.base_color_texture, c);
+  const CornerTexture normal_map = per_light ? CornerTexture(scene, material.normal_texture, c) : CornerTexture();
 
   // The model's radiance at four points (s, t) of the pixel at once (corner TL at 0, 0; BR
   // at 1, 1), every quantity interpolated between the corners with the same four weights.
@@ -308,16 +318,16 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     vec3x4 sum = zero;
     if (emissive) {
       float4 rgba[4];
-      sample4(scene, material.emissive_texture, c, w, rgba);
+      emissive_map.sample4(w, rgba);
       sum = vec3x4{rgba[0], rgba[1], rgba[2]} * splat(emission);
     }
     if (!lit) return sum;
     vec3x4 albedo;
     if (plain_albedo) {
       albedo = splat(whitted.diffuse);
-      if (material.base_color_texture.used()) {
+      if (base_map.texture) {
         float4 rgba[4];
-        sample4(scene, material.base_color_texture, c, w, rgba);
+        base_map.sample4(w, rgba);
         albedo = albedo * vec3x4{rgba[0], rgba[1], rgba[2]};
       }
     } else {  // metallic, roughness or transmission textured: the material, lane by lane
@@ -334,7 +344,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (!per_light) return sum + albedo * splat(light);
     // The normal map at the samples, in the corners' frames interpolated (mapped_in_frame).
     float4 rgb[4];
-    sample4(scene, material.normal_texture, c, w, rgb);
+    normal_map.sample4(w, rgb);
     const float4 scale(material.normal_scale);
     const vec3x4 mapped =
         w.at(k[0]->frame[0], k[1]->frame[0], k[2]->frame[0], k[3]->frame[0]) * ((rgb[0] * 2.0f - 1.0f) * scale) +

@@ -40,6 +40,27 @@ int wrap_index(long i, int n, TextureWrap wrap) {
   return 0;
 }
 
+namespace {
+
+// The texels a bilinear lookup at reduced coordinates (u, v) blends (TL, TR, BL, BR) and
+// its weights: texel centres at (i + 0.5) / width, neighbours wrapped by the wrap modes.
+struct BilinearTaps {
+  size_t index[4];
+  float tx, ty;
+};
+
+BilinearTaps bilinear_taps(const Texture& t, float u, float v) {
+  const float x = u * float(t.width) - 0.5f, y = v * float(t.height) - 0.5f;
+  const float fx = std::floor(x), fy = std::floor(y);
+  const long ix = long(fx), iy = long(fy);
+  const size_t x0 = size_t(wrap_index(ix, t.width, t.wrap_s)), x1 = size_t(wrap_index(ix + 1, t.width, t.wrap_s));
+  const size_t r0 = size_t(wrap_index(iy, t.height, t.wrap_t)) * size_t(t.width);
+  const size_t r1 = size_t(wrap_index(iy + 1, t.height, t.wrap_t)) * size_t(t.width);
+  return {{r0 + x0, r0 + x1, r1 + x0, r1 + x1}, x - fx, y - fy};
+}
+
+}  // namespace
+
 glm::vec4 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0 || texel_count() < size_t(width) * size_t(height)) return glm::vec4(1.0f);
   if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return texel(0);
@@ -49,17 +70,10 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
     const int y = wrap_index(long(std::floor(v * float(height))), height, wrap_t);
     return texel(size_t(y) * size_t(width) + size_t(x));
   }
-  // Texel centres at (i + 0.5) / width.
-  const float x = u * float(width) - 0.5f, y = v * float(height) - 0.5f;
-  const float fx = std::floor(x), fy = std::floor(y);
-  const float tx = x - fx, ty = y - fy;
-  const long ix = long(fx), iy = long(fy);
-  const int x0 = wrap_index(ix, width, wrap_s), x1 = wrap_index(ix + 1, width, wrap_s);
-  const int y0 = wrap_index(iy, height, wrap_t), y1 = wrap_index(iy + 1, height, wrap_t);
-  const glm::vec4 a = texel(size_t(y0) * width + x0);
-  const glm::vec4 b = texel(size_t(y0) * width + x1);
-  const glm::vec4 c = texel(size_t(y1) * width + x0);
-  const glm::vec4 d = texel(size_t(y1) * width + x1);
+  const BilinearTaps taps = bilinear_taps(*this, u, v);
+  const float tx = taps.tx, ty = taps.ty;
+  const glm::vec4 a = texel(taps.index[0]), b = texel(taps.index[1]);
+  const glm::vec4 c = texel(taps.index[2]), d = texel(taps.index[3]);
   return (a * (1.0f - tx) + b * tx) * (1.0f - ty) + (c * (1.0f - tx) + d * tx) * ty;
 }
 
@@ -77,14 +91,10 @@ void Texture::sample4(float4 u, float4 v, float4 rgba[4]) const {
       continue;
     }
     // sample()'s bilinear path, with the four texels' bytes decoded into their weighted sum.
-    const float x = reduce(us[lane], wrap_s) * float(width) - 0.5f, y = reduce(vs[lane], wrap_t) * float(height) - 0.5f;
-    const float fx = std::floor(x), fy = std::floor(y);
-    const float tx = x - fx, ty = y - fy;
-    const long ix = long(fx), iy = long(fy);
-    const size_t x0 = size_t(wrap_index(ix, width, wrap_s)), x1 = size_t(wrap_index(ix + 1, width, wrap_s));
-    const size_t r0 = size_t(wrap_index(iy, height, wrap_t)) * size_t(width);
-    const size_t r1 = size_t(wrap_index(iy + 1, height, wrap_t)) * size_t(width);
-    const uint32_t p[4] = {texels8[r0 + x0], texels8[r0 + x1], texels8[r1 + x0], texels8[r1 + x1]};
+    const BilinearTaps taps = bilinear_taps(*this, reduce(us[lane], wrap_s), reduce(vs[lane], wrap_t));
+    const float tx = taps.tx, ty = taps.ty;
+    const uint32_t p[4] = {texels8[taps.index[0]], texels8[taps.index[1]], texels8[taps.index[2]],
+                           texels8[taps.index[3]]};
     for (int ch = 0; ch < 4; ++ch) {
       const std::array<float, 256>& table = ch == 3 ? alpha_of_byte : colour_of_byte;
       const unsigned shift = 8u * unsigned(ch);

@@ -123,20 +123,29 @@ TEST(Texture, SixteenBitGreyAlphaImagesExpandToRgba) {
 
 // RGBA8 storage must sample exactly as float storage of the same decoded values would: the
 // renderer's images stay bit-identical to those made before texels were compacted.
-TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
-  Texture bytes;
-  bytes.width = 5;
-  bytes.height = 3;
-  for (int i = 0; i < 256; ++i) {
-    bytes.colour_of_byte[size_t(i)] = std::pow((i / 255.0f + 0.055f) / 1.055f, 2.4f);
-    bytes.alpha_of_byte[size_t(i)] = float(i) * (1.0f / 255.0f);
+// A 5 x 3 RGBA8 texture of varied bytes (sRGB colour tables, linear alpha) and its float
+// twin holding the same decoded values.
+struct TwoStorages {
+  Texture bytes, floats;
+  TwoStorages() {
+    bytes.width = 5;
+    bytes.height = 3;
+    for (int i = 0; i < 256; ++i) {
+      bytes.colour_of_byte[size_t(i)] = std::pow((i / 255.0f + 0.055f) / 1.055f, 2.4f);
+      bytes.alpha_of_byte[size_t(i)] = float(i) * (1.0f / 255.0f);
+    }
+    for (uint32_t p = 0; p < 15; ++p)
+      bytes.texels8.push_back((p * 37u) % 256u | ((p * 91u + 7u) % 256u) << 8 | ((p * 13u) % 256u) << 16 |
+                              ((255u - p * 17u) % 256u) << 24);
+    floats = bytes;
+    floats.texels8.clear();
+    for (size_t i = 0; i < bytes.texel_count(); ++i) floats.texels.push_back(bytes.texel(i));
   }
-  for (uint32_t p = 0; p < 15; ++p)
-    bytes.texels8.push_back((p * 37u) % 256u | ((p * 91u + 7u) % 256u) << 8 | ((p * 13u) % 256u) << 16 |
-                            ((255u - p * 17u) % 256u) << 24);
-  Texture floats = bytes;
-  floats.texels8.clear();
-  for (size_t i = 0; i < bytes.texel_count(); ++i) floats.texels.push_back(bytes.texel(i));
+};
+
+TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
+  TwoStorages two;
+  Texture &bytes = two.bytes, &floats = two.floats;
   for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat}) {
     for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Nearest}) {
       bytes.wrap_s = bytes.wrap_t = floats.wrap_s = floats.wrap_t = wrap;
@@ -154,21 +163,9 @@ TEST(Texture, Rgba8StorageSamplesBitIdenticallyToFloat) {
 // bit for bit, for both storages, every wrap mode and filter, and the inputs sample()
 // treats apart (non-finite and huge coordinates).
 TEST(Texture, FourLanesSampleAsOne) {
-  Texture bytes;
-  bytes.width = 5;
-  bytes.height = 3;
-  for (int i = 0; i < 256; ++i) {
-    bytes.colour_of_byte[size_t(i)] = std::pow((i / 255.0f + 0.055f) / 1.055f, 2.4f);
-    bytes.alpha_of_byte[size_t(i)] = float(i) * (1.0f / 255.0f);
-  }
-  for (uint32_t p = 0; p < 15; ++p)
-    bytes.texels8.push_back((p * 53u) % 256u | ((p * 29u + 3u) % 256u) << 8 | ((p * 71u) % 256u) << 16 |
-                            ((200u - p * 11u) % 256u) << 24);
-  Texture floats = bytes;
-  floats.texels8.clear();
-  for (size_t i = 0; i < bytes.texel_count(); ++i) floats.texels.push_back(bytes.texel(i));
+  TwoStorages two;
   const float odd[] = {std::nanf(""), std::numeric_limits<float>::infinity(), 1e20f, -3e9f};
-  for (Texture* t : {&bytes, &floats})
+  for (Texture* t : {&two.bytes, &two.floats})
     for (TextureWrap wrap : {TextureWrap::Repeat, TextureWrap::ClampToEdge, TextureWrap::MirroredRepeat})
       for (TextureFilter filter : {TextureFilter::Linear, TextureFilter::Nearest}) {
         t->wrap_s = t->wrap_t = wrap;
