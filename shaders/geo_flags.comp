@@ -8,7 +8,8 @@
 // the angle threshold apart; or distances more than the relative threshold apart, where
 // both triangles' planes are intersected exactly with the SAME sample ray, so surfaces
 // that meet along an edge (smooth or coplanar tessellation) compare equal however
-// grazing the view. tests/gpu/flag_reference.h mirrors this rule bit for bit, and
+// grazing the view. The flag byte also says which way the edge runs (ZZ_GEO_ALONG_X: more
+// of the differing pairs are vertical neighbours). tests/gpu/flag_reference.h mirrors this rule bit for bit, and
 // host/gpu/geo_flags_cpu.cpp implements it again with SSE.
 //
 // Shaped for lavapipe (8-wide SIMD on the CPU): an invocation flags the 4 pixels of one
@@ -82,16 +83,19 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb, bool inner) {
 
 uint id_at(ivec2 u) { return imageLoad(ids, u).x; }
 
-// Flags of the P pixels whose blocks (S x S core plus ring) start at image sample `c`;
+// Flag bytes of the P pixels whose blocks (S x S core plus ring) start at image sample `c`;
 // `g0` is the frame supersample of image sample (0, 0). lavapipe runs 8 invocations in
 // SIMD and executes both sides of every branch under a mask, so the costly plane tests
 // must not sit in a fixed loop over all pairs: each sample row (loaded once, kept in
 // registers; S is a specialisation constant so these loops unroll) first collects the
-// differing pairs of every pixel into bit masks, and only the set bits are visited.
+// pairs of every pixel whose ids differ into bit masks, and only the set bits are
+// visited. Every such pair is tested (no early exit on the first that differs): the
+// counts of differing horizontal and vertical pairs say which way the edge runs.
 uint word_flags(ivec2 c, ivec2 g0, int npix) {
   uint above[ROW];
   for (int i = 0; i < ROW; ++i) above[i] = id_at(c + ivec2(i, 0));
-  uint flags = 0u;  // bit k: pixel k flagged
+  int across[P], along[P];  // per pixel: differing horizontal pairs, differing vertical pairs
+  for (int k = 0; k < P; ++k) across[k] = along[k] = 0;
   for (int j = 1; j <= S + 1; ++j) {
     uint row[ROW];
     for (int i = 0; i < ROW; ++i) row[i] = id_at(c + ivec2(i, j));
@@ -104,28 +108,30 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
       for (int i = 1; i <= S; ++i) v[k] |= row[k * S + i] != above[k * S + i] ? 1u << uint(i) : 0u;
     }
     for (int k = 0; k < npix; ++k) {
-      if ((flags & (1u << uint(k))) != 0u) continue;
       uint hk = h[k], vk = v[k];
       ivec2 ck = c + ivec2(k * S, j);
       while (hk != 0u) {
         int i = findLSB(hk);
         hk &= hk - 1u;
         ivec2 a = ck + ivec2(i, 0), b = a + ivec2(1, 0);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0, i >= 1 && i < S)) {
-          flags |= 1u << uint(k);
-          break;
-        }
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, i >= 1 && i < S)) across[k] += 1;
       }
-      while (vk != 0u && (flags & (1u << uint(k))) == 0u) {
+      while (vk != 0u) {
         int i = findLSB(vk);
         vk &= vk - 1u;
         ivec2 b = ck + ivec2(i, 0), a = b - ivec2(0, 1);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0, j >= 2 && j <= S)) flags |= 1u << uint(k);
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, j >= 2 && j <= S)) along[k] += 1;
       }
     }
     for (int i = 0; i < ROW; ++i) above[i] = row[i];
   }
-  return flags;
+  uint word = 0u;
+  for (int k = 0; k < P; ++k) {
+    uint f = across[k] + along[k] > 0 ? uint(ZZ_GEO_EDGE) : 0u;
+    if (along[k] > across[k]) f |= uint(ZZ_GEO_ALONG_X);
+    word |= f << uint(8 * k);
+  }
+  return word;
 }
 
 void main() {
@@ -136,8 +142,5 @@ void main() {
   // Image sample u sits at frame supersample tile.x*S - 1 + u (the ring is u = 0).
   ivec2 c = (px - p.tile.xy) * S;
   ivec2 g0 = p.tile.xy * S - ivec2(1);
-  uint f = word_flags(c, g0, npix);
-  uint word = 0u;
-  for (int k = 0; k < P; ++k) word |= (f >> uint(k) & 1u) << uint(8 * k);
-  words[px.y * p.frame.w + px.x / P] = word;
+  words[px.y * p.frame.w + px.x / P] = word_flags(c, g0, npix);
 }

@@ -21,6 +21,12 @@ using mat4 = glm::mat4;
 #define ZZ_MAX_SUPERSAMPLE 16
 #define ZZ_PLANE_GROUP 64
 
+// A pixel's flag byte: ZZ_GEO_EDGE when flagged, with ZZ_GEO_ALONG_X when more of its
+// differing sample pairs are vertical neighbours than horizontal ones (the edge runs
+// along x): level 1 orients a pixel whose corners leave the orientation open by it.
+#define ZZ_GEO_EDGE 1
+#define ZZ_GEO_ALONG_X 2
+
 // One descriptor set for both compute passes.
 #define ZZ_BIND_IDS 0        // r32ui storage image: the id attachment
 #define ZZ_BIND_POSITIONS 1  // vec4 per vertex

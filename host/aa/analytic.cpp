@@ -118,7 +118,14 @@ GeoMap analytic_geo_map(const AnalyticImage& image, int ss) {
       bool differ = false;
       for (int b = y * ss; b < y * ss + ss + 2; ++b)
         for (int a = x * ss; a < x * ss + ss + 2; ++a) differ |= ids[size_t(b) * gn + a] != first;
-      geo.flags[size_t(y) * n + x] = differ;
+      // Which way the edge runs, as the compute pass says it: differing vertical against
+      // horizontal neighbour pairs among the pixel's samples and their ring.
+      int across = 0, along = 0;
+      for (int b = y * ss + 1; b <= y * ss + ss; ++b)
+        for (int a = x * ss; a <= x * ss + ss; ++a) across += ids[size_t(b) * gn + a] != ids[size_t(b) * gn + a + 1];
+      for (int b = y * ss; b <= y * ss + ss; ++b)
+        for (int a = x * ss + 1; a <= x * ss + ss; ++a) along += ids[size_t(b) * gn + a] != ids[size_t(b + 1) * gn + a];
+      geo.flags[size_t(y) * n + x] = uint8_t((differ ? kGeoEdge : 0) | (differ && along > across ? kGeoAlongX : 0));
     }
   return geo;
 }

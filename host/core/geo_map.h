@@ -9,6 +9,11 @@
 
 namespace zz {
 
+// A pixel's flag byte (shaders/visibility_shared.h: ZZ_GEO_EDGE, ZZ_GEO_ALONG_X).
+inline constexpr uint8_t kGeoEdge = 1;    // the pixel is geo
+inline constexpr uint8_t kGeoAlongX = 2;  // more of its differing sample pairs are vertical
+                                          // neighbours than horizontal ones: the edge runs along x
+
 struct GeoMap {
   int width = 0;
   int height = 0;
@@ -16,6 +21,8 @@ struct GeoMap {
 
   bool empty() const { return flags.empty(); }
   bool at(int x, int y) const { return !empty() && flags[size_t(y) * width + x] != 0; }
+  // Whether a geo pixel's edge runs along x (false where the map has no pixel or no edge).
+  bool along_x(int x, int y) const { return !empty() && (flags[size_t(y) * width + x] & kGeoAlongX) != 0; }
 };
 
 // The flags of `rect` (inside the map) as a map of its own; empty stays empty.

@@ -122,23 +122,19 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
 
   // Pixel (x, y): horizontal pairs ix in [xS, xS + S] of rows yS..yS+S-1, vertical pairs
   // gx in [xS, xS + S) of rows iy = yS..yS+S. A pair the material rule set lies inside one
-  // pixel, so no other pixel's window holds it.
+  // pixel, so no other pixel's window holds it. The byte is the shader's: kGeoEdge when a
+  // pair differs, kGeoAlongX when more vertical pairs than horizontal ones do.
   GeoMap map;
   map.width = W;
   map.height = H;
   map.flags.assign(size_t(W) * H, 0);
-  std::vector<uint64_t> h_or(horizontal.words_per_row), v_or(vertical.words_per_row);
-  for (int y = 0; y < H; ++y) {
-    std::fill(h_or.begin(), h_or.end(), 0);
-    std::fill(v_or.begin(), v_or.end(), 0);
-    for (int j = 0; j < S; ++j)
-      for (size_t w = 0; w < h_or.size(); ++w) h_or[w] |= horizontal.row(y * S + j)[w];
-    for (int j = 0; j <= S; ++j)
-      for (size_t w = 0; w < v_or.size(); ++w) v_or[w] |= vertical.row(y * S + j)[w];
-    for (int x = 0; x < W; ++x)
-      map.flags[size_t(y) * W + x] =
-          (BitRows::window(h_or.data(), x * S, S + 1) | BitRows::window(v_or.data(), x * S, S)) != 0;
-  }
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      int across = 0, along = 0;
+      for (int j = 0; j < S; ++j) across += __builtin_popcountll(BitRows::window(horizontal.row(y * S + j), x * S, S + 1));
+      for (int j = 0; j <= S; ++j) along += __builtin_popcountll(BitRows::window(vertical.row(y * S + j), x * S, S));
+      map.flags[size_t(y) * W + x] = uint8_t((across + along > 0 ? kGeoEdge : 0) | (along > across ? kGeoAlongX : 0));
+    }
   return map;
 }
 

@@ -20,7 +20,8 @@ std::vector<glm::vec4> triangle_planes(const std::vector<glm::vec3>& positions,
 
 // The map from a whole-frame id image in VisibilityPass::render_ids' layout (ring
 // included) and the frame's planes; `p` from make_flag_push. Each differing sample pair
-// is tested once, then every pixel ORs the pairs of its block. With the material rule on
+// is tested once, then every pixel counts the differing pairs of its block, horizontal and
+// vertical apart, into the shader's flag byte (kGeoEdge, kGeoAlongX). With the material rule on
 // (p.limits.z), `normals` are geometric_normals (material tags in w).
 GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::vec4>& planes,
                      const gpu::FlagPush& p, const std::vector<glm::vec4>* normals = nullptr);

@@ -1,6 +1,7 @@
 // The visibility map (ALGORITHM.md §7): the scene rasterised at S x S supersamples per
 // pixel into triangle ids, then a compute shader flags pixels whose samples (plus a
-// one-sample ring) show a geometric discontinuity. One byte per pixel in a GeoMap.
+// one-sample ring) show a geometric discontinuity, and which way it runs. One byte per pixel
+// in a GeoMap (core/geo_map.h).
 #pragma once
 
 #include <cstdint>

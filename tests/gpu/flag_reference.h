@@ -1,5 +1,6 @@
 // CPU mirror of shaders/geo_flags.comp, operation for operation (the build disables FMA
-// contraction, the shader marks its arithmetic `precise`), so flags match bit for bit.
+// contraction, the shader marks its arithmetic `precise`), so flag bytes (the edge and the
+// way it runs) match bit for bit.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -53,16 +54,17 @@ struct FlagReference {
     int stride = p.frame.x * p.frame.z + 2;
     return ids[size_t(g.y + 1) * stride + size_t(g.x + 1)];
   }
-  bool pixel(int x, int y) const {
+  // The pixel's flag byte: kGeoEdge when any pair differs, kGeoAlongX when more vertical
+  // pairs than horizontal ones do.
+  uint8_t pixel(int x, int y) const {
     int s = p.frame.z;
     auto pair = [&](glm::ivec2 a, glm::ivec2 b, bool inner) { return differs(id(a), a, id(b), b, inner); };
+    int across = 0, along = 0;
     for (int j = 0; j < s; ++j)
-      for (int i = -1; i < s; ++i)
-        if (pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s)) return true;
+      for (int i = -1; i < s; ++i) across += pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s);
     for (int i = 0; i < s; ++i)
-      for (int j = -1; j < s; ++j)
-        if (pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s)) return true;
-    return false;
+      for (int j = -1; j < s; ++j) along += pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s);
+    return uint8_t((across + along > 0 ? kGeoEdge : 0) | (along > across ? kGeoAlongX : 0));
   }
   GeoMap map() const {
     GeoMap m;
@@ -70,7 +72,7 @@ struct FlagReference {
     m.height = p.frame.y;
     m.flags.resize(size_t(m.width) * m.height);
     for (int y = 0; y < m.height; ++y)
-      for (int x = 0; x < m.width; ++x) m.flags[size_t(y) * m.width + x] = pixel(x, y) ? 1 : 0;
+      for (int x = 0; x < m.width; ++x) m.flags[size_t(y) * m.width + x] = pixel(x, y);
     return m;
   }
 };

@@ -184,5 +184,42 @@ TEST_F(GeometryTest, ThinFeaturesNarrowerThanAPixelAreFlagged) {
   EXPECT_EQ(rows_flagged, rows) << "every row the sliver crosses, over sky and over the wall";
 }
 
+// The flag byte says which way the edge runs (ZZ_GEO_ALONG_X): a square turned 4 degrees
+// from the axes seen head-on; pixels on its top and bottom sides (the middle third of the
+// columns) have edges along x, those on its left and right sides (the middle third of the
+// rows) do not.
+TEST_F(GeometryTest, TheFlagSaysWhichWayTheEdgeRuns) {
+  SceneBuilder b;
+  const float c = std::cos(0.07f), s = std::sin(0.07f);
+  auto turned = [&](float x, float y) { return glm::vec3(c * x - s * y, s * x + c * y, 0.0f); };
+  b.quad(turned(-0.8f, -0.8f), turned(0.8f, -0.8f), turned(0.8f, 0.8f), turned(-0.8f, 0.8f));
+  const Scene scene = b.done();
+  const Camera camera = Camera::look_at({0.0f, 0.0f, 3.0f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
+  const int w = 72, h = 72;
+  for (int ss : {4, 6}) {
+    VisibilityPass pass(context(), scene);
+    VisibilitySettings settings;
+    settings.supersample = ss;
+    const GeoMap map = pass.run(camera, w, h, settings);
+    int along = 0, across = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!map.at(x, y)) continue;
+        const bool middle_column = x >= w / 3 && x < 2 * w / 3, middle_row = y >= h / 3 && y < 2 * h / 3;
+        ASSERT_FALSE(middle_column && middle_row) << "a flag inside the square at " << x << "," << y;
+        if (middle_column) {
+          EXPECT_TRUE(map.along_x(x, y)) << "top or bottom side at " << x << "," << y << ", S = " << ss;
+          ++along;
+        }
+        if (middle_row) {
+          EXPECT_FALSE(map.along_x(x, y)) << "left or right side at " << x << "," << y << ", S = " << ss;
+          ++across;
+        }
+      }
+    EXPECT_GE(along, 2 * (w / 3));  // both sides, every column, at least one pixel each
+    EXPECT_GE(across, 2 * (h / 3));
+  }
+}
+
 }  // namespace
 }  // namespace zz::test
