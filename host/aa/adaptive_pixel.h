@@ -111,14 +111,23 @@ inline Level2 trace_level2(S& source, float4 px, float4 py, Orientation o, const
 
 // Level 1: a pixel goes on to level 2 when its corner mask (colours and signatures) is a
 // case, when the visibility map flags it, or always with refine_all; the case orients it.
+// Where the case leaves the orientation open (orientation_open: a corner cut off, or no
+// case) the paper takes horizontal; a geo pixel whose edge runs along x (`geo_along_x`,
+// the map's ZZ_GEO_ALONG_X) takes vertical instead, so that its zones run along the edge.
+// A checker edge nearly parallel to a pixel's top side cuts corner A off with a sliver along
+// the whole side: horizontal zones each hold a piece of it and are interpolated from E..H
+// beyond it; in the vertical frame the sliver lies in the one zone at that side, which the
+// tables trace.
 struct Level1 {
   bool refine;
   Orientation orientation;
 };
-inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float4 eps, bool geo, bool refine_all) {
-  const PixelCase pcase = kCaseTable[corner_mask(corners_display, corners_sig, eps)];
-  return {pcase != PixelCase::None || geo || refine_all,
-          pcase == PixelCase::Vertical ? Orientation::Vertical : Orientation::Horizontal};
+inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float4 eps, bool geo, bool refine_all,
+                            bool geo_along_x = false) {
+  const int mask = corner_mask(corners_display, corners_sig, eps);
+  const PixelCase pcase = kCaseTable[mask];
+  const bool vertical = pcase == PixelCase::Vertical || (geo_along_x && orientation_open(mask));
+  return {pcase != PixelCase::None || geo || refine_all, vertical ? Orientation::Vertical : Orientation::Horizontal};
 }
 
 // Level 2: the zones a level-2 pixel traces: the three tables OR-ed, the `hdr` zones

@@ -40,6 +40,9 @@ struct AdaptiveSettings {
   // Level-2 pixels also trace every zone the tables left to interpolation between samples
   // whose radiance differs by more than the display can show (hdr_zones in adaptive_pixel.h).
   bool hdr_zones = false;
+  // A geo pixel whose corners leave the orientation open takes it from the way the map says
+  // its edge runs (decide_level1 in adaptive_pixel.h; the map's ZZ_GEO_ALONG_X bit).
+  bool geo_orient = false;
   // The visibility map's normal angle as a distance between unit normals, 2 sin(angle / 2);
   // 0 without a map. The highlight flag leaves steps of the shading normal wider than this
   // to the map (normal_interpolation_error in render/specular_peak.h).

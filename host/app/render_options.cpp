@@ -51,6 +51,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--hdr-zones", o.hdr_zones, kOnOff,
              "Adaptive: refined pixels also trace the zones the tables would interpolate between samples whose "
              "radiance differs by more than the display can show (a corner on a light's reflection)");
+  add_choice(cmd, "--geo-orient", o.geo_orient, kOnOff,
+             "Adaptive: a pixel the visibility map flags, whose corners leave the orientation open (a corner cut "
+             "off), is oriented along the edge the map saw (its zones run along a sliver)");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -64,6 +67,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.footprint = o.footprint;
   s.curvature = o.curvature;
   s.hdr_zones = o.hdr_zones;
+  s.geo_orient = o.geo_orient;
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {

@@ -32,5 +32,16 @@ TEST(CaseTable, EveryRowMatchesTheSpec) {
   for (int m = 0; m < 16; ++m) EXPECT_EQ(kCaseTable[m], expected[m]) << "mask " << m;
 }
 
+TEST(CaseTable, OrientationIsOpenWhereNeitherOfTheFirstTwoClausesDecides) {
+  // Decided: rule 1 (0011 0111 1011) and rule 2 (1100 1101 1110); open: none, one side,
+  // two adjacent sides (a corner cut off), 1111.
+  constexpr int decided[] = {0b0011, 0b0111, 0b1011, 0b1100, 0b1101, 0b1110};
+  for (int m = 0; m < 16; ++m) {
+    bool is_decided = false;
+    for (int d : decided) is_decided |= m == d;
+    EXPECT_EQ(orientation_open(m), !is_decided) << "mask " << m;
+  }
+}
+
 }  // namespace
 }  // namespace zz

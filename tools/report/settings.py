@@ -17,7 +17,8 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     rule (--hdr-zones on), all of these with the texture flag too, and both at eps 0.1 (the
     second ablation table), that with the texture footprint correction (--footprint on), and
     that with geo policy split (--geo-policy split: geo pixels also trace the zones between
-    samples whose signatures differ);
+    samples whose signatures differ), and that with the map's edge direction orienting geo pixels
+    whose corners leave the orientation open (--geo-orient on);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -45,6 +46,7 @@ class Setting:
     material: str = "off"      # --edge-material on | off: the visibility map flags material boundaries
     hdr: str = "off"           # --hdr-zones on | off: zones interpolated across more than the display shows are traced
     footprint: str = "off"     # --footprint on | off: unrefined textured pixels take the texture's mean over the pixel
+    orient: str = "off"        # --geo-orient on | off: geo pixels with an open case take the map's edge direction
 
     @property
     def label(self) -> str:
@@ -61,7 +63,8 @@ class Setting:
         sig = "" if self.signature == "none" else f"-sig{self.signature.replace(',', '+')}"
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
                 + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
-                + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else ""))
+                + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else "")
+                + ("-go" if self.orient == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -73,7 +76,8 @@ class Setting:
         sig = "" if self.signature == "none" else f"/sig {self.signature}"
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
                 + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
-                + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else ""))
+                + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else "")
+                + ("/go" if self.orient == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -89,14 +93,14 @@ class Setting:
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
                 "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
-                "--footprint", self.footprint]
+                "--footprint", self.footprint, "--geo-orient", self.orient]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
         ss = geo_ss if self.edges == "vulkan" else 0
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
                 "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature,
-                "--curvature", self.curvature, "--hdr-zones", self.hdr]
+                "--curvature", self.curvature, "--hdr-zones", self.hdr, "--geo-orient", self.orient]
 
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
@@ -130,7 +134,10 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                    ("both + sig all + material + hdr zones + footprint",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on"}),
                    ("both + sig all + material + hdr zones + footprint + geo split",
-                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split"})]
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split"}),
+                   ("both + sig all + material + hdr zones + footprint + geo split + map orientation",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
+                     "orient": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
@@ -185,7 +192,8 @@ def star_settings(quick: bool) -> list[Setting]:
     Mitchell is left out: the exact-coverage reference is a box integral."""
     if quick:
         return [CLI_DEFAULT]
-    return [CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
+    return ([CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
+            + [dataclasses.replace(CLI_DEFAULT, orient="on")])
 
 
 def _unique(points: list[Setting]) -> list[Setting]:
