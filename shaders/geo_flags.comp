@@ -9,8 +9,8 @@
 // both triangles' planes are intersected exactly with the SAME sample ray, so surfaces
 // that meet along an edge (smooth or coplanar tessellation) compare equal however
 // grazing the view. The flag byte also says which way the edge runs (ZZ_GEO_ALONG_X: more
-// of the differing pairs are vertical neighbours). tests/gpu/flag_reference.h mirrors this rule bit for bit, and
-// host/gpu/geo_flags_cpu.cpp implements it again with SSE.
+// of the differing pairs are vertical neighbours). tests/gpu/flag_reference.h mirrors this
+// rule bit for bit, and host/gpu/geo_flags_cpu.cpp implements it again with SSE.
 //
 // Shaped for lavapipe (8-wide SIMD on the CPU): an invocation flags the 4 pixels of one
 // output word and reads the attachment directly (no copy), each sample row of their

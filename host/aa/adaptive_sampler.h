@@ -393,7 +393,8 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const bool g = geo.at(x, y);
       // Detail the corners may have missed sends the pixel on like a geo flag.
       const bool peak = hidden && hidden[size_t(ry) * rw + rx];
-      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all, settings.geo_orient && geo.along_x(x, y));
+      const bool along_x = settings.geo_orient && geo.along_x(x, y);
+      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all, along_x);
       const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;

@@ -131,8 +131,10 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
       int across = 0, along = 0;
-      for (int j = 0; j < S; ++j) across += __builtin_popcountll(BitRows::window(horizontal.row(y * S + j), x * S, S + 1));
-      for (int j = 0; j <= S; ++j) along += __builtin_popcountll(BitRows::window(vertical.row(y * S + j), x * S, S));
+      for (int j = 0; j < S; ++j)
+        across += __builtin_popcountll(BitRows::window(horizontal.row(y * S + j), x * S, S + 1));
+      for (int j = 0; j <= S; ++j)
+        along += __builtin_popcountll(BitRows::window(vertical.row(y * S + j), x * S, S));
       map.flags[size_t(y) * W + x] = uint8_t((across + along > 0 ? kGeoEdge : 0) | (along > across ? kGeoAlongX : 0));
     }
   return map;

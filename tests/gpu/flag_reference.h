@@ -61,9 +61,11 @@ struct FlagReference {
     auto pair = [&](glm::ivec2 a, glm::ivec2 b, bool inner) { return differs(id(a), a, id(b), b, inner); };
     int across = 0, along = 0;
     for (int j = 0; j < s; ++j)
-      for (int i = -1; i < s; ++i) across += pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s);
+      for (int i = -1; i < s; ++i)
+        across += pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s);
     for (int i = 0; i < s; ++i)
-      for (int j = -1; j < s; ++j) along += pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s);
+      for (int j = -1; j < s; ++j)
+        along += pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s);
     return uint8_t((across + along > 0 ? kGeoEdge : 0) | (along > across ? kGeoAlongX : 0));
   }
   GeoMap map() const {
