@@ -192,8 +192,9 @@ def star_settings(quick: bool) -> list[Setting]:
     Mitchell is left out: the exact-coverage reference is a box integral."""
     if quick:
         return [CLI_DEFAULT]
+    r = dataclasses.replace
     return ([CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
-            + [dataclasses.replace(CLI_DEFAULT, orient="on")])
+            + [r(CLI_DEFAULT, orient="on"), r(CLI_DEFAULT, tables="tuned"), r(CLI_DEFAULT, tables="tuned", orient="on")])
 
 
 def _unique(points: list[Setting]) -> list[Setting]:
