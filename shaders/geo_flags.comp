@@ -9,8 +9,9 @@
 // both triangles' planes are intersected exactly with the SAME sample ray, so surfaces
 // that meet along an edge (smooth or coplanar tessellation) compare equal however
 // grazing the view. The flag byte also says which way the edge runs (ZZ_GEO_ALONG_X: more
-// of the differing pairs are vertical neighbours). tests/gpu/flag_reference.h mirrors this
-// rule bit for bit, and host/gpu/geo_flags_cpu.cpp implements it again with SSE.
+// of the differing pairs are vertical neighbours) and which zones it meets in that frame
+// (visibility_shared.h). tests/gpu/flag_reference.h mirrors this rule bit for bit, and
+// host/gpu/geo_flags_cpu.cpp implements it again with SSE.
 //
 // Shaped for lavapipe (8-wide SIMD on the CPU): an invocation flags the 4 pixels of one
 // output word and reads the attachment directly (no copy), each sample row of their
@@ -83,6 +84,15 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb, bool inner) {
 
 uint id_at(ivec2 u) { return imageLoad(ids, u).x; }
 
+// The zone bit of canonical u, in units of 1 / (10 S) of a pixel (both neighbours on a zone
+// boundary); host/core/geo_map.h's map_zone_at is the same function.
+uint zone_at(int u) {
+  int k = u / (2 * S);
+  uint z = 1u << uint(min(k, 4));
+  if (u % (2 * S) == 0 && k > 0 && k < 5) z |= 1u << uint(k - 1);
+  return z;
+}
+
 // Flag bytes of the P pixels whose blocks (S x S core plus ring) start at image sample `c`;
 // `g0` is the frame supersample of image sample (0, 0). lavapipe runs 8 invocations in
 // SIMD and executes both sides of every branch under a mask, so the costly plane tests
@@ -95,7 +105,8 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
   uint above[ROW];
   for (int i = 0; i < ROW; ++i) above[i] = id_at(c + ivec2(i, 0));
   int across[P], along[P];  // per pixel: differing horizontal pairs, differing vertical pairs
-  for (int k = 0; k < P; ++k) across[k] = along[k] = 0;
+  uint zh[P], zv[P];        // per pixel: the zones they meet in the horizontal, vertical frame
+  for (int k = 0; k < P; ++k) across[k] = along[k] = 0, zh[k] = zv[k] = 0u;
   for (int j = 1; j <= S + 1; ++j) {
     uint row[ROW];
     for (int i = 0; i < ROW; ++i) row[i] = id_at(c + ivec2(i, j));
@@ -114,13 +125,23 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
         int i = findLSB(hk);
         hk &= hk - 1u;
         ivec2 a = ck + ivec2(i, 0), b = a + ivec2(1, 0);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0, i >= 1 && i < S)) across[k] += 1;
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, i >= 1 && i < S)) {
+          // Block column i is sample i - 1: the pair's midpoint at u = i / S; its row's
+          // samples at y = (j - 0.5) / S, canonical u = 1 - y in the vertical frame.
+          across[k] += 1;
+          zh[k] |= zone_at(10 * i);
+          zv[k] |= zone_at(10 * S - (10 * j - 5));
+        }
       }
       while (vk != 0u) {
         int i = findLSB(vk);
         vk &= vk - 1u;
         ivec2 b = ck + ivec2(i, 0), a = b - ivec2(0, 1);
-        if (differs(id_at(a), a + g0, id_at(b), b + g0, j >= 2 && j <= S)) along[k] += 1;
+        if (differs(id_at(a), a + g0, id_at(b), b + g0, j >= 2 && j <= S)) {
+          along[k] += 1;
+          zh[k] |= zone_at(10 * i - 5);
+          zv[k] |= zone_at(10 * S - 10 * (j - 1));
+        }
       }
     }
     for (int i = 0; i < ROW; ++i) above[i] = row[i];
@@ -128,7 +149,8 @@ uint word_flags(ivec2 c, ivec2 g0, int npix) {
   uint word = 0u;
   for (int k = 0; k < P; ++k) {
     uint f = across[k] + along[k] > 0 ? uint(ZZ_GEO_EDGE) : 0u;
-    if (along[k] > across[k]) f |= uint(ZZ_GEO_ALONG_X);
+    if (along[k] > across[k]) f |= uint(ZZ_GEO_ALONG_X) | zv[k] << uint(ZZ_GEO_ZONE_SHIFT);
+    else f |= zh[k] << uint(ZZ_GEO_ZONE_SHIFT);
     word |= f << uint(8 * k);
   }
   return word;

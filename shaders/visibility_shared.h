@@ -23,9 +23,13 @@ using mat4 = glm::mat4;
 
 // A pixel's flag byte: ZZ_GEO_EDGE when flagged, with ZZ_GEO_ALONG_X when more of its
 // differing sample pairs are vertical neighbours than horizontal ones (the edge runs
-// along x): level 1 orients a pixel whose corners leave the orientation open by it.
+// along x): level 1 orients a pixel whose corners leave the orientation open by it. Bits
+// ZZ_GEO_ZONE_SHIFT.. +4: the zones (ALGORITHM.md §3) its differing pairs meet, in the frame
+// that bit names (vertical when along x, else horizontal): a pair across the zones at its
+// midpoint's zone, a pair along them at its samples' zone.
 #define ZZ_GEO_EDGE 1
 #define ZZ_GEO_ALONG_X 2
+#define ZZ_GEO_ZONE_SHIFT 2
 
 // One descriptor set for both compute passes.
 #define ZZ_BIND_IDS 0        // r32ui storage image: the id attachment

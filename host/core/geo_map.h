@@ -9,10 +9,30 @@
 
 namespace zz {
 
-// A pixel's flag byte (shaders/visibility_shared.h: ZZ_GEO_EDGE, ZZ_GEO_ALONG_X).
+// A pixel's flag byte (shaders/visibility_shared.h: ZZ_GEO_EDGE, ZZ_GEO_ALONG_X,
+// ZZ_GEO_ZONE_SHIFT).
 inline constexpr uint8_t kGeoEdge = 1;    // the pixel is geo
 inline constexpr uint8_t kGeoAlongX = 2;  // more of its differing sample pairs are vertical
                                           // neighbours than horizontal ones: the edge runs along x
+inline constexpr int kGeoZoneShift = 2;   // then 5 bits: the zones the edge meets, in the frame
+                                          // kGeoAlongX names (vertical when set)
+
+// The zone bit (ALGORITHM.md §3: zone k spans canonical u in [0.2 k, 0.2 k + 0.2]) of
+// canonical u given in units of 1 / (10 S) of a pixel, both neighbours on a boundary: as
+// zone_at in shaders/geo_flags.comp.
+constexpr int map_zone_at(int u, int s) {
+  const int k = u / (2 * s);
+  int z = 1 << (k < 4 ? k : 4);
+  if (u % (2 * s) == 0 && k > 0 && k < 5) z |= 1 << (k - 1);
+  return z;
+}
+
+// The flag byte of a pixel from its differing horizontal (`across`) and vertical (`along`)
+// sample pairs and the zones they meet in the horizontal and the vertical frame.
+constexpr uint8_t geo_flag_byte(int across, int along, int zones_h, int zones_v) {
+  if (across + along == 0) return 0;
+  return uint8_t(kGeoEdge | (along > across ? kGeoAlongX | zones_v << kGeoZoneShift : zones_h << kGeoZoneShift));
+}
 
 struct GeoMap {
   int width = 0;
@@ -23,6 +43,8 @@ struct GeoMap {
   bool at(int x, int y) const { return !empty() && flags[size_t(y) * width + x] != 0; }
   // Whether a geo pixel's edge runs along x (false where the map has no pixel or no edge).
   bool along_x(int x, int y) const { return !empty() && (flags[size_t(y) * width + x] & kGeoAlongX) != 0; }
+  // The zones a geo pixel's edge meets, in the frame along_x names (0 where no edge).
+  int zones(int x, int y) const { return empty() ? 0 : (flags[size_t(y) * width + x] >> kGeoZoneShift) & 0x1F; }
 };
 
 // The flags of `rect` (inside the map) as a map of its own; empty stays empty.

@@ -412,7 +412,8 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   map.height = height;
   map.flags.assign(size_t(width) * height, 0);
   // Byte k of word w is pixel 4w + k (little-endian), so each row is a plain copy.
-  static_assert(ZZ_GEO_EDGE == kGeoEdge && ZZ_GEO_ALONG_X == kGeoAlongX, "one flag byte layout");
+  static_assert(ZZ_GEO_EDGE == kGeoEdge && ZZ_GEO_ALONG_X == kGeoAlongX && ZZ_GEO_ZONE_SHIFT == kGeoZoneShift,
+                "one flag byte layout");
   const auto* bytes = static_cast<const uint8_t*>(flags_.mapped);
   size_t row_bytes = size_t(f.words_per_row) * sizeof(uint32_t);
   for (int y = want.y0; y < want.y1; ++y)

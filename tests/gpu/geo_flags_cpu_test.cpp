@@ -1,6 +1,9 @@
 // The host SSE flag rule equals the scalar reference and the compute shader bit for bit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
+
 #include "core/error.h"
 #include "flag_reference.h"
 #include "gpu/geo_flags_cpu.h"
@@ -60,6 +63,51 @@ TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderWithTheMaterialRule) {
   expect_all_agree(context(), camera, 96, 72, s, busy_checker_scene());
   s.supersample = 6;
   expect_all_agree(context(), camera, 53, 41, s, busy_checker_scene());
+}
+
+// One pixel at S = 4 whose samples (and ring) lie on triangle 1 where `inside` says so and
+// on the background elsewhere: the flag byte names the way the edge runs and its zones.
+uint8_t one_pixel_byte(bool (*inside)(int gx, int gy)) {
+  const int S = 4, stride = S + 2;
+  std::vector<uint32_t> ids(size_t(stride) * stride);
+  for (int gy = -1; gy <= S; ++gy)
+    for (int gx = -1; gx <= S; ++gx) ids[size_t(gy + 1) * stride + size_t(gx + 1)] = inside(gx, gy) ? 1u : 0u;
+  gpu::FlagPush p{};
+  p.frame = glm::ivec4(1, 1, S, 1);
+  p.limits = glm::vec4(0.9f, 0.02f, 0.0f, 0.0f);
+  return geo_flags_cpu(ids, {glm::vec4(0.0f, 0.0f, 1.0f, -1.0f)}, p).flags[0];
+}
+
+TEST(GeoFlagsCpu, TheByteNamesTheWayTheEdgeRunsAndTheZonesItMeets) {
+  auto zones = [](uint8_t byte) { return byte >> kGeoZoneShift; };
+  // A vertical edge between sample columns 1 and 2 (u = 0.5): horizontal frame, zone z2.
+  const uint8_t middle = one_pixel_byte([](int gx, int) { return gx < 2; });
+  EXPECT_EQ(middle & (kGeoEdge | kGeoAlongX), kGeoEdge);
+  EXPECT_EQ(zones(middle), 0b00100);
+  // Between columns 0 and 1 (u = 0.25): z1; at the ring on the right (u = 1): z4.
+  EXPECT_EQ(zones(one_pixel_byte([](int gx, int) { return gx < 1; })), 0b00010);
+  EXPECT_EQ(zones(one_pixel_byte([](int gx, int) { return gx < 4; })), 0b10000);
+  // A horizontal edge between sample rows 0 and 1 (y = 0.25): along x, the vertical frame,
+  // whose canonical u is 1 - y = 0.75: z3. One row lower (y = 0.5): z2.
+  const uint8_t upper = one_pixel_byte([](int, int gy) { return gy < 1; });
+  EXPECT_EQ(upper & (kGeoEdge | kGeoAlongX), kGeoEdge | kGeoAlongX);
+  EXPECT_EQ(zones(upper), 0b01000);
+  EXPECT_EQ(zones(one_pixel_byte([](int, int gy) { return gy < 2; })), 0b00100);
+  // A diagonal edge meets several zones; nothing differs, nothing is flagged.
+  EXPECT_GT(std::popcount(unsigned(zones(one_pixel_byte([](int gx, int gy) { return gx < gy; })))), 1);
+  EXPECT_EQ(one_pixel_byte([](int, int) { return true; }), 0);
+}
+
+TEST(GeoMap, ZoneBitsOnABoundaryNameBothNeighbours) {
+  // S = 4: midpoints u = i / 4 fall inside zones; S = 5: u = 0.2, 0.4, ... on boundaries.
+  for (int i = 0; i <= 4; ++i) EXPECT_EQ(map_zone_at(10 * i, 4), 1 << std::min(i, 4)) << i;
+  EXPECT_EQ(map_zone_at(0, 5), 0b00001);
+  EXPECT_EQ(map_zone_at(10, 5), 0b00011);
+  EXPECT_EQ(map_zone_at(40, 5), 0b11000);
+  EXPECT_EQ(map_zone_at(50, 5), 0b10000);
+  EXPECT_EQ(geo_flag_byte(0, 0, 0b11111, 0b11111), 0);
+  EXPECT_EQ(geo_flag_byte(2, 1, 0b00110, 0b10000), kGeoEdge | 0b00110 << kGeoZoneShift);
+  EXPECT_EQ(geo_flag_byte(1, 2, 0b00110, 0b10000), kGeoEdge | kGeoAlongX | 0b10000 << kGeoZoneShift);
 }
 
 TEST(GeoFlagsCpu, TheMaterialRuleNeedsTheNormals) {
