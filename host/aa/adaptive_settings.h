@@ -43,6 +43,9 @@ struct AdaptiveSettings {
   // A geo pixel whose corners leave the orientation open takes it from the way the map says
   // its edge runs (decide_level1 in adaptive_pixel.h; the map's ZZ_GEO_ALONG_X bit).
   bool geo_orient = false;
+  // A geo pixel traces the zones the map saw its edge meet (in the map's frame, when it is the
+  // pixel's), and, where no level-2 mask fired, those instead of all five (decide_zones).
+  bool geo_zones = false;
   // The visibility map's normal angle as a distance between unit normals, 2 sin(angle / 2);
   // 0 without a map. The highlight flag leaves steps of the shading normal wider than this
   // to the map (normal_interpolation_error in render/specular_peak.h).

@@ -54,6 +54,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--geo-orient", o.geo_orient, kOnOff,
              "Adaptive: a pixel the visibility map flags, whose corners leave the orientation open (a corner cut "
              "off), is oriented along the edge the map saw (its zones run along a sliver)");
+  add_choice(cmd, "--geo-zones", o.geo_zones, kOnOff,
+             "Adaptive: a pixel the visibility map flags also traces the zones in which the map's samples saw its "
+             "edge, and where no level-2 comparison fired, only those instead of all five");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -68,6 +71,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.curvature = o.curvature;
   s.hdr_zones = o.hdr_zones;
   s.geo_orient = o.geo_orient;
+  s.geo_zones = o.geo_zones;
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {

@@ -67,6 +67,9 @@ struct AdaptiveOptions {
   // direction (aa/adaptive_pixel.h; 1024² display error x the lattice's: glass 1.170 ->
   // 1.166, lamp 1.027 -> 1.018, vase 1.516 -> 1.507 at the same rays/px).
   bool geo_orient = true;
+  // Geo pixels trace the zones the map saw their edge meet, and only those where no
+  // level-2 mask fired (aa/adaptive_pixel.h decide_zones).
+  bool geo_zones = true;
 };
 
 struct RenderOptions {
@@ -92,7 +95,7 @@ struct RenderOptions {
 };
 
 // Registers --eps --tables --geo-policy --filter --signature --highlights --textures --curvature
-// --hdr-zones --geo-orient.
+// --hdr-zones --geo-orient --geo-zones.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // The adaptive sampler's settings from its options (the tone map is the frame's, set apart).

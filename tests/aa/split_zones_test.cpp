@@ -47,5 +47,21 @@ TEST(SplitZones, OnlyGeoPixelsUnderTheSplitPolicyTraceThem) {
   EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::All, false), kAllZones);
 }
 
+// The map's zones (GeoMap::zones, --geo-zones): added in geo pixels; where no mask fired
+// they replace §5's every zone; elsewhere, under refine_all and under GeoPolicy::All they
+// change nothing.
+TEST(MapZones, GeoPixelsTraceWhereTheMapSawTheEdgeAndOnlyThereWhenNoMaskFired) {
+  const TableSet& t = *find_table_set("tuned");
+  const int map = 0b10000, tables = t.zones(1, 0, 0);
+  ASSERT_NE(tables | map, tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, 0, /*geo=*/true, GeoPolicy::Split, false, map), tables | map);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, 0, /*geo=*/false, GeoPolicy::Split, false, map), tables);
+  EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0b00100, /*geo=*/true, GeoPolicy::Split, false, map), map | 0b00100);
+  EXPECT_EQ(decide_zones(t, 0, 0, 0, 0b00001, 0, /*geo=*/true, GeoPolicy::Paper, false, map), map | 0b00001);
+  EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/true, GeoPolicy::Split, false, 0), kAllZones);
+  EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/true, GeoPolicy::All, false, map), kAllZones);
+  EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/false, GeoPolicy::Split, true, map), kAllZones);
+}
+
 }  // namespace
 }  // namespace zz

@@ -278,9 +278,11 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "traced), with the texture footprint correction (`--footprint on`: unrefined textured pixels "
                     "take the texture's mean over the pixel, relit at each sample's normal; no rays), every "
                     "detector at once, that with geo policy split (`--geo-policy split`: pixels the map flags "
-                    "also trace the zones whose interpolation sources have different signatures), and that with the "
+                    "also trace the zones whose interpolation sources have different signatures), that with the "
                     "map's edge direction (`--geo-orient on`: a flagged pixel whose corners leave the orientation "
-                    "open is oriented along the edge the map saw). *Removed* as above.", BEYOND_BASE, variants)
+                    "open is oriented along the edge the map saw), and that with the map's zones (`--geo-zones on`: "
+                    "a flagged pixel traces the zones where the map saw its edge, and only those where no level-2 "
+                    "mask fired). *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -307,7 +309,7 @@ def recommendation(choice: dict) -> list[str]:
              f"--highlights {r.get('highlights') or 'off'} --textures {r.get('textures') or 'off'} "
              f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
              f"--hdr-zones {r.get('hdr') or 'off'} --footprint {r.get('footprint') or 'off'} "
-             f"--geo-orient {r.get('orient') or 'off'}")
+             f"--geo-orient {r.get('orient') or 'off'} --geo-zones {r.get('zones') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

@@ -113,6 +113,7 @@ def base_row(scene: str, s: Setting, stats: dict) -> dict:
         "hdr": s.hdr if s.mode == "adaptive" else "",
         "footprint": s.footprint if s.mode == "adaptive" else "",
         "orient": s.orient if s.mode == "adaptive" else "",
+        "zones": s.zones if s.mode == "adaptive" else "",
         "hidden_fraction": ad.get("hidden_fraction", ""),
         "width": stats.get("width"), "height": stats.get("height"),
         "threads": stats.get("threads"), "triangles": stats.get("triangles"),

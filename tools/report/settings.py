@@ -17,8 +17,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     rule (--hdr-zones on), all of these with the texture flag too, and both at eps 0.1 (the
     second ablation table), that with the texture footprint correction (--footprint on), and
     that with geo policy split (--geo-policy split: geo pixels also trace the zones between
-    samples whose signatures differ), and that with the map's edge direction orienting geo pixels
-    whose corners leave the orientation open (--geo-orient on);
+    samples whose signatures differ), that with the map's edge direction orienting geo pixels
+    whose corners leave the orientation open (--geo-orient on), and that with the map's zones
+    (--geo-zones on: geo pixels trace the zones where the map saw their edge);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -47,6 +48,7 @@ class Setting:
     hdr: str = "off"           # --hdr-zones on | off: zones interpolated across more than the display shows are traced
     footprint: str = "off"     # --footprint on | off: unrefined textured pixels take the texture's mean over the pixel
     orient: str = "off"        # --geo-orient on | off: geo pixels with an open case take the map's edge direction
+    zones: str = "off"         # --geo-zones on | off: geo pixels trace the zones where the map saw their edge
 
     @property
     def label(self) -> str:
@@ -64,7 +66,7 @@ class Setting:
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
                 + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
                 + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else "")
-                + ("-go" if self.orient == "on" else ""))
+                + ("-go" if self.orient == "on" else "") + ("-gz" if self.zones == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -77,7 +79,7 @@ class Setting:
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
                 + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
                 + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else "")
-                + ("/go" if self.orient == "on" else ""))
+                + ("/go" if self.orient == "on" else "") + ("/gz" if self.zones == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -93,14 +95,15 @@ class Setting:
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
                 "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
-                "--footprint", self.footprint, "--geo-orient", self.orient]
+                "--footprint", self.footprint, "--geo-orient", self.orient, "--geo-zones", self.zones]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
         ss = geo_ss if self.edges == "vulkan" else 0
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
                 "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature,
-                "--curvature", self.curvature, "--hdr-zones", self.hdr, "--geo-orient", self.orient]
+                "--curvature", self.curvature, "--hdr-zones", self.hdr, "--geo-orient", self.orient,
+                "--geo-zones", self.zones]
 
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
@@ -137,7 +140,10 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split"}),
                    ("both + sig all + material + hdr zones + footprint + geo split + map orientation",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
-                     "orient": "on"})]
+                     "orient": "on"}),
+                   ("both + sig all + material + hdr zones + footprint + geo split + map orientation + map zones",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
+                     "orient": "on", "zones": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
@@ -194,7 +200,8 @@ def star_settings(quick: bool) -> list[Setting]:
         return [CLI_DEFAULT]
     r = dataclasses.replace
     return ([CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
-            + [r(CLI_DEFAULT, orient="on"), r(CLI_DEFAULT, tables="tuned"), r(CLI_DEFAULT, tables="tuned", orient="on")])
+            + [r(CLI_DEFAULT, orient="on"), r(CLI_DEFAULT, tables="tuned"), r(CLI_DEFAULT, tables="tuned", orient="on"),
+               r(CLI_DEFAULT, tables="tuned", orient="on", zones="on")])
 
 
 def _unique(points: list[Setting]) -> list[Setting]:
