@@ -393,8 +393,9 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const bool g = geo.at(x, y);
       // Detail the corners may have missed sends the pixel on like a geo flag.
       const bool peak = hidden && hidden[size_t(ry) * rw + rx];
-      const bool along_x = settings.geo_orient && geo.along_x(x, y);
-      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all, along_x);
+      const bool map_along_x = geo.along_x(x, y);  // the map's frame for its zones, too
+      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all,
+                                      settings.geo_orient && map_along_x);
       const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;
@@ -415,7 +416,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         // the tables' edge model: every zone.
         const int split = g && settings.geo_policy == GeoPolicy::Split ? split_zones(l2) : 0;
         // The map's zones are in its own frame: they count where the pixel's is the same.
-        const bool map_frame = (o == Orientation::Vertical) == geo.along_x(x, y);
+        const bool map_frame = (o == Orientation::Vertical) == map_along_x;
         const int map = settings.geo_zones && g && map_frame ? geo.zones(x, y) : 0;
         zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, split, g, settings.geo_policy,
                              settings.refine_all || peak, map);

@@ -119,26 +119,16 @@ GeoMap analytic_geo_map(const AnalyticImage& image, int ss) {
       for (int b = y * ss; b < y * ss + ss + 2; ++b)
         for (int a = x * ss; a < x * ss + ss + 2; ++a) differ |= ids[size_t(b) * gn + a] != first;
       // Which way the edge runs and which zones it meets, as the compute pass says it (pixel
-      // sample i of a row is stored at a = x * ss + 1 + i; u in units of 1 / (10 ss)).
-      int across = 0, along = 0, zones_h = 0, zones_v = 0;
+      // sample i of row j is stored at (y * ss + 1 + j) * gn + x * ss + 1 + i).
+      GeoPairs pairs{ss};
+      auto at = [&](int i, int j) { return ids[size_t(y * ss + 1 + j) * gn + size_t(x * ss + 1 + i)]; };
       for (int j = 0; j < ss; ++j)
-        for (int i = -1; i < ss; ++i) {
-          const size_t at = size_t(y * ss + 1 + j) * gn + size_t(x * ss + 1 + i);
-          if (ids[at] == ids[at + 1]) continue;
-          ++across;
-          zones_h |= map_zone_at(10 * (i + 1), ss);
-          zones_v |= map_zone_at(10 * ss - (10 * j + 5), ss);
-        }
+        for (int i = -1; i < ss; ++i)
+          if (at(i, j) != at(i + 1, j)) pairs.horizontal(i, j);
       for (int j = -1; j < ss; ++j)
-        for (int i = 0; i < ss; ++i) {
-          const size_t at = size_t(y * ss + 1 + j) * gn + size_t(x * ss + 1 + i);
-          if (ids[at] == ids[at + gn]) continue;
-          ++along;
-          zones_h |= map_zone_at(10 * i + 5, ss);
-          zones_v |= map_zone_at(10 * ss - 10 * (j + 1), ss);
-        }
-      const uint8_t byte = geo_flag_byte(across, along, zones_h, zones_v);
-      geo.flags[size_t(y) * n + x] = differ ? uint8_t(byte | kGeoEdge) : 0;
+        for (int i = 0; i < ss; ++i)
+          if (at(i, j) != at(i, j + 1)) pairs.vertical(i, j);
+      geo.flags[size_t(y) * n + x] = differ ? uint8_t(pairs.byte() | kGeoEdge) : 0;
     }
   return geo;
 }

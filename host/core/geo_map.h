@@ -34,6 +34,27 @@ constexpr uint8_t geo_flag_byte(int across, int along, int zones_h, int zones_v)
   return uint8_t(kGeoEdge | (along > across ? kGeoAlongX | zones_v << kGeoZoneShift : zones_h << kGeoZoneShift));
 }
 
+// A pixel's differing sample pairs, counted as the compute pass counts them, in pixel-local
+// sample indices (-1 and s are the ring), with the zones each meets in both frames
+// (canonical u = x in the horizontal frame, 1 - y in the vertical one).
+struct GeoPairs {
+  int s;  // samples per pixel axis
+  int across = 0, along = 0, zones_h = 0, zones_v = 0;
+  // Samples i and i + 1 of row j: the pair's midpoint at x = (i + 1) / s, the row at y = (j + 0.5) / s.
+  constexpr void horizontal(int i, int j) {
+    ++across;
+    zones_h |= map_zone_at(10 * (i + 1), s);
+    zones_v |= map_zone_at(10 * s - (10 * j + 5), s);
+  }
+  // Rows j and j + 1 of column i: the column at x = (i + 0.5) / s, the midpoint at y = (j + 1) / s.
+  constexpr void vertical(int i, int j) {
+    ++along;
+    zones_h |= map_zone_at(10 * i + 5, s);
+    zones_v |= map_zone_at(10 * s - 10 * (j + 1), s);
+  }
+  constexpr uint8_t byte() const { return geo_flag_byte(across, along, zones_h, zones_v); }
+};
+
 struct GeoMap {
   int width = 0;
   int height = 0;

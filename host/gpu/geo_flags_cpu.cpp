@@ -122,26 +122,21 @@ GeoMap geo_flags_cpu(const std::vector<uint32_t>& ids, const std::vector<glm::ve
 
   // Pixel (x, y): horizontal pairs ix in [xS, xS + S] of rows yS..yS+S-1, vertical pairs
   // gx in [xS, xS + S) of rows iy = yS..yS+S. A pair the material rule set lies inside one
-  // pixel, so no other pixel's window holds it. The byte is the shader's (geo_flag_byte):
-  // the pairs counted, and the zones each meets in both frames, in units of 1 / (10 S).
+  // pixel, so no other pixel's window holds it. The byte is the shader's (GeoPairs).
   GeoMap map;
   map.width = W;
   map.height = H;
   map.flags.assign(size_t(W) * H, 0);
   for (int y = 0; y < H; ++y)
     for (int x = 0; x < W; ++x) {
-      int across = 0, along = 0, zones_h = 0, zones_v = 0;
-      for (int j = 0; j < S; ++j)  // pair i: midpoint u = i / S; its row at y = (j + 0.5) / S
-        for (uint64_t m = BitRows::window(horizontal.row(y * S + j), x * S, S + 1); m; m &= m - 1, ++across) {
-          zones_h |= map_zone_at(10 * __builtin_ctzll(m), S);
-          zones_v |= map_zone_at(10 * S - (10 * j + 5), S);
-        }
-      for (int j = 0; j <= S; ++j)  // pair at y = j / S; its column c at u = (c + 0.5) / S
-        for (uint64_t m = BitRows::window(vertical.row(y * S + j), x * S, S); m; m &= m - 1, ++along) {
-          zones_h |= map_zone_at(10 * __builtin_ctzll(m) + 5, S);
-          zones_v |= map_zone_at(10 * S - 10 * j, S);
-        }
-      map.flags[size_t(y) * W + x] = geo_flag_byte(across, along, zones_h, zones_v);
+      GeoPairs pairs{S};
+      for (int j = 0; j < S; ++j)  // window bit b: samples b - 1 and b of row j
+        for (uint64_t m = BitRows::window(horizontal.row(y * S + j), x * S, S + 1); m; m &= m - 1)
+          pairs.horizontal(__builtin_ctzll(m) - 1, j);
+      for (int j = 0; j <= S; ++j)  // window bit b: column b, rows j - 1 and j
+        for (uint64_t m = BitRows::window(vertical.row(y * S + j), x * S, S); m; m &= m - 1)
+          pairs.vertical(__builtin_ctzll(m), j - 1);
+      map.flags[size_t(y) * W + x] = pairs.byte();
     }
   return map;
 }

@@ -54,28 +54,18 @@ struct FlagReference {
     int stride = p.frame.x * p.frame.z + 2;
     return ids[size_t(g.y + 1) * stride + size_t(g.x + 1)];
   }
-  // The pixel's flag byte: the differing horizontal and vertical pairs counted, and the zone
-  // each meets in both frames (canonical u in units of 1 / (10 S): u = x in the horizontal
-  // frame, 1 - y in the vertical one).
+  // The pixel's flag byte: its differing pairs, counted (GeoPairs) with the zones they meet.
   uint8_t pixel(int x, int y) const {
     int s = p.frame.z;
     auto pair = [&](glm::ivec2 a, glm::ivec2 b, bool inner) { return differs(id(a), a, id(b), b, inner); };
-    int across = 0, along = 0, zones_h = 0, zones_v = 0;
+    GeoPairs pairs{s};
     for (int j = 0; j < s; ++j)
       for (int i = -1; i < s; ++i)
-        if (pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s)) {
-          ++across;  // between samples i and i + 1: x = (i + 1) / s; the row at y = (j + 0.5) / s
-          zones_h |= map_zone_at(10 * (i + 1), s);
-          zones_v |= map_zone_at(10 * s - (10 * j + 5), s);
-        }
+        if (pair({x * s + i, y * s + j}, {x * s + i + 1, y * s + j}, i >= 0 && i + 1 < s)) pairs.horizontal(i, j);
     for (int i = 0; i < s; ++i)
       for (int j = -1; j < s; ++j)
-        if (pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s)) {
-          ++along;  // the column at x = (i + 0.5) / s; between rows j and j + 1: y = (j + 1) / s
-          zones_h |= map_zone_at(10 * i + 5, s);
-          zones_v |= map_zone_at(10 * s - 10 * (j + 1), s);
-        }
-    return geo_flag_byte(across, along, zones_h, zones_v);
+        if (pair({x * s + i, y * s + j}, {x * s + i, y * s + j + 1}, j >= 0 && j + 1 < s)) pairs.vertical(i, j);
+    return pairs.byte();
   }
   GeoMap map() const {
     GeoMap m;
