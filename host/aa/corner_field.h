@@ -10,9 +10,9 @@
 // size, thread count or order. Memory: 36 bytes per corner.
 //
 // The hidden-detail flags (hidden_detail.h) read each pixel's 4 x 4 stencil of probes (the
-// renderer's are 228 bytes a corner: 240 MB for a 1024² frame, whose page faults and
+// renderer's are 864 bytes a corner: 900 MB for a 1024² frame, whose page faults and
 // memory traffic once cost more than the flags' arithmetic). So the probes never make a
-// frame-wide array: a block keeps its own in a per-thread buffer (900 KB, in cache) and
+// frame-wide array: a block keeps its own in a per-thread buffer (4 MB) and
 // flags its pixels whose stencil lies inside it at once; the probes within kBandHalf of a
 // block boundary are copied to bands (about 19 % of the corners), from which the pixels
 // whose stencil straddles blocks are flagged once every block is traced
@@ -34,7 +34,7 @@
 namespace zz {
 
 // Largest field the callers allocate; larger frames trace their corners per tile.
-inline constexpr size_t kCornerFieldBudget = size_t(5) << 28;  // 1.25 GiB: a 4k frame with every flag and the footprint
+inline constexpr size_t kCornerFieldBudget = size_t(2) << 30;  // 2 GiB: a 4k frame with every flag and the footprint takes 1.8 GB
 // Corners per side of a block traced as one task (even: only the field's own odd last row
 // or column pads a packet).
 inline constexpr int kCornerBlock = 64;

@@ -121,19 +121,28 @@ class SceneSource {
   }
 
   // With the surfaces the lanes' paths hit, for the hidden-detail flags (aa/hidden_detail.h):
-  // the primary hit's, those seen in it by reflection and refraction, and those seen by
-  // reflection and refraction in what it reflects (render/shader.h's path tree).
+  // the primary hit's and those its reflection and refraction rays see, node[probe_slot(k)]
+  // for path-tree node k (render/shader.h).
   struct Probe {
     SurfaceProbe node[kProbeNodes];
     FootprintProbe footprint;  // filled only when the footprint correction is on
     const SurfaceProbe& surface() const { return node[0]; }
+    // Before a sample: what a node's readers see of a node the path lacks. The primary hit's
+    // is read whole (a miss); the others are read only where has_highlight, and a node the
+    // shader writes is written whole, so only their highlight needs clearing (the 800-byte
+    // record, cleared whole per corner, cost car 3 % of its frame).
+    void reset() {
+      node[0] = SurfaceProbe{};
+      for (int k = 1; k < kProbeNodes; ++k) node[k].specular = glm::vec3(0.0f);
+      footprint = FootprintProbe{};
+    }
   };
   // The shader writes the probes in place; nodes a lane's path lacks keep their defaults.
   Rgb4 sample4(float4 px, float4 py, int4& signature, ProbeLanes<Probe> probes) {
     PathSignature4 seen;
     const bool footprint = detail_ && detail_->footprint;
     for (int i = 0; i < 4; ++i) {
-      probes[i] = Probe{};
+      probes[i].reset();
       seen.probes.lane[i] = probes[i].node;
       if (footprint) seen.footprint.lane[i] = &probes[i].footprint;
     }

@@ -16,7 +16,7 @@ namespace {
 
 // Scales the specular of lane `lane`'s probes at `node` and below it in the path tree.
 void scale_probes(const ProbeTree& probes, int node, int lane, glm::vec3 weight) {
-  if (node >= kProbeNodes) return;
+  if (!probed(node)) return;
   probes.at(node, lane).specular *= weight;
   scale_probes(probes, reflected_node(node), lane, weight);
   scale_probes(probes, refracted_node(node), lane, weight);
@@ -604,8 +604,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       // Made only for a packet that records a signature.
       std::optional<PathSignature4> seen_reflected, seen_refracted;
       const bool probing = signature && signature->probes;
-      const bool probe_reflected = probing && reflected_node(signature->node) < kProbeNodes;
-      const bool probe_refracted = probing && refracted_node(signature->node) < kProbeNodes;
+      const bool probe_reflected = probing && probed(reflected_node(signature->node));
+      const bool probe_refracted = probing && probed(refracted_node(signature->node));
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
         if ((signature && depth <= 1) || probe_reflected) seen_reflected.emplace();

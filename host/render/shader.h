@@ -35,22 +35,33 @@ struct PrimaryHit4 {
 
 // The path tree of a camera ray, as far as the highlight flag follows it: node 0 is the
 // primary hit, and the reflection ray of node k hits node 2k + 1, its refraction ray node
-// 2k + 2. The flag probes the first kProbeNodes nodes: the primary hit, what it reflects
-// and refracts, what its reflection reflects and refracts (a highlight on a glass seen in
-// a mirror, on chrome seen in the car's paint), and what its refraction reflects (inside a
-// thick glass). At 1024² (display RMSE x the lattice's): nodes 3-4 took glass 1.224 ->
-// 1.192 and car 1.154 -> 1.137 for +0.004 and +0.003 rays/px; node 5 took vase 1.674 ->
-// 1.567 for +0.007 (glass +0.017 for nothing); node 6, what the refraction refracts, cost
-// car +0.022 rays/px for no gain and is left out.
-inline constexpr int kProbeNodes = 6;
+// 2k + 2 (depth d holds nodes 2^d - 1 .. 2^(d+1) - 2). The flag probes the primary hit,
+// what it reflects and refracts, what its reflection reflects and refracts (a highlight on
+// a glass seen in a mirror, on chrome seen in the car's paint), and the whole refraction
+// subtree to depth 3: a highlight on the far side of a thick glass, seen through both of
+// its walls, is three or four surfaces from the camera. At 1024² (display RMSE x the
+// lattice's): nodes 3-4 took glass 1.224 -> 1.192 and car 1.154 -> 1.137 for +0.004 and
+// +0.003 rays/px; node 5 took vase 1.674 -> 1.567 for +0.007; the refraction's depth-2
+// and depth-3 nodes (6, 11-14) took vase 1.500 -> 1.129 for +0.098 rays/px (car +0.041,
+// glass +0.0004), and no node alone gave more than a fifth of that. The reflection's
+// depth-3 nodes (7-10) added rays and removed nothing, and are left out.
+inline constexpr int kPathTreeNodes = 15;  // to depth 3
+inline constexpr int kProbeNodes = 11;     // the nodes probed, each in a slot of its own
 constexpr int reflected_node(int k) { return 2 * k + 1; }
 constexpr int refracted_node(int k) { return 2 * k + 2; }
+// The slot of tree node k in a lane's probes; -1 where the flag does not follow the path.
+constexpr int probe_slot(int node) {
+  constexpr int slot[kPathTreeNodes] = {0, 1, 2, 3, 4, 5, 6, -1, -1, -1, -1, 7, 8, 9, 10};
+  return node >= 0 && node < kPathTreeNodes ? slot[node] : -1;
+}
+constexpr bool probed(int node) { return probe_slot(node) >= 0; }
 
-// Where a camera packet's path-tree probes go: node k of lane i is at(k, i), each lane's
-// nodes contiguous from lane[i] (the caller's per-corner records, written in place).
+// Where a camera packet's path-tree probes go: probed node k of lane i is at(k, i), in
+// slot probe_slot(k) of lane i's probes, contiguous from lane[i] (the caller's per-corner
+// records, written in place).
 struct ProbeTree {
   SurfaceProbe* lane[4] = {};
-  SurfaceProbe& at(int node, int i) const { return lane[i][node]; }
+  SurfaceProbe& at(int node, int i) const { return lane[i][probe_slot(node)]; }
   explicit operator bool() const { return lane[0] != nullptr; }
 };
 

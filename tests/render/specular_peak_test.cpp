@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "render/lighting.h"
 #include "render/renderer.h"
@@ -331,10 +332,10 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   int4 signature;
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);
   EXPECT_EQ(probes[0].surface().material, 0u);
-  EXPECT_EQ(probes[0].node[reflected_node(0)].material, 1u);
-  EXPECT_NEAR(probes[0].node[reflected_node(0)].position.z, 5.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].node[reflected_node(0)].specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
-  EXPECT_EQ(probes[0].node[refracted_node(0)].specular, glm::vec3(0.0f));  // no glass
+  EXPECT_EQ(probes[0].node[probe_slot(reflected_node(0))].material, 1u);
+  EXPECT_NEAR(probes[0].node[probe_slot(reflected_node(0))].position.z, 5.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].node[probe_slot(reflected_node(0))].specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
+  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // no glass
 
   const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
   const float off = px.off, on = px.on, lattice = px.lattice;
@@ -362,10 +363,10 @@ TEST(SpecularPeak, ProbesSeeThroughGlass) {
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
   const float fresnel = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2
   EXPECT_EQ(probes[0].surface().material, 1u);
-  EXPECT_EQ(probes[0].node[refracted_node(0)].material, 0u);
-  EXPECT_NEAR(probes[0].node[refracted_node(0)].position.z, 0.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].node[refracted_node(0)].specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
-  EXPECT_EQ(probes[0].node[reflected_node(0)].specular, glm::vec3(0.0f));  // the reflection sees the sky
+  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].material, 0u);
+  EXPECT_NEAR(probes[0].node[probe_slot(refracted_node(0))].position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(probes[0].node[probe_slot(refracted_node(0))].specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
+  EXPECT_EQ(probes[0].node[probe_slot(reflected_node(0))].specular, glm::vec3(0.0f));  // the reflection sees the sky
 }
 
 // Down the reflection's branch of the path tree: a mirror floor reflects a glass pane, which
@@ -394,11 +395,11 @@ TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   int4 signature;
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
   const float mirror_share = 0.9f, fresnel = 0.04f;  // the pane: ((1.5 - 1) / (1.5 + 1))^2
-  const SurfaceProbe& pane = probes[0].node[reflected_node(0)];
-  const SurfaceProbe& floor_again = probes[0].node[reflected_node(reflected_node(0))];
-  const SurfaceProbe& ceiling = probes[0].node[refracted_node(reflected_node(0))];
+  const SurfaceProbe& pane = probes[0].node[probe_slot(reflected_node(0))];
+  const SurfaceProbe& floor_again = probes[0].node[probe_slot(reflected_node(reflected_node(0)))];
+  const SurfaceProbe& ceiling = probes[0].node[probe_slot(refracted_node(reflected_node(0)))];
   EXPECT_EQ(probes[0].surface().material, 0u);
-  EXPECT_EQ(probes[0].node[refracted_node(0)].specular, glm::vec3(0.0f));  // a mirror refracts nothing
+  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // a mirror refracts nothing
   EXPECT_EQ(pane.material, 1u);
   EXPECT_NEAR(pane.position.z, 5.0f, 1e-4f);
   EXPECT_EQ(floor_again.material, 0u);
@@ -409,7 +410,85 @@ TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   EXPECT_NEAR(ceiling.position.z, 6.0f, 1e-4f);
   EXPECT_NEAR(ceiling.specular.r, s.whitted[2].specular.r * mirror_share * (1.0f - fresnel),
               1e-3f * s.whitted[2].specular.r);
-  static_assert(kProbeNodes == 6);  // the refraction's branch: its hit and that hit's reflection
+}
+
+// The probed nodes fill the slots 0 .. kProbeNodes - 1, each once, and form a subtree: a
+// path the flag follows is followed from the camera on (the shader stops at the first
+// node not probed).
+TEST(SpecularPeak, ProbeSlotsNumberASubtreeOfThePathTree) {
+  std::vector<int> nodes_in_slot(kProbeNodes, -1);
+  for (int k = 0; k < kPathTreeNodes; ++k) {
+    if (!probed(k)) continue;
+    ASSERT_LT(probe_slot(k), kProbeNodes);
+    EXPECT_EQ(nodes_in_slot[size_t(probe_slot(k))], -1) << "slot " << probe_slot(k) << " taken twice";
+    nodes_in_slot[size_t(probe_slot(k))] = k;
+    if (k > 0) {
+      EXPECT_TRUE(probed((k - 1) / 2)) << "node " << k << "'s parent is not probed";
+    }
+  }
+  for (int slot = 0; slot < kProbeNodes; ++slot) EXPECT_GE(nodes_in_slot[size_t(slot)], 0) << "slot " << slot;
+  EXPECT_FALSE(probed(-1));
+  EXPECT_FALSE(probed(kPathTreeNodes));
+  // What the docs say is followed: the reflection's reflection and refraction, and the
+  // refraction's subtree to depth 3.
+  for (int k : {0, 1, 2, 3, 4, 5, 6, 11, 12, 13, 14}) EXPECT_TRUE(probed(k)) << k;
+  for (int k : {7, 8, 9, 10}) EXPECT_FALSE(probed(k)) << k;
+}
+
+// Three glass panes above a glossy floor: seen straight down, the floor is the third
+// refraction's hit (node 14), its highlight scaled by the three transmitted shares.
+TEST(SpecularPeak, ProbesSeeThroughThreePanes) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 3.5f);
+  s.materials[0].roughness = 0.0f;
+  s.materials.push_back(test::glass_material(1.5f));
+  for (float z : {1.0f, 2.0f, 3.0f}) test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
+  s.max_depth = 3;
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const CameraRays camera(s.cameras[0], 40, 40);
+  SceneSource source(shader, camera, kSignatureNone);
+  SceneSource::Probe probes[4];
+  int4 signature;
+  source.sample4(float4(20.0f), float4(20.0f), signature, probes);
+  const int third = refracted_node(refracted_node(refracted_node(0)));
+  ASSERT_EQ(third, 14);
+  const SurfaceProbe& floor = probes[0].node[probe_slot(third)];
+  EXPECT_EQ(floor.material, 0u);
+  EXPECT_NEAR(floor.position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(floor.view.z, 1.0f, 1e-3f);
+  // Each pane passes 1 - F of what reaches it; F at normal incidence for eta = 1.5 or
+  // 1 / 1.5 alike.
+  const float transmitted = std::pow(1.0f - 0.04f, 3.0f);
+  EXPECT_NEAR(floor.specular.r, s.whitted[0].specular.r * transmitted, 1e-2f * s.whitted[0].specular.r);
+  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(refracted_node(0)))].material, 1u);  // the middle pane
+}
+
+// Through the renderer: the pinpoint highlight of the first test seen through three panes
+// of glass whose index is 1 (they bend nothing, so the mirror point stays where it was):
+// four surfaces from the camera, and found all the same.
+TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughThreePanes) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
+  s.materials[0].roughness = 0.0f;
+  s.materials.push_back(test::glass_material(1.0f));
+  s.materials.back().roughness = 1.0f;  // no pinpoint highlights of their own
+  for (float z : {0.5f, 1.0f, 3.0f}) test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
+  s.max_depth = 3;
+  s.finalize_materials();
+  const int size = 40;
+  const CameraRays camera(s.cameras[0], size, size);
+  const glm::vec3 dir = camera.direction(20.5f, 20.5f);
+  const glm::vec3 p = camera.origin - dir * (camera.origin.z / dir.z);
+  const glm::vec3 back = camera.origin - p;
+  s.lights[0].position = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;  // z = 2: between the panes
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
+  EXPECT_EQ(px.off_stats.aa.hidden_pixels, 0u);
+  EXPECT_GE(px.on_stats.aa.hidden_pixels, 1u);
+  EXPECT_LE(px.on_stats.aa.hidden_pixels, 4u);
+  EXPECT_GT(px.lattice, 2.0f * px.off);
+  EXPECT_NEAR(px.on, px.lattice, 0.05f * px.lattice);
 }
 
 }  // namespace
