@@ -131,19 +131,24 @@ inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float
 }
 
 // Level 2: the zones a level-2 pixel traces: the three tables OR-ed, the `hdr` zones
-// (hdr_zones below, or 0), for a geo pixel under GeoPolicy::Split the `split` zones
-// (split_zones below), for a geo pixel the `map` zones (the zones the visibility map saw
+// (hdr_zones below, or 0), for a geo pixel under GeoPolicy::Split, and with
+// `split_unflagged` for any other, the `split` zones (split_zones below), for a geo pixel
+// the `map` zones (the zones the visibility map saw
 // its edge meet, when its frame is the pixel's: GeoMap::zones; 0 otherwise), and every zone
 // with refine_all or for a geo pixel under GeoPolicy::All or whose masks all stayed zero
 // while the map names no zone. §5 traces all five there because the rays missed a thin
 // feature whose place they cannot tell; the map's samples saw where it is.
+// Whether a refined pixel traces its split zones (a geo one per its policy).
+inline bool splits_zones(bool geo, GeoPolicy policy, bool split_unflagged) {
+  return geo ? policy == GeoPolicy::Split : split_unflagged;
+}
 inline int decide_zones(const TableSet& t, int b, int c0, int c1, int hdr, int split, bool geo, GeoPolicy policy,
-                        bool refine_all, int map = 0) {
+                        bool refine_all, int map = 0, bool split_unflagged = false) {
   const bool no_mask = (b | c0 | c1) == 0;
   const int geo_map = geo ? map : 0;
   const bool full = refine_all || (geo && (policy == GeoPolicy::All || (no_mask && geo_map == 0)));
-  const int geo_split = geo && policy == GeoPolicy::Split ? split : 0;
-  return t.zones(b, c0, c1) | hdr | geo_split | geo_map | (-int(full) & kAllZones);
+  const int split_traced = splits_zones(geo, policy, split_unflagged) ? split : 0;
+  return t.zones(b, c0, c1) | hdr | split_traced | geo_map | (-int(full) & kAllZones);
 }
 
 // ---- zones across a high dynamic range (ours, beyond §5–§6) ---------------------

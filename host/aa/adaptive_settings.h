@@ -46,6 +46,9 @@ struct AdaptiveSettings {
   // A geo pixel traces the zones the map saw its edge meet (in the map's frame, when it is the
   // pixel's), and, where no level-2 mask fired, those instead of all five (decide_zones).
   bool geo_zones = false;
+  // Refined pixels the map does not flag trace the zones whose interpolation sources saw
+  // different things too, as GeoPolicy::Split makes geo pixels do (decide_zones).
+  bool split_unflagged = false;
   // The visibility map's normal angle as a distance between unit normals, 2 sin(angle / 2);
   // 0 without a map. The highlight flag leaves steps of the shading normal wider than this
   // to the map (normal_interpolation_error in render/specular_peak.h).

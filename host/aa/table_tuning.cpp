@@ -126,6 +126,7 @@ PatternRecord evaluate_pattern(const PixelPattern& p, const AdaptiveSettings& se
   r.refined = true;
   r.b = uint8_t(l2.b), r.c0 = uint8_t(l2.c0), r.c1 = uint8_t(l2.c1);
   r.hdr = settings.hdr_zones ? uint8_t(hdr_zones(l2, settings.tonemap.exposure)) : 0;
+  r.split = settings.split_unflagged ? uint8_t(split_zones(l2)) : 0;
   for (int z = 0; z < 32; ++z) {
     trace_level3(source, zero, zero, l2, z, lattice);
     r.error[z] = std::fabs(box_lattice(tl, tr, bl, br, lattice)[0] - reference);
@@ -150,7 +151,7 @@ double rays_of(const PatternRecord& r, int zones) { return r.refined ? refined_r
 TableScore score_tables(const TableSet& t, const std::vector<PatternRecord>& records) {
   TableScore s;
   for (const PatternRecord& r : records) {
-    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, r.hdr, /*split=*/0, /*geo=*/false, GeoPolicy::Paper, false) : 0;
+    const int z = r.refined ? decide_zones(t, r.b, r.c0, r.c1, r.hdr, r.split, /*geo=*/false, GeoPolicy::Paper, false, 0, r.split != 0) : 0;
     s.error += r.error[z];
     s.rays += rays_of(r, z);
   }
@@ -169,12 +170,12 @@ TableSet tune_tables(const TableSet& start, const std::vector<PatternRecord>& re
       users[16 + records[i].c0].push_back(i);
       users[32 + records[i].c1].push_back(i);
     }
-  // The zones of a record: decide_zones without a geo flag, i.e. the three entries and hdr OR-ed.
+  // The zones of a record: decide_zones without a geo flag, i.e. the three entries, hdr and split OR-ed.
   auto cost_of = [&](int entry) {
     double c = 0;
     for (uint32_t i : users[entry]) {
       const PatternRecord& r = records[i];
-      const int z = t[r.b] | t[16 + r.c0] | t[32 + r.c1] | r.hdr;
+      const int z = t[r.b] | t[16 + r.c0] | t[32 + r.c1] | r.hdr | r.split;
       c += r.error[z] + lambda * rays_of(r, z);
     }
     return c;

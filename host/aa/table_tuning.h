@@ -42,6 +42,7 @@ struct PatternRecord {
   bool refined = false;          // reached level 2
   uint8_t b = 0, c0 = 0, c1 = 0; // masks
   uint8_t hdr = 0;               // hdr_zones, when the settings trace them
+  uint8_t split = 0;             // split_zones, when the settings trace them (split_unflagged)
   std::array<float, 32> error{}; // |box(zone set) - box(all zones)|; error[0] if unrefined
 };
 

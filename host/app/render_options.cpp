@@ -57,6 +57,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--geo-zones", o.geo_zones, kOnOff,
              "Adaptive: a pixel the visibility map flags also traces the zones in which the map's samples saw its "
              "edge, and where no level-2 comparison fired, only those instead of all five");
+  add_choice(cmd, "--split-unflagged", o.split_unflagged, kOnOff,
+             "Adaptive: a refined pixel the visibility map does not flag also traces the zones the tables would "
+             "interpolate between samples that saw different things (what --geo-policy split does for flagged ones)");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -72,6 +75,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.hdr_zones = o.hdr_zones;
   s.geo_orient = o.geo_orient;
   s.geo_zones = o.geo_zones;
+  s.split_unflagged = o.split_unflagged;
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {

@@ -70,6 +70,8 @@ struct AdaptiveOptions {
   // Geo pixels trace the zones the map saw their edge meet, and only those where no
   // level-2 mask fired (aa/adaptive_pixel.h decide_zones).
   bool geo_zones = true;
+  // Refined pixels the map does not flag trace their split zones too (decide_zones).
+  bool split_unflagged = true;
 };
 
 struct RenderOptions {
@@ -95,7 +97,7 @@ struct RenderOptions {
 };
 
 // Registers --eps --tables --geo-policy --filter --signature --highlights --textures --curvature
-// --hdr-zones --geo-orient --geo-zones.
+// --hdr-zones --geo-orient --geo-zones --split-unflagged.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // The adaptive sampler's settings from its options (the tone map is the frame's, set apart).

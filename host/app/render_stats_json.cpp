@@ -42,6 +42,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"hdr_zones", o.adaptive.hdr_zones},
                      {"geo_orient", o.adaptive.geo_orient},
                      {"geo_zones", o.adaptive.geo_zones},
+                     {"split_unflagged", o.adaptive.split_unflagged},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},

@@ -47,6 +47,21 @@ TEST(SplitZones, OnlyGeoPixelsUnderTheSplitPolicyTraceThem) {
   EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::All, false), kAllZones);
 }
 
+// --split-unflagged: a refined pixel the map does not flag traces its split zones too; a
+// geo pixel still follows its policy.
+TEST(SplitZones, UnflaggedPixelsTraceThemWhenAsked) {
+  const TableSet& t = *find_table_set("tuned");
+  const int split = 0b01100, tables = t.zones(1, 0, 0);
+  ASSERT_NE(tables | split, tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/false, GeoPolicy::Paper, false, 0, true), tables | split);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/false, GeoPolicy::Split, false, 0, false), tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::Paper, false, 0, true), tables);
+  EXPECT_EQ(decide_zones(t, 1, 0, 0, 0, split, /*geo=*/true, GeoPolicy::Split, false, 0, true), tables | split);
+  EXPECT_TRUE(splits_zones(false, GeoPolicy::Paper, true));
+  EXPECT_FALSE(splits_zones(false, GeoPolicy::Split, false));
+  EXPECT_FALSE(splits_zones(true, GeoPolicy::All, true));  // All traces every zone anyway
+}
+
 // The map's zones (GeoMap::zones, --geo-zones): added in geo pixels; where no mask fired
 // they replace §5's every zone; elsewhere, under refine_all and under GeoPolicy::All they
 // change nothing.

@@ -45,6 +45,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(o.render.adaptive.footprint);
   EXPECT_TRUE(o.render.adaptive.geo_orient);
   EXPECT_TRUE(o.render.adaptive.geo_zones);
+  EXPECT_TRUE(o.render.adaptive.split_unflagged);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
@@ -68,7 +69,8 @@ TEST(RenderOptions, NamesBecomeEnums) {
 TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   BatchOptions o;
   ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights",
-                   "--hdr-zones", "on", "--footprint", "on", "--geo-orient", "on", "--geo-zones", "on"},
+                   "--hdr-zones", "on", "--footprint", "on", "--geo-orient", "on", "--geo-zones", "on",
+                   "--split-unflagged", "on"},
                   o),
             "");
   AdaptiveSettings s;
@@ -80,16 +82,18 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   EXPECT_TRUE(s.footprint);
   EXPECT_TRUE(s.geo_orient);
   EXPECT_TRUE(s.geo_zones);
+  EXPECT_TRUE(s.split_unflagged);
   EXPECT_EQ(s.signature, unsigned(kSignatureLights));
   EXPECT_FLOAT_EQ(s.eps, 0.05f);
   BatchOptions off;
   ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off", "--hdr-zones", "off",
                    "--footprint", "off", "--geo-orient", "off",
-                   "--geo-zones", "off"},
+                   "--geo-zones", "off", "--split-unflagged", "off"},
                   off),
             "");
   apply_adaptive_options(off.render.adaptive, s);
-  EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones || s.footprint || s.geo_orient || s.geo_zones);
+  EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones || s.footprint || s.geo_orient || s.geo_zones ||
+               s.split_unflagged);
 }
 
 TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {

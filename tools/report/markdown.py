@@ -280,9 +280,11 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "detector at once, that with geo policy split (`--geo-policy split`: pixels the map flags "
                     "also trace the zones whose interpolation sources have different signatures), that with the "
                     "map's edge direction (`--geo-orient on`: a flagged pixel whose corners leave the orientation "
-                    "open is oriented along the edge the map saw), and that with the map's zones (`--geo-zones on`: "
+                    "open is oriented along the edge the map saw), that with the map's zones (`--geo-zones on`: "
                     "a flagged pixel traces the zones where the map saw its edge, and only those where no level-2 "
-                    "mask fired). *Removed* as above.", BEYOND_BASE, variants)
+                    "mask fired), and that with the split zones in every refined pixel (`--split-unflagged on`: "
+                    "refined pixels the map does not flag also trace the zones whose interpolation sources have "
+                    "different signatures). *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -309,7 +311,8 @@ def recommendation(choice: dict) -> list[str]:
              f"--highlights {r.get('highlights') or 'off'} --textures {r.get('textures') or 'off'} "
              f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
              f"--hdr-zones {r.get('hdr') or 'off'} --footprint {r.get('footprint') or 'off'} "
-             f"--geo-orient {r.get('orient') or 'off'} --geo-zones {r.get('zones') or 'off'}")
+             f"--geo-orient {r.get('orient') or 'off'} --geo-zones {r.get('zones') or 'off'} "
+             f"--split-unflagged {r.get('split') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

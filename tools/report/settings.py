@@ -18,8 +18,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     second ablation table), that with the texture footprint correction (--footprint on), and
     that with geo policy split (--geo-policy split: geo pixels also trace the zones between
     samples whose signatures differ), that with the map's edge direction orienting geo pixels
-    whose corners leave the orientation open (--geo-orient on), and that with the map's zones
-    (--geo-zones on: geo pixels trace the zones where the map saw their edge);
+    whose corners leave the orientation open (--geo-orient on), that with the map's zones
+    (--geo-zones on: geo pixels trace the zones where the map saw their edge), and that with
+    the split zones in refined pixels the map does not flag too (--split-unflagged on);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -49,6 +50,7 @@ class Setting:
     footprint: str = "off"     # --footprint on | off: unrefined textured pixels take the texture's mean over the pixel
     orient: str = "off"        # --geo-orient on | off: geo pixels with an open case take the map's edge direction
     zones: str = "off"         # --geo-zones on | off: geo pixels trace the zones where the map saw their edge
+    split: str = "off"         # --split-unflagged on | off: refined pixels the map does not flag trace their split zones
 
     @property
     def label(self) -> str:
@@ -66,7 +68,8 @@ class Setting:
         return (sig + ("-hl" if self.highlights == "on" else "") + ("-tx" if self.textures == "on" else "")
                 + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
                 + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else "")
-                + ("-go" if self.orient == "on" else "") + ("-gz" if self.zones == "on" else ""))
+                + ("-go" if self.orient == "on" else "") + ("-gz" if self.zones == "on" else "")
+                + ("-su" if self.split == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -79,7 +82,8 @@ class Setting:
         more = (("/hl" if self.highlights == "on" else "") + ("/tx" if self.textures == "on" else "")
                 + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
                 + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else "")
-                + ("/go" if self.orient == "on" else "") + ("/gz" if self.zones == "on" else ""))
+                + ("/go" if self.orient == "on" else "") + ("/gz" if self.zones == "on" else "")
+                + ("/su" if self.split == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -95,7 +99,8 @@ class Setting:
                 "--filter", self.filter, "--tables", self.tables, "--geo-policy", self.geo,
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
                 "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
-                "--footprint", self.footprint, "--geo-orient", self.orient, "--geo-zones", self.zones]
+                "--footprint", self.footprint, "--geo-orient", self.orient, "--geo-zones", self.zones,
+                "--split-unflagged", self.split]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -103,7 +108,7 @@ class Setting:
         return ["--eps", f"{self.eps:g}", "--tables", self.tables, "--geo-policy", self.geo,
                 "--geo-ss", str(ss), "--filter", self.filter, "--signature", self.signature,
                 "--curvature", self.curvature, "--hdr-zones", self.hdr, "--geo-orient", self.orient,
-                "--geo-zones", self.zones]
+                "--geo-zones", self.zones, "--split-unflagged", self.split]
 
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
@@ -143,7 +148,11 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                      "orient": "on"}),
                    ("both + sig all + material + hdr zones + footprint + geo split + map orientation + map zones",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
-                     "orient": "on", "zones": "on"})]
+                     "orient": "on", "zones": "on"}),
+                   ("both + sig all + material + hdr zones + footprint + geo split + map orientation + map zones"
+                    " + unflagged split",
+                    {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
+                     "orient": "on", "zones": "on", "split": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
@@ -201,7 +210,8 @@ def star_settings(quick: bool) -> list[Setting]:
     r = dataclasses.replace
     return ([CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
             + [r(CLI_DEFAULT, orient="on"), r(CLI_DEFAULT, tables="tuned"), r(CLI_DEFAULT, tables="tuned", orient="on"),
-               r(CLI_DEFAULT, tables="tuned", orient="on", zones="on")])
+               r(CLI_DEFAULT, tables="tuned", orient="on", zones="on"),
+               r(CLI_DEFAULT, tables="tuned", edges="off", split="on")])
 
 
 def _unique(points: list[Setting]) -> list[Setting]:
