@@ -138,6 +138,19 @@ inline Level1 decide_level1(const Rgb4& corners_display, int4 corners_sig, float
 // with refine_all or for a geo pixel under GeoPolicy::All or whose masks all stayed zero
 // while the map names no zone. §5 traces all five there because the rays missed a thin
 // feature whose place they cannot tell; the map's samples saw where it is.
+// The zones holding physical lattice points p (bit p of `points`, as in a hidden-detail
+// flag: aa/hidden_detail.h) in orientation o's frame; a point at corner A or among E..H
+// is traced anyway and names no zone.
+constexpr int zone_of_physical(Orientation o, int p) { return p >= 1 && p < kLatticePoints ? zone_of(canonical_k(o, p)) : -1; }
+inline int zones_of_points(Orientation o, uint32_t points) {
+  int zones = 0;
+  for (int p = 1; p < kLatticePoints; ++p) {
+    const int z = zone_of_physical(o, p);
+    if (((points >> p) & 1u) && z >= 0) zones |= 1 << z;
+  }
+  return zones;
+}
+
 // Whether a refined pixel traces its split zones (a geo one per its policy).
 inline bool splits_zones(bool geo, GeoPolicy policy, bool split_unflagged) {
   return geo ? policy == GeoPolicy::Split : split_unflagged;

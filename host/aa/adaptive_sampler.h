@@ -48,7 +48,7 @@ struct CornerGrid {
   std::vector<float4> linear;      // AoS (r, g, b, 0)
   std::vector<float4> display;     // tone-mapped
   std::vector<int32_t> signature;  // signature.h (0 when the source has none)
-  std::vector<uint8_t> hidden;     // per region pixel; empty when no source flags
+  std::vector<HiddenFlag> hidden;  // per region pixel; empty when no source flags
   std::vector<float4> footprint;   // per region pixel, the footprint delta; empty unless on
 
   // Grows (never shrinks, so per-thread grids are reused without allocating).
@@ -263,7 +263,7 @@ struct FootprintRows<S> {
 // delta, which is then left at 0.
 template <HiddenDetailSource S>
 void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff_t probe_stride, CornerView corners,
-                       int w, int h, const AdaptiveSettings& settings, uint8_t* flags, float4* footprint,
+                       int w, int h, const AdaptiveSettings& settings, HiddenFlag* flags, float4* footprint,
                        ptrdiff_t flag_stride) {
   const float4 eps(settings.eps);
   const bool flagging = settings.highlights || settings.textures;
@@ -281,8 +281,9 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
       const float4* c = corners.linear + at;
       const typename S::Probe* tl = probes + j * probe_stride + i;
       const float4 mean = corner_mean(c[0], c[1], c[cs], c[cs + 1]);
-      const bool flagged = flagging && hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps);
-      flags[j * flag_stride + i] = flagged;
+      const HiddenFlag flag = flagging ? hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps) : 0;
+      const bool flagged = flag != 0;
+      flags[j * flag_stride + i] = flag;
       if constexpr (FootprintSource<S>) {
         if (!footprint) continue;
         const float4* d = corners.display + at;
@@ -362,7 +363,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const float4* corner_lin = grid.linear.data();
   const float4* corner_disp = grid.display.data();
   const int32_t* corner_sig = grid.signature.data();
-  const uint8_t* hidden = flags_hidden<S>(settings) ? grid.hidden.data() : nullptr;
+  const HiddenFlag* hidden = flags_hidden<S>(settings) ? grid.hidden.data() : nullptr;
   const float4* footprint = corrects_footprint<S>(settings) ? grid.footprint.data() : nullptr;
   const bool curvature = curvature_applies(settings);
   AdaptiveScratch& scratch = AdaptiveScratch::local();
@@ -392,7 +393,8 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
       const bool g = geo.at(x, y);
       // Detail the corners may have missed sends the pixel on like a geo flag.
-      const bool peak = hidden && hidden[size_t(ry) * rw + rx];
+      const HiddenFlag peak_flag = hidden ? hidden[size_t(ry) * rw + rx] : 0;
+      const bool peak = peak_flag != 0;
       const bool map_along_x = geo.along_x(x, y);  // the map's frame for its zones, too
       const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all,
                                       settings.geo_orient && map_along_x);
@@ -418,8 +420,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
         // The map's zones are in its own frame: they count where the pixel's is the same.
         const bool map_frame = (o == Orientation::Vertical) == map_along_x;
         const int map = settings.geo_zones && g && map_frame ? geo.zones(x, y) : 0;
-        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, split, g, settings.geo_policy,
-                             settings.refine_all || peak, map, settings.split_unflagged);
+        // Hidden detail is traced in the zones of the lattice points where it may show.
+        zones = decide_zones(tables, l2.b, l2.c0, l2.c1, hdr, split, g, settings.geo_policy, settings.refine_all,
+                             map, settings.split_unflagged) |
+                zones_of_points(o, peak_flag);
         trace_level3(source, px, py, l2, zones, lattice);
         value = box_lattice(tl, tr, bl, br, lattice);
         rays = refined_rays(zones);

@@ -16,7 +16,7 @@
 // flags its pixels whose stencil lies inside it at once; the probes within kBandHalf of a
 // block boundary are copied to bands (about 19 % of the corners), from which the pixels
 // whose stencil straddles blocks are flagged once every block is traced
-// (flag_field_border). The field keeps one flag byte per pixel. Callers keep the per-tile
+// (flag_field_border). The field keeps one flag word per pixel (HiddenFlag). Callers keep the per-tile
 // path above kCornerFieldBudget.
 #pragma once
 
@@ -97,7 +97,7 @@ struct CornerField {
   // flag; and the probes of the boundary bands. Column band c (boundary x = kCornerBlock c
   // from rect.x0, c >= 1) holds columns [x - kBandHalf, x + kBandHalf) of every row, row
   // pitch 2 kBandHalf; row band r the rows [y - kBandHalf, y + kBandHalf) of every column.
-  RawArray<uint8_t> hidden{nullptr, std::free};
+  RawArray<HiddenFlag> hidden{nullptr, std::free};
   RawArray<Probe> column_bands{nullptr, std::free}, row_bands{nullptr, std::free};
   // Null unless unrefined pixels take the footprint delta: per pixel, like `hidden`.
   RawArray<float4> footprint{nullptr, std::free};
@@ -108,7 +108,7 @@ struct CornerField {
         display(make_raw_array<float4>(r.count())),
         signature(make_raw_array<int32_t>(r.count())) {
     if (with_probes) {
-      hidden = make_raw_array<uint8_t>(r.count());
+      hidden = make_raw_array<HiddenFlag>(r.count());
       column_bands = make_raw_array<Probe>(column_band_size(r) * size_t(blocks_across(r.width) - 1));
       row_bands = make_raw_array<Probe>(row_band_size(r) * size_t(blocks_across(r.height) - 1));
       if (with_footprint) footprint = make_raw_array<float4>(r.count());
@@ -125,7 +125,7 @@ struct CornerField {
   static size_t bytes(const CornerRect& r, bool with_probes, bool with_footprint = false) {
     size_t b = r.count() * (2 * sizeof(float4) + sizeof(int32_t));
     if (with_probes)
-      b += r.count() * (1 + (with_footprint ? sizeof(float4) : 0)) +
+      b += r.count() * (sizeof(HiddenFlag) + (with_footprint ? sizeof(float4) : 0)) +
            sizeof(Probe) * (column_band_size(r) * size_t(blocks_across(r.width) - 1) +
                             row_band_size(r) * size_t(blocks_across(r.height) - 1));
     return b;
@@ -258,7 +258,7 @@ void flag_field_border(const S& source, const AdaptiveSettings& settings, Corner
     const int columns = field.blocks_across(width) - 1;
     // Pixels have a stencil in the field where their TL corner is at offsets 1 .. size - 3.
     const int last_x = width - 3, last_y = height - 3;
-    uint8_t* hidden = field.hidden.get();
+    HiddenFlag* hidden = field.hidden.get();
     if (task < size_t(columns)) {
       const int c = int(task) + 1, boundary = c * kCornerBlock;
       for (int x = std::max(1, boundary - 2); x <= std::min(boundary, last_x); ++x) {

@@ -11,6 +11,7 @@
 
 #include <concepts>
 #include <cstddef>
+#include <cstdint>
 
 #include "aa/signature.h"
 #include "core/simd.h"
@@ -27,6 +28,21 @@ struct ProbeLanes {
   Probe& operator[](int i) const { return *lane[i]; }
 };
 
+// What a pixel's corners may have missed: the radiance (linear RGB in lanes 0-2) by which
+// the pixel may differ from their mean, and where: bit p set for each physical lattice
+// point p (aa/lattice.h) at which it may show. A detail whose place the source cannot tell
+// names every point.
+inline constexpr uint32_t kAllLatticePoints = (1u << 25) - 1;
+struct MissedDetail {
+  float4 radiance{0.0f};
+  uint32_t points = 0;
+};
+
+// A pixel's hidden-detail flag: 0, or kHiddenFlag with the lattice points at which the
+// missed detail may show (MissedDetail::points).
+using HiddenFlag = uint32_t;
+inline constexpr HiddenFlag kHiddenFlag = 1u << 31;
+
 // sample4(px, py, sig, probes) fills 4 probes (distinct records); hidden_radiance(tl, stride, corner_mean,
 // visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride], tl[stride + 1]
 // (TL, TR, BL, BR) in a grid with one more corner on every side (tl[-1 - stride] to
@@ -39,7 +55,7 @@ concept HiddenDetailSource =
                                       typename S::Probe* probes, ptrdiff_t stride, float4 mean,
                                       float4 visible) {
       { source.sample4(px, py, sig, ProbeLanes<typename S::Probe>(probes, probes, probes, probes)) } -> std::same_as<Rgb4>;
-      { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<float4>;
+      { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<MissedDetail>;
     };
 
 // A source that also says what a pixel finished at level 1 lacks because the mean of its
@@ -64,16 +80,17 @@ concept FootprintSource =
 // hides more than it shows: asks the source what its corners (`tl` and `stride` as for
 // hidden_radiance) may have missed, and flags the pixel when adding it would change a
 // channel's tone-mapped value by more than eps (a distance equal to eps is no
-// discontinuity).
+// discontinuity): the flag, with the lattice points where it may show, or 0.
 template <HiddenDetailSource S>
-bool hidden_detail_shows(const S& source, const typename S::Probe* tl, ptrdiff_t stride, float4 corner_mean,
-                         const ToneMap& tonemap, float4 eps) {
+HiddenFlag hidden_detail_shows(const S& source, const typename S::Probe* tl, ptrdiff_t stride, float4 corner_mean,
+                               const ToneMap& tonemap, float4 eps) {
   // T is concave: nothing below eps / T'(mean) can show (2 % margin for the table's chords).
   const float4 visible = eps / (tonemap.slope4(corner_mean) * float4(1.02f));
-  const float4 hidden = source.hidden_radiance(tl, stride, corner_mean, visible);
-  if (!(hidden > float4(0.0f)).any()) return false;
+  const MissedDetail missed = source.hidden_radiance(tl, stride, corner_mean, visible);
+  const float4 hidden = missed.radiance;
+  if (!(hidden > float4(0.0f)).any()) return 0;
   const float4 moved = tonemap.apply4(corner_mean + hidden) - tonemap.apply4(corner_mean);
-  return ((moved > eps).bits() & 0x7) != 0;
+  return ((moved > eps).bits() & 0x7) != 0 ? kHiddenFlag | (missed.points & kAllLatticePoints) : 0;
 }
 
 }  // namespace zz

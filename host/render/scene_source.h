@@ -156,21 +156,27 @@ class SceneSource {
   // Radiance by which the pixel with corners tl[0], tl[1], tl[stride], tl[stride + 1]
   // (TL, TR, BL, BR, in a grid with a ring around them; `mean` the mean of their radiance)
   // may differ unseen; `visible`: per channel, the smallest increment that could show.
-  float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
-    if (!detail_) return float4(0.0f);
+  MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
+    if (!detail_) return {};
     const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
+    uint32_t points = 0;
     if (detail_->highlights)
       for (int k = 0; k < kProbeNodes; ++k) {
         const SurfaceProbe c[4] = {tl[0].node[k], tl[1].node[k], tl[stride].node[k], tl[stride + 1].node[k]};
         if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
         const ProbeStencil stencil(&tl->node[k], sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
-        h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit, &detail_->normal_spreads);
+        h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit, &detail_->normal_spreads,
+                              &points);
       }
-    if (detail_->textures)
-      h += hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
-    return float4(h.r, h.g, h.b, 0.0f);
+    if (detail_->textures) {
+      const glm::vec3 t =
+          hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
+      if (t.r > 0.0f || t.g > 0.0f || t.b > 0.0f) points = kAllLatticePoints;  // anywhere between the corners
+      h += t;
+    }
+    return {float4(h.r, h.g, h.b, 0.0f), points};
   }
 
   // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "aa/lattice.h"
 #include "render/lighting.h"
 #include "render/texture_range.h"
 #include "scene/scene.h"
@@ -37,6 +38,28 @@ float origin_distance_to_segment(glm::vec2 a, glm::vec2 b) {
 glm::vec3 orthogonal(glm::vec3 n) {
   const glm::vec3 axis = std::fabs(n.x) < 0.9f ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(0.0f, 1.0f, 0.0f);
   return glm::normalize(glm::cross(n, axis));
+}
+
+// The physical lattice points (bit p: aa/lattice.h's P_p) at which a lobe of `shininess`
+// and `amplitude`, peaking where the bilinear patch of d (TL, TR, BL, BR) is 0, may reach
+// `visible` x 25 / 4: its bound at |d| less the normals' interpolation bound. A zone is
+// 4 of the pixel's 25 points, so a zone none of whose points reaches that holds less than
+// `visible` of the pixel's mean. None reaching it, the point nearest the peak (a lobe
+// narrower than the lattice's spacing between its points).
+uint32_t lattice_points_lit(const glm::vec2 d[4], float normal_error, float shininess, glm::vec3 amplitude,
+                            glm::vec3 visible) {
+  const glm::vec3 zone_visible = visible * (float(kLatticePoints) / 4.0f);
+  uint32_t lit = 0;
+  int nearest = 0;
+  float nearest_distance = std::numeric_limits<float>::infinity();
+  for (int p = 0; p < kLatticePoints; ++p) {
+    const float u = kLattice[size_t(p)].u, v = kLattice[size_t(p)].v;
+    const glm::vec2 q = (1.0f - v) * ((1.0f - u) * d[0] + u * d[1]) + v * ((1.0f - u) * d[2] + u * d[3]);
+    const float distance = std::max(0.0f, glm::length(q) - normal_error);
+    if (distance < nearest_distance) nearest_distance = distance, nearest = p;
+    if (glm::any(glm::greaterThanEqual(amplitude * lobe_bound(distance, shininess), zone_visible))) lit |= 1u << p;
+  }
+  return lit ? lit : 1u << nearest;
 }
 
 }  // namespace
@@ -107,7 +130,7 @@ float normal_interpolation_error(const ProbeStencil& stencil, float step_limit) 
 
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec3 visible,
                            const ProbeStencil* stencil, float step_limit,
-                           const std::vector<TextureSpread>* normal_spreads) {
+                           const std::vector<TextureSpread>* normal_spreads, uint32_t* points) {
   float shininess = 0.0f, most_shiny = 0.0f;
   glm::vec3 specular(0.0f), most_specular(0.0f);
   for (int k = 0; k < 4; ++k) {
@@ -215,7 +238,9 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
       mean_lobe = std::min(lobe_at(distance, shininess), lobe_integral * tail / area);
     }
     const float missed = mean_lobe - corner_lobe;
-    if (missed > 0.0f) hidden += specular * incident * (phong_normalisation(shininess) * missed);
+    if (!(missed > 0.0f)) continue;
+    hidden += specular * incident * (phong_normalisation(shininess) * missed);
+    if (points) *points |= lattice_points_lit(d, normal_error, shininess, amplitude, visible);
   }
   return hidden;
 }

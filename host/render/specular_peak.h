@@ -84,10 +84,15 @@ inline bool has_highlight(const SurfaceProbe& p) { return p.specular.r > 0.0f ||
 // `step_limit` as for normal_interpolation_error. With `normal_spreads` (normal_map_spreads
 // in render/texture_range.h), the hull is widened as well by how far the corners' normal
 // map may turn the normals between them (normal_map_spread).
+// With `points`, bit p is set (never cleared) for each physical lattice point p
+// (aa/lattice.h) at which a light's highlight that adds to the answer may show: where the
+// lobe, at the bilinear d less the normals' interpolation bound, reaches `visible` x 25 / 4
+// (what a zone of 4 of the 25 points left untraced could hide of the pixel's mean); where
+// it reaches that at none, the point nearest the peak.
 glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe corners[4], glm::vec3 visible,
                            const ProbeStencil* stencil = nullptr,
                            float step_limit = std::numeric_limits<float>::infinity(),
-                           const std::vector<TextureSpread>* normal_spreads = nullptr);
+                           const std::vector<TextureSpread>* normal_spreads = nullptr, uint32_t* points = nullptr);
 
 // The bound (|n_xx| + |n_yy|) / 8 for the pixel whose corners are the stencil's (0, 0),
 // (1, 0), (0, 1), (1, 1), from second differences along rows and columns at each of them

@@ -38,7 +38,7 @@ struct PositionProbes {
 
 struct StencilSource : PositionProbes<StencilSource> {
   Rgb4 colour(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
-  float4 hidden_radiance(const Probe* tl, ptrdiff_t stride, float4, float4) const {
+  MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t stride, float4, float4) const {
     uint32_t h = 2166136261u;
     for (int j = -1; j <= 2; ++j)
       for (int i = -1; i <= 2; ++i) {
@@ -46,7 +46,7 @@ struct StencilSource : PositionProbes<StencilSource> {
         if (p.x != tl->x + i || p.y != tl->y + j) g_misplaced.fetch_add(1, std::memory_order_relaxed);
         h = (h ^ uint32_t(p.x * 31 + p.y * 977)) * 16777619u;
       }
-    return (h >> 7) % 3 == 0 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);
+    return {(h >> 7) % 3 == 0 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f), kAllLatticePoints};
   }
 };
 static_assert(HiddenDetailSource<StencilSource>);
@@ -94,8 +94,8 @@ struct CountingFootprintSource : PositionProbes<CountingFootprintSource> {
     const float4 c = select(px >= float4(3.0f), float4(0.9f), float4(0.1f));
     return {c, c, c};
   }
-  float4 hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
-    return tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f);
+  MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
+    return {tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f), kAllLatticePoints};
   }
   // A corner's share is its position, made once per corner: `prepared` counts per corner.
   struct FootprintCorner {
@@ -140,7 +140,7 @@ TEST(CornerField, FootprintIsComputedOnlyForPixelsLevelOneLeavesUnrefined) {
       signature[k] = 0;
     }
   const size_t tl = size_t(kCw) + 1;  // frame corner (0, 0)
-  std::vector<uint8_t> flags(size_t(kW) * kH);
+  std::vector<HiddenFlag> flags(size_t(kW) * kH);
   std::vector<float4> delta(size_t(kW) * kH, float4(-1.0f));
   source.asked = 0;
   flag_hidden_block(source, probes.data() + tl, kCw, CornerView{&linear[tl], &display[tl], &signature[tl], kCw}, kW,
@@ -185,7 +185,7 @@ TEST(CornerField, FootprintIsComputedOnlyForPixelsLevelOneLeavesUnrefined) {
   EXPECT_EQ(int(source.prepared.size()), corners_used);
 }
 
-// The field holds one flag byte per corner and the bands (2 x 3 corners of probes along
+// The field holds one flag word per corner and the bands (2 x 3 corners of probes along
 // each inner block boundary), not a probe per corner.
 TEST(CornerField, ProbesAreKeptOnlyAlongBlockBoundaries) {
   const CornerRect r{-1, -1, 1027, 1027};  // a 1024² frame with its ring: 17 blocks each way
@@ -193,7 +193,7 @@ TEST(CornerField, ProbesAreKeptOnlyAlongBlockBoundaries) {
   const size_t colours = r.count() * (2 * sizeof(float4) + sizeof(int32_t));
   const size_t bands = 2 * 16 * size_t(1027) * 6 * sizeof(StencilSource::Probe);
   EXPECT_EQ(Field::bytes(r, false), colours);
-  EXPECT_EQ(Field::bytes(r, true), colours + r.count() + bands);
+  EXPECT_EQ(Field::bytes(r, true), colours + r.count() * sizeof(HiddenFlag) + bands);
 }
 
 }  // namespace

@@ -62,6 +62,29 @@ TEST(SplitZones, UnflaggedPixelsTraceThemWhenAsked) {
   EXPECT_FALSE(splits_zones(true, GeoPolicy::All, true));  // All traces every zone anyway
 }
 
+// The zones of a hidden-detail flag's lattice points (zones_of_points): every point names
+// every zone; each zone's four points name it alone, in either frame; A and E..H name none.
+TEST(HiddenZones, LatticePointsNameTheZonesThatHoldThem) {
+  for (Orientation o : {Orientation::Horizontal, Orientation::Vertical}) {
+    SCOPED_TRACE(int(o));
+    EXPECT_EQ(zones_of_points(o, kAllLatticePoints), kAllZones);
+    EXPECT_EQ(zones_of_points(o, kAllLatticePoints | kHiddenFlag), kAllZones);
+    EXPECT_EQ(zones_of_points(o, 0), 0);
+    for (int z = 0; z < kZones; ++z)
+      for (int lane = 0; lane < 4; ++lane) {
+        const int p = physical_k(o, zone_k(z, lane));
+        EXPECT_EQ(zones_of_points(o, 1u << p), 1 << z) << "zone " << z << " lane " << lane;
+      }
+    uint32_t traced_anyway = 1u;  // corner A
+    for (int k : kLevel2K) traced_anyway |= 1u << physical_k(o, k);
+    EXPECT_EQ(zones_of_points(o, traced_anyway), 0);
+  }
+  // Physical point 1 (u 0.04, v 0.28) is in zone 0 of the horizontal frame (strips along u)
+  // and, at canonical 18, in zone 3 of the vertical one.
+  EXPECT_EQ(zones_of_points(Orientation::Horizontal, 1u << 1), 0b00001);
+  EXPECT_EQ(zones_of_points(Orientation::Vertical, 1u << 1), 0b01000);
+}
+
 // The map's zones (GeoMap::zones, --geo-zones): added in geo pixels; where no mask fired
 // they replace §5's every zone; elsewhere, under refine_all and under GeoPolicy::All they
 // change nothing.

@@ -8,6 +8,9 @@
 #include <limits>
 #include <vector>
 
+#include "aa/adaptive_pixel.h"
+#include "aa/hidden_detail.h"
+#include "aa/lattice.h"
 #include "render/lighting.h"
 #include "render/renderer.h"
 #include "render/scene_source.h"
@@ -107,6 +110,40 @@ TEST(SpecularPeak, APinpointHighlightBetweenTheCornersIsFound) {
   // What the pixel misses, estimated from the corners alone, within 30 % of the truth.
   EXPECT_NEAR(hidden.r, truth - corners, 0.3 * truth);
   EXPECT_EQ(hidden.r, hidden.g);
+}
+
+// Where it may show: the peak at (0, 0) lies a quarter of the way across the pixel from
+// its TL corner, so the lattice points the flag names are around (0.25, 0.25), the one
+// nearest the peak among them, and none in the far half (the lobe, exponent 10000, spans
+// a few hundredths of the pixel's range of half vectors). A pixel it misses names nothing.
+TEST(SpecularPeak, APinpointHighlightNamesTheLatticePointsAroundItsPeak) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(-0.025f, 0.075f, -0.025f, 0.075f, c);
+  uint32_t points = 0;
+  const glm::vec3 hidden = hidden_highlight(f.scene, c, glm::vec3(1e-2f), nullptr,
+                                            std::numeric_limits<float>::infinity(), nullptr, &points);
+  ASSERT_GT(hidden.r, 0.0f);
+  ASSERT_NE(points, 0u);
+  EXPECT_NE(points, kAllLatticePoints);
+  int nearest = 0;
+  float nearest_distance = 2.0f;
+  for (int p = 0; p < kLatticePoints; ++p) {
+    const glm::vec2 at(kLattice[size_t(p)].u, kLattice[size_t(p)].v);
+    const float from_peak = glm::length(at - glm::vec2(0.25f, 0.25f));
+    if (from_peak < nearest_distance) nearest_distance = from_peak, nearest = p;
+    if (from_peak > 0.5f) {
+      EXPECT_EQ((points >> p) & 1u, 0u) << "point " << p << " is " << from_peak << " from the peak";
+    }
+  }
+  EXPECT_EQ((points >> nearest) & 1u, 1u);
+  // Away from the peak nothing is hidden and no point is named.
+  f.corners(0.2f, 0.3f, 0.2f, 0.3f, c);
+  uint32_t far_points = 0;
+  EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-2f), nullptr, std::numeric_limits<float>::infinity(), nullptr,
+                             &far_points),
+            glm::vec3(0.0f));
+  EXPECT_EQ(far_points, 0u);
 }
 
 // A corner whose half vector is 45 degrees or more off its normal sits where the lobe's
@@ -252,9 +289,11 @@ TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
 // off and on, and the 25-point lattice, with the adaptive runs' stats.
 struct PeakPixel {
   float off, on, lattice;
+  int on_rays = 0;  // the pixel's rays with the flag on
   RenderStats off_stats, on_stats;
 };
 PeakPixel render_peak_pixel(const Shader& shader, const Camera& camera, int size) {
+  int rays = 0;
   auto render = [&](AaMode aa, bool highlights, RenderStats& stats) {
     RenderSettings r;
     r.width = r.height = size;
@@ -263,12 +302,14 @@ PeakPixel render_peak_pixel(const Shader& shader, const Camera& camera, int size
     r.adaptive.highlights = highlights;
     Film film;
     render_frame(shader, camera, GeoMap{}, r, film, stats);
+    rays = film.rays[size_t(20) * size + 20];
     return film.radiance[size_t(20) * size + 20].r;
   };
   PeakPixel p;
   RenderStats lattice_stats;
   p.off = render(AaMode::Adaptive, false, p.off_stats);
   p.on = render(AaMode::Adaptive, true, p.on_stats);
+  p.on_rays = rays;
   p.lattice = render(AaMode::Uniform, false, lattice_stats);
   return p;
 }
