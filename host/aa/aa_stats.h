@@ -24,6 +24,7 @@ struct AaStats {
   uint64_t zones_interpolated = 0;
   uint64_t geo_pixels = 0;         // own pixels whose geo flag was set
   uint64_t hidden_pixels = 0;      // own pixels flagged for detail between their corners (hidden_detail.h)
+  uint64_t specular_pixels = 0;    // own pixels that took eps_specular (kSpecularCorners)
   double seconds_corners = 0;      // level 1: tracing + tone mapping the corner grid
   double seconds_refine = 0;       // per-pixel levels 1–3 (+ box filter)
   double seconds_filter = 0;       // Mitchell pass
@@ -40,6 +41,7 @@ struct AaStats {
     zones_interpolated += o.zones_interpolated;
     geo_pixels += o.geo_pixels;
     hidden_pixels += o.hidden_pixels;
+    specular_pixels += o.specular_pixels;
     seconds_corners += o.seconds_corners;
     seconds_refine += o.seconds_refine;
     seconds_filter += o.seconds_filter;

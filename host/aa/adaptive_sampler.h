@@ -145,7 +145,8 @@ inline uint64_t own_corners(const TileRect& r) { return uint64_t(r.width() + 1) 
 template <SampleSource S>
 constexpr bool flags_hidden(const AdaptiveSettings& settings) {
   if constexpr (HiddenDetailSource<S>)
-    return (settings.highlights || settings.textures || (FootprintSource<S> && settings.footprint)) &&
+    return (settings.highlights || settings.textures || (FootprintSource<S> && settings.footprint) ||
+            settings.eps_specular >= 0.0f) &&
            !settings.refine_all;
   return false;
 }
@@ -283,7 +284,8 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
       const float4 mean = corner_mean(c[0], c[1], c[cs], c[cs + 1]);
       const HiddenFlag flag = flagging ? hidden_detail_shows(source, tl, probe_stride, mean, settings.tonemap, eps) : 0;
       const bool flagged = flag != 0;
-      flags[j * flag_stride + i] = flag;
+      const bool specular = settings.eps_specular >= 0.0f && source.specular_corners(tl, probe_stride);
+      flags[j * flag_stride + i] = flag | (specular ? kSpecularCorners : 0u);
       if constexpr (FootprintSource<S>) {
         if (!footprint) continue;
         const float4* d = corners.display + at;
@@ -371,7 +373,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
     scratch.lattice.resize(size_t(rw) * rh * kLatticePoints);
     scratch.refined.resize(size_t(rw) * rh);
   }
-  const float4 eps(settings.eps);
+  const float4 eps_surface(settings.eps), eps_specular(settings.eps_specular);
   const ToneMap& tonemap = settings.tonemap;
   const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
   using Clock = std::chrono::steady_clock;
@@ -394,7 +396,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const bool g = geo.at(x, y);
       // Detail the corners may have missed sends the pixel on like a geo flag.
       const HiddenFlag peak_flag = hidden ? hidden[size_t(ry) * rw + rx] : 0;
-      const bool peak = peak_flag != 0;
+      const bool peak = (peak_flag & kHiddenFlag) != 0;
+      // The pixel's threshold for levels 1-2 (and the curvature correction's test).
+      const bool specular = (peak_flag & kSpecularCorners) != 0;
+      const float4 eps = specular ? eps_specular : eps_surface;
       const bool map_along_x = geo.along_x(x, y);  // the map's frame for its zones, too
       const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all,
                                       settings.geo_orient && map_along_x);
@@ -454,6 +459,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       stats.pixels += 1;
       stats.geo_pixels += g;
       stats.hidden_pixels += peak;
+      stats.specular_pixels += specular;
       const size_t fi = target.index(x, y);
       if (!mitchell) {
         alignas(16) float v[4];

@@ -20,6 +20,7 @@
 // path above kCornerFieldBudget.
 #pragma once
 
+#include <algorithm>
 #include <cassert>
 #include <chrono>
 #include <cstddef>
@@ -108,10 +109,17 @@ struct CornerField {
         display(make_raw_array<float4>(r.count())),
         signature(make_raw_array<int32_t>(r.count())) {
     if (with_probes) {
+      // Zeroed: the pixels on the field's rim have no stencil and are never flagged (with
+      // no ring beyond the frame, the frame's own outermost pixels), and must not read
+      // what a previous frame left in the memory.
       hidden = make_raw_array<HiddenFlag>(r.count());
+      std::fill_n(hidden.get(), r.count(), HiddenFlag{0});
       column_bands = make_raw_array<Probe>(column_band_size(r) * size_t(blocks_across(r.width) - 1));
       row_bands = make_raw_array<Probe>(row_band_size(r) * size_t(blocks_across(r.height) - 1));
-      if (with_footprint) footprint = make_raw_array<float4>(r.count());
+      if (with_footprint) {
+        footprint = make_raw_array<float4>(r.count());
+        std::fill_n(footprint.get(), r.count(), float4(0.0f));
+      }
     }
   }
   float4* footprint_at(size_t i) const { return footprint ? footprint.get() + i : nullptr; }

@@ -42,6 +42,9 @@ struct MissedDetail {
 // missed detail may show (MissedDetail::points).
 using HiddenFlag = uint32_t;
 inline constexpr HiddenFlag kHiddenFlag = 1u << 31;
+// Set beside it (on any pixel, flagged or not) where all four corners see a mirror's or a
+// glass's image: the pixel takes AdaptiveSettings::eps_specular.
+inline constexpr HiddenFlag kSpecularCorners = 1u << 30;
 
 // sample4(px, py, sig, probes) fills 4 probes (distinct records); hidden_radiance(tl, stride, corner_mean,
 // visible) answers for one pixel: its corners are tl[0], tl[1], tl[stride], tl[stride + 1]
@@ -56,6 +59,9 @@ concept HiddenDetailSource =
                                       float4 visible) {
       { source.sample4(px, py, sig, ProbeLanes<typename S::Probe>(probes, probes, probes, probes)) } -> std::same_as<Rgb4>;
       { csource.hidden_radiance(probes, stride, mean, visible) } -> std::same_as<MissedDetail>;
+      // Whether the pixel's four corners (as for hidden_radiance) all see a mirror's or a
+      // glass's image rather than a surface of their own.
+      { csource.specular_corners(probes, stride) } -> std::same_as<bool>;
     };
 
 // A source that also says what a pixel finished at level 1 lacks because the mean of its

@@ -67,6 +67,7 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
   nlohmann::json j = {{"aa", name_of(kAaModes, r.aa)}, {"max_depth", scene.max_depth}, {"time", scene.time}};
   if (r.aa == AaMode::Adaptive)
     j["adaptive"] = {{"eps", r.adaptive.eps},
+                     {"eps_specular", r.adaptive.eps_specular},
                      {"tables", r.adaptive.tables->name},
                      {"geo_policy", name_of(kGeoPolicies, r.adaptive.geo_policy)},
                      {"filter", name_of(kFilters, r.adaptive.filter)},

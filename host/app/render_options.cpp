@@ -12,6 +12,28 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   cmd->add_option("--eps", o.eps, "Adaptive: colour threshold on display values [0,1]")
       ->capture_default_str()
       ->check(CLI::Range(0.0f, 1.0f));
+  cmd->add_option_function<std::string>(
+         "--eps-specular",
+         [&o](const std::string& text) {
+           if (text == "off") {
+             o.eps_specular = -1.0f;
+             return;
+           }
+           size_t used = 0;
+           float v = -1.0f;
+           try {
+             v = std::stof(text, &used);
+           } catch (const std::exception&) {
+             used = 0;
+           }
+           if (used != text.size() || !(v >= 0.0f && v <= 1.0f))
+             throw CLI::ValidationError("--eps-specular", "expected off or a threshold in [0, 1], got '" + text + "'");
+           o.eps_specular = v;
+         },
+         "Adaptive: colour threshold for pixels whose four corners all see a mirror's or a glass's image (the "
+         "visibility map sees the mirror, not the edges in it), or off for --eps (default " +
+             (o.eps_specular < 0.0f ? std::string("off") : CLI::detail::to_string(o.eps_specular)) + ")")
+      ->type_name("off|E");
   std::vector<std::string> tables;
   for (std::string_view n : table_set_names()) tables.emplace_back(n);
   cmd->add_option_function<std::string>(
@@ -64,6 +86,7 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.eps = o.eps;
+  s.eps_specular = o.eps_specular;
   s.tables = o.tables;
   s.geo_policy = o.geo_policy;
   s.filter = o.filter;

@@ -39,6 +39,9 @@ inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 // worst-scene display error among settings within 1.75 rays/px.
 struct AdaptiveOptions {
   float eps = 0.05f;
+  // Pixels whose corners all see a mirror's or a glass's image: their own threshold
+  // (AdaptiveSettings::eps_specular); < 0 = eps.
+  float eps_specular = 0.01f;
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
   GeoPolicy geo_policy = GeoPolicy::Split;
   Filter filter = Filter::Box;
@@ -96,7 +99,7 @@ struct RenderOptions {
   int max_depth = -1;     // -1 = the scene's
 };
 
-// Registers --eps --tables --geo-policy --filter --signature --highlights --textures --curvature
+// Registers --eps --eps-specular --tables --geo-policy --filter --signature --highlights --textures --curvature
 // --hdr-zones --geo-orient --geo-zones --split-unflagged.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 

@@ -31,6 +31,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   if (o.aa == AaMode::Adaptive) {
     const AaStats& a = stats.aa;
     j["adaptive"] = {{"eps", o.adaptive.eps},
+                     {"eps_specular", o.adaptive.eps_specular},
                      {"tables", o.adaptive.tables->name},
                      {"geo_policy", name_of(kGeoPolicies, o.adaptive.geo_policy)},
                      {"filter", name_of(kFilters, o.adaptive.filter)},
@@ -53,6 +54,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"margin_rays", a.margin_rays},
                      {"geo_fraction", a.per_pixel(a.geo_pixels)},
                      {"hidden_fraction", a.per_pixel(a.hidden_pixels)},
+                     {"specular_fraction", a.per_pixel(a.specular_pixels)},
                      // Summed over tiles (CPU seconds across threads): the split of render time.
                      {"time_s", {{"level1_corners", a.seconds_corners},
                                  {"levels_2_3", a.seconds_refine},

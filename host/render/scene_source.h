@@ -179,6 +179,17 @@ class SceneSource {
     return {float4(h.r, h.g, h.b, 0.0f), points};
   }
 
+  // Whether all four corners' primary hits show mostly a reflected or refracted image
+  // (shows_an_image, scene/materials.h).
+  bool specular_corners(const Probe* tl, ptrdiff_t stride) const {
+    const std::vector<WhittedMaterial>& whitted = shader_.scene().whitted;
+    for (const Probe* c : {tl, tl + 1, tl + stride, tl + stride + 1}) {
+      const uint32_t m = c->surface().material;
+      if (m >= whitted.size() || !shows_an_image(whitted[m])) return false;
+    }
+    return true;
+  }
+
   // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h);
   // lane 3 is 1 where the correction applies, 0 elsewhere. `prepared`: footprint_corner of
   // the four corners.

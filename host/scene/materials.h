@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -77,6 +78,14 @@ struct WhittedMaterial {
     return transmission.x > 0.0f || transmission.y > 0.0f || transmission.z > 0.0f;
   }
 };
+
+// Whether what a camera sees on the surface is mostly an image of something else: it
+// refracts, or it is a mirror (not a dielectric's Fresnel reflection) that reflects at
+// least half the light.
+inline bool shows_an_image(const WhittedMaterial& m) {
+  const float reflectance = std::max(m.mirror.x, std::max(m.mirror.y, m.mirror.z));
+  return m.transmits() || (!m.fresnel_mirror && reflectance >= 0.5f);
+}
 
 // Roughness at and above which a surface is treated as not a mirror.
 inline constexpr float kMirrorRoughnessLimit = 0.2f;

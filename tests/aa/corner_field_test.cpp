@@ -38,6 +38,7 @@ struct PositionProbes {
 
 struct StencilSource : PositionProbes<StencilSource> {
   Rgb4 colour(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
+  bool specular_corners(const Probe*, ptrdiff_t) const { return false; }
   MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t stride, float4, float4) const {
     uint32_t h = 2166136261u;
     for (int j = -1; j <= 2; ++j)
@@ -94,6 +95,7 @@ struct CountingFootprintSource : PositionProbes<CountingFootprintSource> {
     const float4 c = select(px >= float4(3.0f), float4(0.9f), float4(0.1f));
     return {c, c, c};
   }
+  bool specular_corners(const Probe*, ptrdiff_t) const { return false; }
   MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t, float4, float4) const {
     return {tl->y == 2 ? float4(100.0f, 100.0f, 100.0f, 0.0f) : float4(0.0f), kAllLatticePoints};
   }

@@ -46,6 +46,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(o.render.adaptive.geo_orient);
   EXPECT_TRUE(o.render.adaptive.geo_zones);
   EXPECT_TRUE(o.render.adaptive.split_unflagged);
+  EXPECT_FLOAT_EQ(o.render.adaptive.eps_specular, 0.01f);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
   EXPECT_EQ(o.output_pattern(), "{scene}.png");
@@ -94,6 +95,22 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   apply_adaptive_options(off.render.adaptive, s);
   EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones || s.footprint || s.geo_orient || s.geo_zones ||
                s.split_unflagged);
+}
+
+TEST(RenderOptions, TheMirrorsThresholdIsANumberOrOff) {
+  BatchOptions o;
+  ASSERT_EQ(parse({"a.json", "--eps-specular", "0.02"}, o), "");
+  AdaptiveSettings s;
+  apply_adaptive_options(o.render.adaptive, s);
+  EXPECT_FLOAT_EQ(s.eps_specular, 0.02f);
+  BatchOptions off;
+  ASSERT_EQ(parse({"a.json", "--eps-specular", "off"}, off), "");
+  apply_adaptive_options(off.render.adaptive, s);
+  EXPECT_LT(s.eps_specular, 0.0f);
+  for (const char* bad : {"2", "-0.1", "abc", "0.01x", ""}) {
+    BatchOptions b;
+    EXPECT_NE(parse({"a.json", "--eps-specular", bad}, b), "") << bad;
+  }
 }
 
 TEST(RenderOptions, TheMaterialRuleReachesTheVisibilitySettings) {

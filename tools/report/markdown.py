@@ -284,7 +284,9 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "a flagged pixel traces the zones where the map saw its edge, and only those where no level-2 "
                     "mask fired), and that with the split zones in every refined pixel (`--split-unflagged on`: "
                     "refined pixels the map does not flag also trace the zones whose interpolation sources have "
-                    "different signatures). *Removed* as above.", BEYOND_BASE, variants)
+                    "different signatures), and that with the threshold of pixels whose corners all see a mirror's "
+                    "or a glass's image (`--eps-specular E`: the visibility map sees the mirror, not the edges in "
+                    "its image). *Removed* as above.", BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -312,7 +314,7 @@ def recommendation(choice: dict) -> list[str]:
              f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
              f"--hdr-zones {r.get('hdr') or 'off'} --footprint {r.get('footprint') or 'off'} "
              f"--geo-orient {r.get('orient') or 'off'} --geo-zones {r.get('zones') or 'off'} "
-             f"--split-unflagged {r.get('split') or 'off'}")
+             f"--split-unflagged {r.get('split') or 'off'} --eps-specular {r.get('eps_specular') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

@@ -115,6 +115,7 @@ def base_row(scene: str, s: Setting, stats: dict) -> dict:
         "orient": s.orient if s.mode == "adaptive" else "",
         "zones": s.zones if s.mode == "adaptive" else "",
         "split": s.split if s.mode == "adaptive" else "",
+        "eps_specular": s.eps_spec if s.mode == "adaptive" else "",
         "hidden_fraction": ad.get("hidden_fraction", ""),
         "width": stats.get("width"), "height": stats.get("height"),
         "threads": stats.get("threads"), "triangles": stats.get("triangles"),

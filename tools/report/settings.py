@@ -20,7 +20,9 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     samples whose signatures differ), that with the map's edge direction orienting geo pixels
     whose corners leave the orientation open (--geo-orient on), that with the map's zones
     (--geo-zones on: geo pixels trace the zones where the map saw their edge), and that with
-    the split zones in refined pixels the map does not flag too (--split-unflagged on);
+    the split zones in refined pixels the map does not flag too (--split-unflagged on), and
+    that with the threshold of pixels whose corners all see a mirror's or a glass's image at
+    0.02, 0.015 and 0.01 (--eps-specular);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -51,6 +53,7 @@ class Setting:
     orient: str = "off"        # --geo-orient on | off: geo pixels with an open case take the map's edge direction
     zones: str = "off"         # --geo-zones on | off: geo pixels trace the zones where the map saw their edge
     split: str = "off"         # --split-unflagged on | off: refined pixels the map does not flag trace their split zones
+    eps_spec: str = "off"      # --eps-specular off | E: the threshold of pixels whose corners all see a mirror's or glass's image
 
     @property
     def label(self) -> str:
@@ -69,7 +72,8 @@ class Setting:
                 + ("-cv" if self.curvature == "on" else "") + ("-mt" if self.material == "on" else "")
                 + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else "")
                 + ("-go" if self.orient == "on" else "") + ("-gz" if self.zones == "on" else "")
-                + ("-su" if self.split == "on" else ""))
+                + ("-su" if self.split == "on" else "")
+                + ("" if self.eps_spec == "off" else f"-es{self.eps_spec}"))
 
     @property
     def family(self) -> str:
@@ -83,7 +87,8 @@ class Setting:
                 + ("/cv" if self.curvature == "on" else "") + ("/mt" if self.material == "on" else "")
                 + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else "")
                 + ("/go" if self.orient == "on" else "") + ("/gz" if self.zones == "on" else "")
-                + ("/su" if self.split == "on" else ""))
+                + ("/su" if self.split == "on" else "")
+                + ("" if self.eps_spec == "off" else f"/es {self.eps_spec}"))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -100,7 +105,7 @@ class Setting:
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
                 "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
                 "--footprint", self.footprint, "--geo-orient", self.orient, "--geo-zones", self.zones,
-                "--split-unflagged", self.split]
+                "--split-unflagged", self.split, "--eps-specular", self.eps_spec]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -153,6 +158,10 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
                     " + unflagged split",
                     {**BOTH, "signature": "all", "material": "on", "hdr": "on", "footprint": "on", "geo": "split",
                      "orient": "on", "zones": "on", "split": "on"})]
+# The mirror's threshold on top of every detector (ALL_DETECTORS + --eps-specular E).
+ALL_DETECTORS = BEYOND_VARIANTS[-1][1]
+EPS_SPECULAR = ["0.02", "0.015", "0.01"]
+BEYOND_VARIANTS += [(f"all + eps specular {e}", {**ALL_DETECTORS, "eps_spec": e}) for e in EPS_SPECULAR]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:

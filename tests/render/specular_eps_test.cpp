@@ -1,0 +1,98 @@
+// The mirror's threshold (AdaptiveSettings::eps_specular, --eps-specular): pixels whose
+// four corners all see a mirror's or a glass's image compare colours with it.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "aa/hidden_detail.h"
+#include "core/film.h"
+#include "core/tonemap.h"
+#include "render/renderer.h"
+#include "render/scene_source.h"
+#include "test_scenes.h"
+
+namespace zz {
+namespace {
+
+TEST(ShowsAnImage, MirrorsAndGlassDoDielectricsAndDiffuseSurfacesDoNot) {
+  WhittedMaterial m;
+  EXPECT_FALSE(shows_an_image(m));
+  m.mirror = glm::vec3(0.9f);
+  EXPECT_TRUE(shows_an_image(m));
+  m.mirror = glm::vec3(0.3f);  // a dark mirror shows mostly its own colour
+  EXPECT_FALSE(shows_an_image(m));
+  m.mirror = glm::vec3(0.9f);
+  m.fresnel_mirror = true;  // paint's clear coat: 4 % at normal incidence
+  EXPECT_FALSE(shows_an_image(m));
+  WhittedMaterial glass;
+  glass.transmission = glm::vec3(1.0f);
+  EXPECT_TRUE(shows_an_image(glass));
+}
+
+// A step of `step` in emission on a glowing ceiling at z = 5 (no lights: nothing but the
+// glow varies), seen straight (the camera under it, looking up) or in a mirror floor (the
+// camera above the floor, looking down); no visibility map, no signatures, so only the
+// colour test can refine it.
+struct StepScene {
+  Scene scene;
+  explicit StepScene(bool in_mirror, float step = 0.07f) {
+    Material dim = test::diffuse_material(glm::vec3(0.0f)), bright = dim;
+    dim.emissive = glm::vec3(0.5f);
+    bright.emissive = glm::vec3(0.5f + step);
+    scene.materials = {dim, bright, test::mirror_material(glm::vec3(0.95f))};
+    test::add_quad(scene, {-10, -10, 5}, {-10, 10, 5}, {0, 10, 5}, {0, -10, 5}, 0);  // faces -z
+    test::add_quad(scene, {0, -10, 5}, {0, 10, 5}, {10, 10, 5}, {10, -10, 5}, 1);
+    if (in_mirror) {
+      test::add_quad(scene, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 2);  // faces +z
+      scene.cameras.push_back(Camera::look_at({0.3f, 0.2f, 2.5f}, {0.3f, 0.2f, 0}, {0, 1, 0}, 0.5f));
+    } else {
+      scene.cameras.push_back(Camera::look_at({0.3f, 0.2f, -2.5f}, {0.3f, 0.2f, 5}, {0, 1, 0}, 0.5f));
+    }
+    scene.max_depth = 1;
+    scene.finalize_materials();
+  }
+};
+
+struct StepRender {
+  RenderStats stats;
+  Film film;
+};
+StepRender render_step(const StepScene& s, float eps_specular) {
+  const Bvh bvh = Bvh::build(s.scene.positions);
+  const Shader shader(s.scene, bvh);
+  RenderSettings r;
+  r.width = r.height = 48;
+  r.adaptive.eps = 0.05f;
+  r.adaptive.eps_specular = eps_specular;
+  r.adaptive.signature = kSignatureNone;
+  StepRender out;
+  render_frame(shader, s.scene.cameras[0], GeoMap{}, r, out.film, out.stats);
+  return out;
+}
+
+TEST(SpecularEps, AStepSeenInAMirrorRefinesAtTheMirrorsThreshold) {
+  const StepScene mirror(true), direct(false);
+  // The step shows between eps_specular and eps on the display, both ways.
+  const StepRender plain = render_step(mirror, -1.0f);
+  const ToneMap tonemap{};
+  const glm::vec3 left = plain.film.radiance[size_t(24) * 48 + 2], right = plain.film.radiance[size_t(24) * 48 + 45];
+  const float shown = std::fabs(tonemap.apply(right.g) - tonemap.apply(left.g));
+  ASSERT_GT(shown, 0.015f);
+  ASSERT_LT(shown, 0.045f);
+
+  EXPECT_EQ(plain.stats.aa.level2_pixels, 0u);  // eps 0.05 sees nothing
+  EXPECT_EQ(plain.stats.aa.specular_pixels, 0u);
+  const StepRender tight = render_step(mirror, 0.01f);
+  // The mirror fills the frame; the frame's outermost pixels have no ring of corners
+  // beyond them (the curvature correction is off) and take no flags.
+  EXPECT_EQ(tight.stats.aa.specular_pixels, 46u * 46u);
+  EXPECT_GE(tight.stats.aa.level2_pixels, 46u);  // the step's column of pixels
+  EXPECT_LE(tight.stats.aa.level2_pixels, 3u * 48u);
+  // Seen straight, the same step is no mirror's image: eps holds.
+  const StepRender straight = render_step(direct, 0.01f);
+  EXPECT_EQ(straight.stats.aa.specular_pixels, 0u);
+  EXPECT_EQ(straight.stats.aa.level2_pixels, 0u);
+}
+
+}  // namespace
+}  // namespace zz
