@@ -121,11 +121,14 @@ inline bool curvature_applies(const AdaptiveSettings& settings) {
   return settings.curvature && settings.filter == Filter::Box && !settings.refine_all;
 }
 // The hidden-detail flags read the ring too (the highlight flag's normals one corner beyond
-// the pixel's). Sources without probes never read it: it costs them only the ring's
-// corners (about 4 / 64 of a tile's with per-tile corners, none extra with the corner
-// field beyond its outer edge).
+// the pixel's; every pixel's flag word, which the footprint correction and the mirror's
+// threshold ride in, is made from a stencil). Sources without probes never read it: it
+// costs them only the ring's corners (about 4 / 64 of a tile's with per-tile corners, none
+// extra with the corner field beyond its outer edge).
 inline bool corner_ring(const AdaptiveSettings& settings) {
-  return curvature_applies(settings) || ((settings.highlights || settings.textures) && !settings.refine_all);
+  return curvature_applies(settings) ||
+         ((settings.highlights || settings.textures || settings.footprint || settings.eps_specular >= 0.0f) &&
+          !settings.refine_all);
 }
 inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
   CornerLayout l;

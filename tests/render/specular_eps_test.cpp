@@ -57,7 +57,7 @@ struct StepRender {
   RenderStats stats;
   Film film;
 };
-StepRender render_step(const StepScene& s, float eps_specular) {
+StepRender render_step(const StepScene& s, float eps_specular, bool corner_field = true) {
   const Bvh bvh = Bvh::build(s.scene.positions);
   const Shader shader(s.scene, bvh);
   RenderSettings r;
@@ -65,6 +65,7 @@ StepRender render_step(const StepScene& s, float eps_specular) {
   r.adaptive.eps = 0.05f;
   r.adaptive.eps_specular = eps_specular;
   r.adaptive.signature = kSignatureNone;
+  r.corner_field = corner_field;
   StepRender out;
   render_frame(shader, s.scene.cameras[0], GeoMap{}, r, out.film, out.stats);
   return out;
@@ -83,11 +84,14 @@ TEST(SpecularEps, AStepSeenInAMirrorRefinesAtTheMirrorsThreshold) {
   EXPECT_EQ(plain.stats.aa.level2_pixels, 0u);  // eps 0.05 sees nothing
   EXPECT_EQ(plain.stats.aa.specular_pixels, 0u);
   const StepRender tight = render_step(mirror, 0.01f);
-  // The mirror fills the frame; the frame's outermost pixels have no ring of corners
-  // beyond them (the curvature correction is off) and take no flags.
-  EXPECT_EQ(tight.stats.aa.specular_pixels, 46u * 46u);
-  EXPECT_GE(tight.stats.aa.level2_pixels, 46u);  // the step's column of pixels
+  EXPECT_EQ(tight.stats.aa.specular_pixels, tight.stats.aa.pixels);  // the mirror fills the frame
+  EXPECT_GE(tight.stats.aa.level2_pixels, 48u);                        // the step's column of pixels
   EXPECT_LE(tight.stats.aa.level2_pixels, 3u * 48u);
+  // Per-tile corners decide the same pixels the same way, to the bit.
+  const StepRender per_tile = render_step(mirror, 0.01f, false);
+  EXPECT_EQ(per_tile.stats.aa.specular_pixels, tight.stats.aa.specular_pixels);
+  EXPECT_EQ(per_tile.stats.aa.level2_pixels, tight.stats.aa.level2_pixels);
+  EXPECT_EQ(per_tile.film.radiance, tight.film.radiance);
   // Seen straight, the same step is no mirror's image: eps holds.
   const StepRender straight = render_step(direct, 0.01f);
   EXPECT_EQ(straight.stats.aa.specular_pixels, 0u);
