@@ -18,8 +18,9 @@ const std::vector<glm::vec3>* reference(const char* image) {
   return &it->second;
 }
 
-AnalyticReport run(const char* image, const char* tables, GeoPolicy gp = GeoPolicy::Paper, int geo_ss = 0,
-                   unsigned signature = kSignatureNone) {
+// `image` at 256² against its exact reference, eps 0.1 (AdaptiveSettings' default).
+AnalyticOptions options(const char* image, const char* tables, GeoPolicy gp = GeoPolicy::Paper, int geo_ss = 0,
+                        unsigned signature = kSignatureNone) {
   AnalyticOptions o;
   o.settings.signature = signature;
   o.reference = reference(image);
@@ -28,7 +29,11 @@ AnalyticReport run(const char* image, const char* tables, GeoPolicy gp = GeoPoli
   o.settings.tables = find_table_set(tables);
   o.settings.geo_policy = gp;
   o.geo_ss = geo_ss;
-  return run_analytic(o);
+  return o;
+}
+AnalyticReport run(const char* image, const char* tables, GeoPolicy gp = GeoPolicy::Paper, int geo_ss = 0,
+                   unsigned signature = kSignatureNone) {
+  return run_analytic(options(image, tables, gp, geo_ss, signature));
 }
 
 double ratio(const AnalyticReport& r) { return r.runs[0].error.rmse / r.runs[2].error.rmse; }
@@ -84,15 +89,8 @@ TEST(Analytic, SplitZonesCostFewRaysAndRemoveError) {
 // penumbra, one object, has no split zones: both stay as they were.
 TEST(Analytic, UnflaggedPixelsSplitTheirZonesWhereNoMapFlagsThem) {
   auto with = [](const char* image, int geo_ss, bool split_unflagged) {
-    AnalyticOptions o;
-    o.settings.signature = kSignatureObject;
+    AnalyticOptions o = options(image, "tuned", GeoPolicy::Split, geo_ss, kSignatureObject);
     o.settings.split_unflagged = split_unflagged;
-    o.reference = reference(image);
-    o.image = image;
-    o.size = 256;
-    o.settings.tables = find_table_set("tuned");
-    o.settings.geo_policy = GeoPolicy::Split;
-    o.geo_ss = geo_ss;
     return run_analytic(o);
   };
   const AnalyticReport off = with("star", 0, false), on = with("star", 0, true);
@@ -113,16 +111,9 @@ TEST(Analytic, UnflaggedPixelsSplitTheirZonesWhereNoMapFlagsThem) {
 // Images without geometry edges (one object) have no geo pixels and stay as they were.
 TEST(Analytic, TheMapsEdgeDirectionOrientsCornerCutsAtNoRays) {
   auto with = [](const char* image, bool orient) {
-    AnalyticOptions o;
-    o.settings.signature = kSignatureObject;
+    AnalyticOptions o = options(image, "tuned", GeoPolicy::Split, 4, kSignatureObject);
     o.settings.geo_orient = orient;
     o.settings.geo_zones = false;
-    o.reference = reference(image);
-    o.image = image;
-    o.size = 256;
-    o.settings.tables = find_table_set("tuned");
-    o.settings.geo_policy = GeoPolicy::Split;
-    o.geo_ss = 4;
     return run_analytic(o);
   };
   const AnalyticReport off = with("star", false), on = with("star", true);
@@ -139,16 +130,9 @@ TEST(Analytic, TheMapsEdgeDirectionOrientsCornerCutsAtNoRays) {
 // masks all stayed zero trace the zones where the map saw the edge, not all five.
 TEST(Analytic, TheMapsZonesReachTheLatticeOnTheStarForFewerRays) {
   auto with = [](bool zones) {
-    AnalyticOptions o;
-    o.settings.signature = kSignatureObject;
+    AnalyticOptions o = options("star", "tuned", GeoPolicy::Split, 4, kSignatureObject);
     o.settings.geo_orient = true;
     o.settings.geo_zones = zones;
-    o.reference = reference("star");
-    o.image = "star";
-    o.size = 256;
-    o.settings.tables = find_table_set("tuned");
-    o.settings.geo_policy = GeoPolicy::Split;
-    o.geo_ss = 4;
     return run_analytic(o);
   };
   const AnalyticReport off = with(false), on = with(true);

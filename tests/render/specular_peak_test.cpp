@@ -19,6 +19,19 @@
 namespace zz {
 namespace {
 
+// The probe of the camera ray through pixel centre (20, 20) of a 40² frame of `s`'s first
+// camera (straight down in the scenes below), as level 1 records it for the highlight flag.
+SceneSource::Probe centre_probe(const Scene& s, const CameraRays& camera) {
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  SceneSource source(shader, camera, kSignatureNone);
+  SceneSource::Probe probes[4];
+  int4 signature;
+  source.sample4(float4(20.0f), float4(20.0f), signature, probes);
+  return probes[0];
+}
+SceneSource::Probe centre_probe(const Scene& s) { return centre_probe(s, CameraRays(s.cameras[0], 40, 40)); }
+
 TEST(SpecularPeak, DistanceFromTheOriginToTheHullOfFourPoints) {
   const glm::vec2 around[4] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
   EXPECT_EQ(origin_distance_to_hull(around), 0.0f);
@@ -363,21 +376,19 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   light.intensity = glm::vec3(1.0f);
   s.lights.push_back(light);
   s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
 
   // The corner probes: the mirror, and the ceiling seen in it, its highlight scaled by
   // the mirror's reflectance.
-  SceneSource source(shader, camera, kSignatureNone);
-  SceneSource::Probe probes[4];
-  int4 signature;
-  source.sample4(float4(20.0f), float4(20.0f), signature, probes);
-  EXPECT_EQ(probes[0].surface().material, 0u);
-  EXPECT_EQ(probes[0].node[probe_slot(reflected_node(0))].material, 1u);
-  EXPECT_NEAR(probes[0].node[probe_slot(reflected_node(0))].position.z, 5.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].node[probe_slot(reflected_node(0))].specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
-  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // no glass
+  const SceneSource::Probe probe = centre_probe(s, camera);
+  const SurfaceProbe& ceiling = probe.node[probe_slot(reflected_node(0))];
+  EXPECT_EQ(probe.surface().material, 0u);
+  EXPECT_EQ(ceiling.material, 1u);
+  EXPECT_NEAR(ceiling.position.z, 5.0f, 1e-4f);
+  EXPECT_NEAR(ceiling.specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
+  EXPECT_EQ(probe.node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // no glass
 
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
   const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
   const float off = px.off, on = px.on, lattice = px.lattice;
   const RenderStats &off_stats = px.off_stats, &on_stats = px.on_stats;
@@ -395,19 +406,13 @@ TEST(SpecularPeak, ProbesSeeThroughGlass) {
   s.materials.push_back(test::glass_material(1.5f));
   test::add_quad(s, {-10, -10, 1}, {10, -10, 1}, {10, 10, 1}, {-10, 10, 1}, 1);  // a pane facing the camera
   s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  const CameraRays camera(s.cameras[0], 40, 40);
-  SceneSource source(shader, camera, kSignatureNone);
-  SceneSource::Probe probes[4];
-  int4 signature;
-  source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
+  const SceneSource::Probe probe = centre_probe(s);  // straight down: normal incidence
   const float fresnel = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2
-  EXPECT_EQ(probes[0].surface().material, 1u);
-  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].material, 0u);
-  EXPECT_NEAR(probes[0].node[probe_slot(refracted_node(0))].position.z, 0.0f, 1e-4f);
-  EXPECT_NEAR(probes[0].node[probe_slot(refracted_node(0))].specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
-  EXPECT_EQ(probes[0].node[probe_slot(reflected_node(0))].specular, glm::vec3(0.0f));  // the reflection sees the sky
+  EXPECT_EQ(probe.surface().material, 1u);
+  EXPECT_EQ(probe.node[probe_slot(refracted_node(0))].material, 0u);
+  EXPECT_NEAR(probe.node[probe_slot(refracted_node(0))].position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(probe.node[probe_slot(refracted_node(0))].specular.r, s.whitted[0].specular.r * (1.0f - fresnel), 1e-3f);
+  EXPECT_EQ(probe.node[probe_slot(reflected_node(0))].specular, glm::vec3(0.0f));  // the reflection sees the sky
 }
 
 // Down the reflection's branch of the path tree: a mirror floor reflects a glass pane, which
@@ -428,19 +433,13 @@ TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   s.lights.push_back(light);
   s.max_depth = 3;
   s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  const CameraRays camera(s.cameras[0], 40, 40);
-  SceneSource source(shader, camera, kSignatureNone);
-  SceneSource::Probe probes[4];
-  int4 signature;
-  source.sample4(float4(20.0f), float4(20.0f), signature, probes);  // straight down: normal incidence
+  const SceneSource::Probe probe = centre_probe(s);  // straight down: normal incidence
   const float mirror_share = 0.9f, fresnel = 0.04f;  // the pane: ((1.5 - 1) / (1.5 + 1))^2
-  const SurfaceProbe& pane = probes[0].node[probe_slot(reflected_node(0))];
-  const SurfaceProbe& floor_again = probes[0].node[probe_slot(reflected_node(reflected_node(0)))];
-  const SurfaceProbe& ceiling = probes[0].node[probe_slot(refracted_node(reflected_node(0)))];
-  EXPECT_EQ(probes[0].surface().material, 0u);
-  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // a mirror refracts nothing
+  const SurfaceProbe& pane = probe.node[probe_slot(reflected_node(0))];
+  const SurfaceProbe& floor_again = probe.node[probe_slot(reflected_node(reflected_node(0)))];
+  const SurfaceProbe& ceiling = probe.node[probe_slot(refracted_node(reflected_node(0)))];
+  EXPECT_EQ(probe.surface().material, 0u);
+  EXPECT_EQ(probe.node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // a mirror refracts nothing
   EXPECT_EQ(pane.material, 1u);
   EXPECT_NEAR(pane.position.z, 5.0f, 1e-4f);
   EXPECT_EQ(floor_again.material, 0u);
@@ -485,16 +484,10 @@ TEST(SpecularPeak, ProbesSeeThroughThreePanes) {
   for (float z : {1.0f, 2.0f, 3.0f}) test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
   s.max_depth = 3;
   s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  const CameraRays camera(s.cameras[0], 40, 40);
-  SceneSource source(shader, camera, kSignatureNone);
-  SceneSource::Probe probes[4];
-  int4 signature;
-  source.sample4(float4(20.0f), float4(20.0f), signature, probes);
+  const SceneSource::Probe probe = centre_probe(s);
   const int third = refracted_node(refracted_node(refracted_node(0)));
   ASSERT_EQ(third, 14);
-  const SurfaceProbe& floor = probes[0].node[probe_slot(third)];
+  const SurfaceProbe& floor = probe.node[probe_slot(third)];
   EXPECT_EQ(floor.material, 0u);
   EXPECT_NEAR(floor.position.z, 0.0f, 1e-4f);
   EXPECT_NEAR(floor.view.z, 1.0f, 1e-3f);
@@ -502,7 +495,7 @@ TEST(SpecularPeak, ProbesSeeThroughThreePanes) {
   // 1 / 1.5 alike.
   const float transmitted = std::pow(1.0f - 0.04f, 3.0f);
   EXPECT_NEAR(floor.specular.r, s.whitted[0].specular.r * transmitted, 1e-2f * s.whitted[0].specular.r);
-  EXPECT_EQ(probes[0].node[probe_slot(refracted_node(refracted_node(0)))].material, 1u);  // the middle pane
+  EXPECT_EQ(probe.node[probe_slot(refracted_node(refracted_node(0)))].material, 1u);  // the middle pane
 }
 
 // Through the renderer: the pinpoint highlight of the first test seen through three panes
