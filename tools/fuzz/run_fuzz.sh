@@ -43,7 +43,22 @@ run_one() {
   summary="fuzz_$f: ${SECONDS_EACH}s, $execs execs, exit $status, $found artifact(s) in $artifacts (log $log)"
   echo "$summary"
   echo "$(date -u +%FT%TZ) trace=$([ "${ZZ_FUZZ_NO_TRACE:-0}" = 1 ] && echo off || echo on) $summary" >>"$BUILD/fuzz/history.txt"
-  [ "$status" = 0 ] && [ "$found" = 0 ]
+  [ "$status" = 0 ] && [ "$found" = 0 ] && return 0
+  # Where the run's machine is gone afterwards (CI), what it found must be in its output:
+  # the sanitizer's report and each input, base64, to replay with
+  #   base64 -d > input && build-fuzz/tools/fuzz/fuzz_FORMAT input
+  echo "fuzz_$f: its report:"
+  report=$(grep -anE 'ERROR: |runtime error|BUG: |deadly signal' "$log" | head -n 1 | cut -d: -f1)
+  if [ -n "$report" ]; then
+    tail -n "+$report" "$log" | grep -av '^#[0-9]' | head -n 60 | cut -c1-300 | sed 's/^/  | /'
+  else
+    grep -av '^#[0-9]' "$log" | tail -n 20 | cut -c1-300 | sed 's/^/  | /'
+  fi
+  find "$artifacts" -type f | while read -r a; do
+    echo "fuzz_$f: artifact $(basename "$a"), $(wc -c <"$a") bytes, base64:"
+    head -c 65536 "$a" | base64 -w 100 | sed 's/^/  /'
+  done
+  return 1
 }
 
 failed=0
