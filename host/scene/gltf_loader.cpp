@@ -16,6 +16,7 @@
 #include "core/error.h"
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_animation.h"
+#include "scene/gltf_file.h"
 #include "scene/gltf_image.h"
 #include "scene/loader.h"
 
@@ -534,28 +535,9 @@ struct Loader {
 void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::mat4& transform,
                     const LoadOptions& options) {
   const std::string file = path.string();
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw Error(file + ": is a directory, not a glTF file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(file + ": file not found");
   tinygltf::Model model;
-  tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(gltf::keep_encoded, nullptr);
-  std::string err, warning;
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  bool ok = false;
-  try {
-    ok = ext == ".glb" ? gltf.LoadBinaryFromFile(&model, &err, &warning, file)
-                       : gltf.LoadASCIIFromFile(&model, &err, &warning, file);
-  } catch (const std::exception& e) {  // tinygltf's JSON parser or an allocation
-    throw Error(file + ": cannot parse glTF (" + e.what() + ")");
-  }
-  if (!ok) {
-    std::string msg = err.empty() ? "cannot parse glTF" : err;
-    std::replace(msg.begin(), msg.end(), '\n', ' ');
-    while (!msg.empty() && msg.back() == ' ') msg.pop_back();
-    throw Error(file + ": " + msg);
-  }
+  std::string warning;
+  gltf::read_gltf_model(path, model, &warning);
   if (!warning.empty() && !options.quiet) {
     std::replace(warning.begin(), warning.end(), '\n', ' ');
     std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());

@@ -83,12 +83,17 @@ struct GltfBuilder {
     return i;
   }
 
+  // Members written as raw text at the start of the top-level object ("\"key\": value, "),
+  // for JSON that nlohmann's recursive dump could not write (hostile nesting).
+  std::string raw_members;
+  std::string spliced(const std::string& json) const { return "{" + raw_members + json.substr(1); }
+
   // Writes <dir>/<stem>.gltf + <stem>.bin; returns the .gltf path.
   std::filesystem::path write(const std::filesystem::path& dir, const std::string& stem = "model") {
     nlohmann::json d = doc;
     d["buffers"] = {{{"uri", stem + ".bin"}, {"byteLength", bin.size()}}};
     std::ofstream(dir / (stem + ".bin"), std::ios::binary).write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
-    write_text(dir / (stem + ".gltf"), d.dump(1));
+    write_text(dir / (stem + ".gltf"), spliced(d.dump(1)));
     return dir / (stem + ".gltf");
   }
 
@@ -96,7 +101,7 @@ struct GltfBuilder {
   std::filesystem::path write_glb(const std::filesystem::path& dir, const std::string& stem = "model") {
     nlohmann::json d = doc;
     d["buffers"] = {{{"byteLength", bin.size()}}};
-    std::string json = d.dump();
+    std::string json = spliced(d.dump());
     while (json.size() % 4) json.push_back(' ');
     std::vector<uint8_t> b = bin;
     while (b.size() % 4) b.push_back(0);

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "gltf_fixture.h"
+#include "scene/gltf_file.h"
 #include "scene/loader.h"
 
 namespace zz {
@@ -257,6 +258,33 @@ TEST(GltfLoader, MutatedFilesNeverCrash) {
   }
   EXPECT_GT(loaded, 0);
   EXPECT_GT(errors, 0);
+}
+
+// tinygltf converts extras and extensions by recursion: 20 000 nested arrays overflowed
+// the stack (SIGSEGV) before the depth check; sanitized builds, with larger frames, at fewer.
+TEST(GltfLoader, DeeplyNestedJsonIsAnErrorNotAStackOverflow) {
+  auto dir = test::temp_dir("deep");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  auto nested = [](int depth) { return "\"extras\": " + std::string(size_t(depth), '[') + std::string(size_t(depth), ']') + ", "; };
+  b.raw_members = nested(20000);
+  expect_error([&] { load_scene(b.write(dir, "deep"), kQuiet); }, "nested deeper than 512");
+  expect_error([&] { load_scene(b.write_glb(dir, "deep"), kQuiet); }, "nested deeper than 512");
+  // What a scene may hold, and brackets inside strings, are no nesting.
+  b.raw_members = nested(gltf::kMaxJsonDepth - 1) + "\"extensionsUsed\": [], \"extensionsRequired\": [], ";
+  b.doc["asset"]["generator"] = std::string(1000, '[') + "\"{";
+  EXPECT_EQ(load_scene(b.write(dir, "ok"), kQuiet).triangle_count(), 1u);
+  EXPECT_EQ(load_scene(b.write_glb(dir, "ok"), kQuiet).triangle_count(), 1u);
+}
+
+TEST(GltfFile, NestingDepthCountsBracketsOutsideStrings) {
+  EXPECT_EQ(gltf::json_nesting_depth(""), 0);
+  EXPECT_EQ(gltf::json_nesting_depth("{\"a\": [1, {\"b\": []}], \"c\": {}}"), 4);
+  EXPECT_EQ(gltf::json_nesting_depth("{\"a\": \"[[[{{{\"}"), 1);
+  EXPECT_EQ(gltf::json_nesting_depth("{\"a\": \"\\\" [[[\"}"), 1);  // an escaped quote does not end the string
+  EXPECT_EQ(gltf::json_nesting_depth("{\"a\": \"\\\\\", \"b\": [[]]}"), 3);  // an escaped backslash does
+  EXPECT_EQ(gltf::json_nesting_depth("]]]}[[", 10), 2);  // stray closers do not go below zero
+  EXPECT_EQ(gltf::json_nesting_depth(std::string(100000, '['), 10), 11);  // stops past the limit
 }
 
 TEST(GltfLoader, GlbMatchesGltf) {

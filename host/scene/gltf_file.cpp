@@ -1,0 +1,98 @@
+#include "scene/gltf_file.h"
+
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <vector>
+
+#include "core/error.h"
+#include "scene/gltf_image.h"
+
+namespace zz::gltf {
+
+int json_nesting_depth(std::string_view text, int limit) {
+  int depth = 0, deepest = 0;
+  bool in_string = false, escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > limit) return deepest;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+namespace {
+
+uint32_t le32(const std::vector<unsigned char>& b, size_t at) {
+  return uint32_t(b[at]) | uint32_t(b[at + 1]) << 8 | uint32_t(b[at + 2]) << 16 | uint32_t(b[at + 3]) << 24;
+}
+
+// The JSON a .glb carries: its first chunk (glTF 2.0 §4.4.3), when the header is sound;
+// otherwise empty, and tinygltf says what is wrong with the file.
+std::string_view glb_json(const std::vector<unsigned char>& bytes) {
+  if (bytes.size() < 20 || std::memcmp(bytes.data(), "glTF", 4) != 0) return {};
+  const uint32_t length = le32(bytes, 12);
+  if (std::memcmp(bytes.data() + 16, "JSON", 4) != 0 || length > bytes.size() - 20) return {};
+  return {reinterpret_cast<const char*>(bytes.data() + 20), length};
+}
+
+}  // namespace
+
+void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw Error(file + ": is a directory, not a glTF file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw Error(file + ": file not found");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(file + ": cannot open");
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(file + ": read error");
+  if (bytes.empty()) throw Error(file + ": empty file");
+  if (bytes.size() > std::numeric_limits<unsigned>::max()) throw Error(file + ": larger than 4 GiB, which tinygltf cannot read");
+
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const bool binary = ext == ".glb";
+  const std::string_view json =
+      binary ? glb_json(bytes) : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  if (json_nesting_depth(json) > kMaxJsonDepth)
+    throw Error(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels; not a glTF scene");
+
+  tinygltf::TinyGLTF gltf;
+  gltf.SetImageLoader(keep_encoded, nullptr);
+  std::string err;
+  // Relative URIs resolve against the file's folder, as tinygltf's *FromFile calls do.
+  const std::string base_dir = path.parent_path().string();
+  bool ok = false;
+  try {
+    ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, warning, bytes.data(), unsigned(bytes.size()), base_dir)
+                : gltf.LoadASCIIFromString(&model, &err, warning, reinterpret_cast<const char*>(bytes.data()),
+                                           unsigned(bytes.size()), base_dir);
+  } catch (const std::exception& e) {  // tinygltf's JSON parser or an allocation
+    throw Error(file + ": cannot parse glTF (" + e.what() + ")");
+  }
+  if (!ok) {
+    std::string msg = err.empty() ? "cannot parse glTF" : err;
+    std::replace(msg.begin(), msg.end(), '\n', ' ');
+    while (!msg.empty() && msg.back() == ' ') msg.pop_back();
+    throw Error(file + ": " + msg);
+  }
+}
+
+}  // namespace zz::gltf

@@ -1,0 +1,31 @@
+// A .gltf or .glb file -> tinygltf::Model, with what tinygltf itself cannot survive
+// checked first: its JSON values (extras, extensions) are converted by recursion, one stack
+// frame per level, so 20 000 nested arrays in 40 kB of text overflowed the stack.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace zz::gltf {
+
+// Deepest JSON nesting a scene may have: a glTF needs 10 or so; hostile text is refused
+// long before the recursion could reach the end of a thread's stack (sanitized builds
+// included, whose frames are several times larger).
+inline constexpr int kMaxJsonDepth = 512;
+
+// Largest number of open '[' / '{' in `text`, outside strings (JSON's escapes honoured).
+// Stops counting once past `limit`.
+int json_nesting_depth(std::string_view text, int limit = kMaxJsonDepth);
+
+// Reads and parses `path` (.glb by its extension, else glTF JSON); zz::Error naming the
+// file on anything wrong. Images keep their encoded bytes (gltf_image.h). Warnings from
+// tinygltf go to *warning.
+void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning);
+
+}  // namespace zz::gltf
