@@ -3,10 +3,10 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <vector>
 
@@ -59,12 +59,16 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error(file + ": is a directory, not a glTF file");
   if (!std::filesystem::is_regular_file(path, ec)) throw Error(file + ": file not found");
+  // One read of the whole file: a .glb holds its buffers, often hundreds of MB.
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw Error(file + ": cannot read its size (" + ec.message() + ")");
+  if (size == 0) throw Error(file + ": empty file");
+  if (size > std::numeric_limits<unsigned>::max()) throw Error(file + ": larger than 4 GiB, which tinygltf cannot read");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(file + ": cannot open");
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(file + ": read error");
-  if (bytes.empty()) throw Error(file + ": empty file");
-  if (bytes.size() > std::numeric_limits<unsigned>::max()) throw Error(file + ": larger than 4 GiB, which tinygltf cannot read");
+  std::vector<unsigned char> bytes(static_cast<size_t>(size));
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
+    throw Error(file + ": read error (" + std::to_string(in.gcount()) + " of " + std::to_string(size) + " bytes)");
 
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

@@ -3,7 +3,6 @@
 // frame per level, so 20 000 nested arrays in 40 kB of text overflowed the stack.
 #pragma once
 
-#include <cstddef>
 #include <filesystem>
 #include <string>
 #include <string_view>
