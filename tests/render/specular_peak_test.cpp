@@ -21,16 +21,17 @@ namespace {
 
 // The probe of the camera ray through pixel centre (20, 20) of a 40² frame of `s`'s first
 // camera (straight down in the scenes below), as level 1 records it for the highlight flag.
-SceneSource::Probe centre_probe(const Scene& s, const CameraRays& camera) {
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
+SceneSource::Probe centre_probe(const Shader& shader, const CameraRays& camera) {
   SceneSource source(shader, camera, kSignatureNone);
   SceneSource::Probe probes[4];
   int4 signature;
   source.sample4(float4(20.0f), float4(20.0f), signature, probes);
   return probes[0];
 }
-SceneSource::Probe centre_probe(const Scene& s) { return centre_probe(s, CameraRays(s.cameras[0], 40, 40)); }
+SceneSource::Probe centre_probe(const Scene& s) {
+  const Bvh bvh = Bvh::build(s.positions);
+  return centre_probe(Shader(s, bvh), CameraRays(s.cameras[0], 40, 40));
+}
 
 TEST(SpecularPeak, DistanceFromTheOriginToTheHullOfFourPoints) {
   const glm::vec2 around[4] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
@@ -376,10 +377,12 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   light.intensity = glm::vec3(1.0f);
   s.lights.push_back(light);
   s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
 
   // The corner probes: the mirror, and the ceiling seen in it, its highlight scaled by
   // the mirror's reflectance.
-  const SceneSource::Probe probe = centre_probe(s, camera);
+  const SceneSource::Probe probe = centre_probe(shader, camera);
   const SurfaceProbe& ceiling = probe.node[probe_slot(reflected_node(0))];
   EXPECT_EQ(probe.surface().material, 0u);
   EXPECT_EQ(ceiling.material, 1u);
@@ -387,8 +390,6 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenInAMirror) {
   EXPECT_NEAR(ceiling.specular.r, s.whitted[1].specular.r * 0.9f, 1e-3f * s.whitted[1].specular.r);
   EXPECT_EQ(probe.node[probe_slot(refracted_node(0))].specular, glm::vec3(0.0f));  // no glass
 
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
   const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
   const float off = px.off, on = px.on, lattice = px.lattice;
   const RenderStats &off_stats = px.off_stats, &on_stats = px.on_stats;
