@@ -52,7 +52,7 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 // the mean of its four corner samples is not the mean of the texture over the pixel. With
 // the corners (TL, TR, BL, BR) on one material, the pixel's texture coordinates are their
 // bilinear interpolation; the base-colour (diffuse albedo) and emissive textures are
-// averaged over it at up to kFootprintSamples^2 points (the box filter the lattice and the
+// averaged over it at 2 x 2 points, or the 25-point lattice's where those disagree (the box filter the lattice and the
 // reference apply, without rays), and
 //   delta = mean_s(A_s E_s) - mean_k(A_k E_k) + emission * (mean_s(T_s) - mean_k(T_k)),
 // over samples s and corners k, with A the diffuse albedo, T the emissive texture and E the
@@ -60,8 +60,8 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 // moved to first order (FootprintProbe::gradient) by the normal map's normal there. Exact
 // where light and visibility are even over the pixel, which is where its corners agree.
 // Does not apply to other pixels (a miss, two materials, a UV seam or atlas jump, no texture).
-inline constexpr int kFootprintSamples = 4;  // even: the samples go four at a time
-inline constexpr float kFootprintMaxTexels = 4.0f * kFootprintSamples;
+// The largest texture span along a pixel side that the samples resolve.
+inline constexpr float kFootprintMaxTexels = 16.0f;
 struct FootprintDelta {
   glm::vec3 delta{0.0f};
   bool applies = false;  // the pixel is one patch of a textured material (delta may still be 0)
@@ -84,7 +84,8 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner,
 
 // `settled`: per channel, half a display step: the 2 x 2 first estimate is kept when its
 // delta stays below it and no two of its four samples differ by more, in every channel;
-// kFootprintSamples^2 samples otherwise (four at a time, in SSE lanes).
+// otherwise the model at the 25-point lattice (aa/lattice.h: 24 inner points, four at a
+// time in SSE lanes, and the corners).
 // `prepared`: footprint_corner of each corner.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4],

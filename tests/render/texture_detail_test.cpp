@@ -37,12 +37,14 @@ TEST(TextureDetail, PyramidLevelsAreBoxMeans) {
   EXPECT_EQ(q.levels.back().height, 1);
 }
 
-// One emissive material whose texture is black but for a white column one texel wide.
+// One emissive material whose texture is black but for a white column one texel wide
+// (or, given, any other grey texture of 64 x 64).
+float stroke(int x, int) { return x == 32 ? 1.0f : 0.0f; }
 struct StrokeScene {
   Scene scene;
   std::vector<TexturePyramid> pyramids;
-  StrokeScene() {
-    scene.textures.push_back(grey_texture(64, 64, [](int x, int) { return x == 32 ? 1.0f : 0.0f; }));
+  explicit StrokeScene(float (*value)(int x, int y) = stroke) {
+    scene.textures.push_back(grey_texture(64, 64, value));
     Material m;
     m.base_color = glm::vec3(0.0f);
     m.emissive = glm::vec3(1.0f);
@@ -112,7 +114,7 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   for (FootprintProbe& f : k.f) f.prim = 0;
   const FootprintDelta fine = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
   ASSERT_TRUE(fine.applies);
-  EXPECT_NEAR(fine.delta.r, 1.0f / 3.0f, 0.02f);  // 4 x 4 samples: 0.344
+  EXPECT_NEAR(fine.delta.r, 1.0f / 3.0f, 0.02f);
   // Where the first 2 x 2 estimate could not show, it stays.
   const FootprintDelta coarse = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1.0f));
   EXPECT_NEAR(coarse.delta.r, 0.375f, 1e-5f);
@@ -120,7 +122,7 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   // differ by `settled` or more. Corners one texel further right: one on the stroke's flank
   // (0.5), so their mean is 0.25; two of the 2 x 2 samples see 0.75, two see 0, so the
   // first estimate adds 0.125 < settled, but its spread is 0.75 >= settled.
-  // The texture's mean over the footprint is 0.875 / 3: the delta is 0.042 (4 x 4: 0.0625).
+  // The texture's mean over the footprint is 0.875 / 3: the delta is 0.042.
   s.corners(32.0f / 64, 35.0f / 64, k.c);
   const FootprintDelta disagreeing = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.2f));
   EXPECT_NEAR(disagreeing.delta.r, 0.875f / 3.0f - 0.25f, 0.025f);
@@ -130,6 +132,22 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   const FootprintDelta black = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
   EXPECT_TRUE(black.applies);
   EXPECT_EQ(black.delta, glm::vec3(0.0f));
+}
+
+// Stripes along the pixel's axis, four periods across it: a regular 4 x 4 grid of samples
+// sees every stripe at the same phase (delta 1: all its samples on white texel centres);
+// the rank-1 lattice has one point in each of its 25 columns, so its mean is the stripes'.
+// (The 2 x 2 first estimate sees one phase too, as the corners do: `settled` 0 looks past it.)
+TEST(TextureFootprint, StripesAlongThePixelsAxisDoNotAlias) {
+  StrokeScene s([](int x, int) { return float(x % 2); });
+  with_triangle(s.scene);
+  FootprintCorners k;
+  s.corners(0.5f / 64, 8.5f / 64, k.c);  // black texel centres 0 and 8: the corners see 0
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
+  ASSERT_TRUE(d.applies);
+  // The bilinear stripes' mean over whole periods is 1/2 (the lattice's 25 points: 0.48).
+  EXPECT_NEAR(d.delta.r, 0.5f, 0.03f);
 }
 
 TEST(TextureFootprint, NotAcrossMaterialsSeamsAtlasJumpsOrMisses) {
