@@ -17,6 +17,7 @@ struct SingleSetup {
   float4 ox, oy, oz;     // origin, broadcast
   float4 rdx, rdy, rdz;  // safe reciprocal direction, broadcast
   watertight::RayShear shear;
+  watertight::SpawnReach<float4> reach;  // broadcast
   float best;
   // Byte offsets of the near and far planes per axis inside Bvh4Node (lo_* or hi_*, by
   // the direction's sign): the slab test then needs no min/max per plane pair.
@@ -99,7 +100,7 @@ bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>
       float4 bb[3] = {float4::load(b.v1x) - s.ox, float4::load(b.v1y) - s.oy, float4::load(b.v1z) - s.oz};
       float4 c[3] = {float4::load(b.v2x) - s.ox, float4::load(b.v2y) - s.oy, float4::load(b.v2z) - s.oz};
       auto h = watertight::intersect<float4>(a[kx], a[ky], a[kz], bb[kx], bb[ky], bb[kz], c[kx],
-                                             c[ky], c[kz], sx, sy, sz);
+                                             c[ky], c[kz], sx, sy, sz, s.reach);
       unsigned hit = unsigned((h.hit & (h.t <= float4(s.best))).bits());
       if (hit) {
         if constexpr (kAnyHit) {
@@ -142,6 +143,9 @@ bool setup(const Ray& ray, SingleSetup& s) {
       !std::isfinite(ray.origin.z) || std::isnan(ray.tmax))
     return false;
   s.ox = float4(ray.origin.x), s.oy = float4(ray.origin.y), s.oz = float4(ray.origin.z);
+  const watertight::SpawnReach<float> reach =
+      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
+  s.reach = {float4(reach.origin), float4(reach.per_unit)};
   s.rdx = float4(safe_rcp(ray.dir.x)), s.rdy = float4(safe_rcp(ray.dir.y));
   s.rdz = float4(safe_rcp(ray.dir.z));
   // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.

@@ -17,6 +17,7 @@ struct PacketSetup {
   float4 ox, oy, oz;
   float4 rdx, rdy, rdz;  // safe reciprocals for the slab test
   float4 sx, sy, sz;     // Woop shear, per lane
+  watertight::SpawnReach<float4> reach;  // per lane
   float4 best;           // current tmax; -inf for inactive or finished lanes
   // Per-lane permutation as blend masks: k == 0 and k == 1 (else 2).
   mask4 kx0, kx1, ky0, ky1, kz0, kz1;
@@ -72,6 +73,7 @@ PacketSetup setup(const RayPacket4& r, mask4 active) {
   };
   p.rdx = safe(r.dx), p.rdy = safe(r.dy), p.rdz = safe(r.dz);
   p.ox = r.ox, p.oy = r.oy, p.oz = r.oz;
+  p.reach = watertight::spawn_reach(r.ox, r.oy, r.oz, r.dx, r.dy, r.dz);
   // FLT_MAX, not inf: a t that overflowed to inf must never count as a hit.
   p.best = select(valid, min(r.tmax, float4(kFloatMax)), float4(-kInfinity));
   return p;
@@ -159,7 +161,7 @@ mask4 traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
             PZ::get(ax, ay, az, p.kz0, p.kz1), PX::get(bx, by, bz, p.kx0, p.kx1),
             PY::get(bx, by, bz, p.ky0, p.ky1), PZ::get(bx, by, bz, p.kz0, p.kz1),
             PX::get(cx, cy, cz, p.kx0, p.kx1), PY::get(cx, cy, cz, p.ky0, p.ky1),
-            PZ::get(cx, cy, cz, p.kz0, p.kz1), p.sx, p.sy, p.sz);
+            PZ::get(cx, cy, cz, p.kz0, p.kz1), p.sx, p.sy, p.sz, p.reach);
         if constexpr (kAnyHit) {
           mask4 hit = h.hit & (h.t <= p.best);
           if (hit.any()) {

@@ -12,6 +12,13 @@ namespace zz {
 
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
+// gamma(n) = n eps / (1 - n eps), eps = 2^-24: the bound on the relative error of n
+// rounded float operations (pbrt-v4, 6.8.1).
+constexpr float gamma(int n) {
+  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
+  return (float(n) * eps) / (1.0f - float(n) * eps);
+}
+
 struct Ray {
   glm::vec3 origin;
   glm::vec3 dir;            // need not be normalised; t is in units of |dir|

@@ -16,12 +16,6 @@ namespace zz {
 
 namespace {
 
-// gamma(n) = n eps / (1 - n eps), eps = 2^-24 (pbrt's bound on n rounded operations).
-constexpr float gamma(int n) {
-  constexpr float eps = std::numeric_limits<float>::epsilon() * 0.5f;
-  return (float(n) * eps) / (1.0f - float(n) * eps);
-}
-
 // std::nextafter(x, +inf) and std::nextafter(x, -inf) on the bits, without the libm call
 // (glibc's nextafterf works on the bits too, so these return the same values: NaN and the
 // infinity in the stepping direction stay, +-0 steps to +-denorm_min, -denorm_min up to

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 
+#include "accel/ray.h"
 #include "core/simd.h"
 
 namespace zz::watertight {
@@ -22,6 +23,9 @@ inline bool lane(mask4 m, int i) { return m[i]; }
 inline bool any(mask4 m) { return m.any(); }
 inline float get(float f, int) { return f; }
 inline float get(float4 f, int i) { return f[i]; }
+inline float abs(float f) { return std::fabs(f); }
+inline float max(float a, float b) { return a > b ? a : b; }
+inline float sqrt(float f) { return std::sqrt(f); }
 inline void set(float& f, int, float x) { f = x; }
 inline void set(float4& f, int i, float x) {
   alignas(16) float a[4];
@@ -85,12 +89,31 @@ struct Result {
   F t, u, v;  // u, v: barycentrics of vertices 1 and 2
 };
 
+// Hits this near the origin and within t's rounding bound are refused (intersect): 256
+// rounding errors of the largest coordinate of the origin and the triangle's vertices, in
+// units of |d|. Nearer, a hit may be the surface the ray was spawned from, which the
+// rounding cannot tell from a real one; farther, it is trusted even where t's bound is
+// wider (a ray grazing a plane at 1e-6 radians, whose t is uncertain by more than t
+// itself, still hits it). Per ray: `origin` = 256 gamma(8) max|o_i| / |d| and `per_unit` =
+// 256 gamma(8) / |d|, to which intersect adds the vertices' part.
+inline constexpr float kSpawnReach = 256.0f * gamma(8);
+template <class F>
+struct SpawnReach {
+  F origin, per_unit;
+};
+template <class F>
+inline SpawnReach<F> spawn_reach(F ox, F oy, F oz, F dx, F dy, F dz) {
+  const F per_unit = F(kSpawnReach) / sqrt(dx * dx + dy * dy + dz * dz);
+  return {max(max(abs(ox), abs(oy)), abs(oz)) * per_unit, per_unit};
+}
+
 // The triangle's vertices relative to the ray origin, already permuted: a* = A[kx],
-// A[ky], A[kz] and so on. sx, sy, sz from RayShear. Returns the hit mask for 0 <= t and
-// a non-degenerate, not-missed triangle; the caller compares t against its tmax.
+// A[ky], A[kz] and so on. sx, sy, sz from RayShear; `reach` from spawn_reach. Returns the
+// hit mask for 0 <= t and a non-degenerate, not-missed triangle, less the hits nearer than
+// both `reach` and t's rounding bound; the caller compares t against its tmax.
 template <class F>
 inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F cky, F ckz, F sx,
-                           F sy, F sz) {
+                           F sy, F sz, SpawnReach<F> reach) {
   // Shear and scale the vertices into ray space (Eq. 1 of the paper, x and y only).
   F ax = akx - sx * akz, ay = aky - sy * akz;
   F bx = bkx - sx * bkz, by = bky - sy * bkz;
@@ -131,7 +154,27 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   r.t = t_scaled * rcp;
   r.u = v * rcp;
   r.v = w * rcp;
-  r.hit = r.hit & (r.t >= zero);
+  // t carries rounding error; a hit nearer than its bound may be the triangle the ray
+  // left, met again through the rounding of its spawned origin: the error grows as L^2 / w
+  // on a sliver L long and w wide, and mirror rays off ToyCar's chrome strips (1000:1)
+  // met their own facet at t = 1e-8 and showed the car's black instead of the sky.
+  // Offset origins (ray_offset.cpp) are built for a t known to be positive; the bound
+  // follows pbrt-v4 6.8.4: the sheared coordinates' errors (translation and shear), then
+  // the edge functions', then t = sum(e_i z_i) / det's.
+  const F max_z = max(max(abs(sz * akz), abs(sz * bkz)), abs(sz * ckz));
+  const F max_x = max(max(abs(ax), abs(bx)), abs(cx));
+  const F max_y = max(max(abs(ay), abs(by)), abs(cy));
+  const F delta_z = F(gamma(3)) * max_z;
+  const F delta_x = F(gamma(5)) * (max_x + max_z);
+  const F delta_y = F(gamma(5)) * (max_y + max_z);
+  const F delta_e = F(2.0f) * (F(gamma(2)) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+  const F max_e = max(max(abs(u), abs(v)), abs(w));
+  const F delta_t = F(3.0f) * (F(gamma(3)) * max_e * max_z + delta_e * max_z + delta_z * max_e) * abs(rcp);
+  // The vertices' largest coordinate relative to the origin bounds their own (with the origin's).
+  const F max_vertex = max(max(max(max(abs(akx), abs(aky)), abs(akz)), max(max(abs(bkx), abs(bky)), abs(bkz))),
+                           max(max(abs(ckx), abs(cky)), abs(ckz)));
+  const F near = reach.origin + reach.per_unit * max_vertex;
+  r.hit = r.hit & (r.t >= zero) & ((r.t > delta_t) | (r.t > near));
   return r;
 }
 

@@ -82,10 +82,12 @@ inline Hit brute_force(const std::vector<glm::vec3>& p, const Ray& ray) {
   watertight::RayShear s = watertight::make_shear(ray.dir);
   if (!s.valid) return best;
   float tmax = std::fmin(ray.tmax, 3.4028235e38f);
+  const watertight::SpawnReach<float> reach =
+      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
   for (size_t t = 0; t < p.size() / 3; ++t) {
     glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
     auto h = watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz],
-                                          c[s.kx], c[s.ky], c[s.kz], s.sx, s.sy, s.sz);
+                                          c[s.kx], c[s.ky], c[s.kz], s.sx, s.sy, s.sz, reach);
     if (!h.hit || !(h.t <= tmax)) continue;
     if (best.hit() && !(h.t < best.t)) continue;  // ties keep the lower index
     best = Hit{h.t, h.u, h.v, int32_t(t)};
