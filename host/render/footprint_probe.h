@@ -21,6 +21,10 @@ struct FootprintProbe {
   int32_t prim = -1;       // the triangle hit; -1 on a miss
   float u = 0.0f, v = 0.0f;  // its barycentrics there
   float side = 1.0f;       // +1 where the ray hit the triangle's front, -1 its back
+  // What the hit's radiance is multiplied by on its way to the camera: 1 for the primary
+  // hit; the reflection and refraction weights along the path, and Beer's absorption, for
+  // what a mirror or a glass shows.
+  glm::vec3 weight{1.0f};
 };
 
 }  // namespace zz

@@ -125,7 +125,9 @@ class SceneSource {
   // for path-tree node k (render/shader.h).
   struct Probe {
     SurfaceProbe node[kProbeNodes];
-    FootprintProbe footprint;  // filled only when the footprint correction is on
+    // Node kFootprintNode[k]'s in footprint[k] (render/shader.h); filled only when the
+    // footprint correction is on.
+    FootprintProbe footprint[kFootprintNodes];
     const SurfaceProbe& surface() const { return node[0]; }
     // Before a sample: what a node's readers see of a node the path lacks. The primary hit's
     // is read whole (a miss); the others are read only where has_highlight, and a node the
@@ -134,7 +136,7 @@ class SceneSource {
     void reset() {
       node[0] = SurfaceProbe{};
       for (int k = 1; k < kProbeNodes; ++k) node[k].specular = glm::vec3(0.0f);
-      footprint = FootprintProbe{};
+      for (FootprintProbe& f : footprint) f = FootprintProbe{};
     }
   };
   // The shader writes the probes in place; nodes a lane's path lacks keep their defaults.
@@ -144,7 +146,7 @@ class SceneSource {
     for (int i = 0; i < 4; ++i) {
       probes[i].reset();
       seen.probes.lane[i] = probes[i].node;
-      if (footprint) seen.footprint.lane[i] = &probes[i].footprint;
+      if (footprint) seen.footprint.lane[i] = probes[i].footprint;
     }
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
@@ -190,26 +192,63 @@ class SceneSource {
     return true;
   }
 
-  // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h);
-  // lane 3 is 1 where the correction applies, 0 elsewhere. `prepared`: footprint_corner of
-  // the four corners.
+  // What the corners' mean lacks of the texture's mean over the pixel (texture_detail.h),
+  // on the primary hit and on what the pixel sees in a mirror or through a glass (each
+  // footprinted node of the path tree whose four corners reach one textured patch, times
+  // the corners' mean weight of the path to it); lane 3 is 1 where the correction applies
+  // to some node, 0 elsewhere. `prepared`: footprint_corner of the four corners.
   // `mean`: the corners' mean radiance; a first estimate is kept where it moves the display
   // by less than half a step and its samples agree within that (texture_detail.h).
-  using FootprintCorner = zz::FootprintCorner;
+  struct FootprintCorner {
+    zz::FootprintCorner node[kFootprintNodes];
+  };
   FootprintCorner footprint_corner(const Probe& corner) const {
-    if (!detail_ || !detail_->footprint) return {};
-    return zz::footprint_corner(shader_.scene(), corner.surface(), corner.footprint);
+    FootprintCorner k;
+    if (!detail_ || !detail_->footprint) return k;
+    for (int n = 0; n < kFootprintNodes; ++n) {
+      const FootprintProbe& f = corner.footprint[n];
+      if (f.prim < 0) continue;
+      k.node[n] = zz::footprint_corner(shader_.scene(), unweighted(corner, n), f);
+    }
+    return k;
   }
   float4 footprint_delta(const Probe* tl, ptrdiff_t stride, const FootprintCorner* const prepared[4],
                          float4 mean) const {
     if (!detail_ || !detail_->footprint) return float4(0.0f);
-    const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
-    const FootprintProbe* const light[4] = {&tl[0].footprint, &tl[1].footprint, &tl[stride].footprint,
-                                            &tl[stride + 1].footprint};
+    const Probe* const four[4] = {tl, tl + 1, tl + stride, tl + stride + 1};
     const float4 settled = float4(0.5f / 255.0f) / tonemap_.slope4(mean);
-    const FootprintDelta d = texture_footprint_delta(shader_.scene(), corners, light, prepared,
-                                                     glm::vec3(settled[0], settled[1], settled[2]));
-    return float4(d.delta.r, d.delta.g, d.delta.b, d.applies ? 1.0f : 0.0f);
+    glm::vec3 delta(0.0f);
+    bool applies = false;
+    for (int n = 0; n < kFootprintNodes; ++n) {
+      const FootprintProbe* const light[4] = {&four[0]->footprint[n], &four[1]->footprint[n],
+                                              &four[2]->footprint[n], &four[3]->footprint[n]};
+      if (light[0]->prim < 0 || light[1]->prim < 0 || light[2]->prim < 0 || light[3]->prim < 0) continue;
+      // Beyond the primary hit, the weight of the path to the node, even over the pixel (to
+      // within a quarter): the node's delta is weighed by the corners' mean.
+      glm::vec3 weight(1.0f);
+      if (n > 0) {
+        glm::vec3 lo(std::numeric_limits<float>::infinity()), hi(0.0f);
+        weight = glm::vec3(0.0f);
+        for (const FootprintProbe* f : light) {
+          weight += 0.25f * f->weight;
+          lo = glm::min(lo, f->weight);
+          hi = glm::max(hi, f->weight);
+        }
+        if (!glm::all(glm::lessThanEqual(hi - lo, 0.25f * hi))) continue;
+        if (!(std::max(weight.r, std::max(weight.g, weight.b)) > 0.0f)) continue;
+      }
+      const SurfaceProbe corners[4] = {unweighted(*four[0], n), unweighted(*four[1], n), unweighted(*four[2], n),
+                                       unweighted(*four[3], n)};
+      const zz::FootprintCorner* const made[4] = {&prepared[0]->node[n], &prepared[1]->node[n],
+                                                  &prepared[2]->node[n], &prepared[3]->node[n]};
+      // Half a display step at the camera is half a step over the weight at the node.
+      const glm::vec3 at_node = glm::vec3(settled[0], settled[1], settled[2]) / glm::max(weight, glm::vec3(1e-30f));
+      const FootprintDelta d = texture_footprint_delta(shader_.scene(), corners, light, made, at_node);
+      if (!d.applies) continue;
+      applies = true;
+      delta += weight * d.delta;
+    }
+    return float4(delta.r, delta.g, delta.b, applies ? 1.0f : 0.0f);
   }
 
   RayCounters counters;
@@ -224,6 +263,16 @@ class SceneSource {
     rays.tmax = float4(kInfinity);
     counters.primary += 4;
     return rays;
+  }
+
+  // Footprinted node n's surface probe as its own shading sees it: the probes' specular
+  // carries the path's weight (for the highlight flag), the footprint's model does not.
+  static SurfaceProbe unweighted(const Probe& corner, int n) {
+    SurfaceProbe c = corner.node[probe_slot(kFootprintNode[n])];
+    if (n == 0) return c;
+    const glm::vec3 w = corner.footprint[n].weight;
+    for (int i = 0; i < 3; ++i) c.specular[i] = w[i] > 0.0f ? c.specular[i] / w[i] : 0.0f;
+    return c;
   }
 
   int4 hash(const PathSignature4& seen, const Rgb4& colour) const {

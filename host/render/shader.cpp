@@ -14,6 +14,14 @@ namespace zz {
 
 namespace {
 
+// Scales the weight of lane `lane`'s footprint probes at `node` and below it in the path tree.
+void scale_footprints(const FootprintLanes& footprints, int node, int lane, glm::vec3 weight) {
+  if (node >= kPathTreeNodes) return;
+  if (footprinted(node)) footprints.at(node, lane).weight *= weight;
+  scale_footprints(footprints, reflected_node(node), lane, weight);
+  scale_footprints(footprints, refracted_node(node), lane, weight);
+}
+
 // Scales the specular of lane `lane`'s probes at `node` and below it in the path tree.
 void scale_probes(const ProbeTree& probes, int node, int lane, glm::vec3 weight) {
   if (!probed(node)) return;
@@ -429,8 +437,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       s.shadow_origin = offset_ray_origin(SurfacePosition{shadow_p, s.hit.error + glm::abs(lift) * 4e-7f}, s.ng);
     }
     s.ns = facing_shading_normal(s, ns);
-    if (signature && signature->footprint)
-      signature->footprint[i] = FootprintProbe{glm::vec3(0.0f), prim, u, v, s.front ? 1.0f : -1.0f};
+    if (signature && signature->footprint && footprinted(signature->node))
+      signature->footprint.at(signature->node, i) = FootprintProbe{glm::vec3(0.0f), prim, u, v, s.front ? 1.0f : -1.0f};
     if (signature && signature->probes)
       signature->probes.at(signature->node, i) = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
                                                0u, mat_index, uv0, uv1};
@@ -447,7 +455,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       const LitLanes lit(sp, shaded);
       float4 out_r = float4::load(out[0]), out_g = float4::load(out[1]), out_b = float4::load(out[2]);
       // The footprint's light terms (a camera packet that asks for them only).
-      const bool footprint = signature && signature->footprint;
+      const bool footprint = signature && signature->footprint && footprinted(signature->node);
       vec3x4 irradiance{float4(0.0f), float4(0.0f), float4(0.0f)};
       auto add_light = [&](mask4 reached, const vec3x4& e) {
         irradiance.x = select(reached, irradiance.x + e.x, irradiance.x);
@@ -542,7 +550,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       if (footprint)
         for (int i = 0; i < 4; ++i) {
           if (!shaded[i]) continue;
-          FootprintProbe& f = signature->footprint[i];
+          FootprintProbe& f = signature->footprint.at(signature->node, i);
           f.irradiance = glm::vec3(irradiance.x[i], irradiance.y[i], irradiance.z[i]);
         }
     }
@@ -606,10 +614,17 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       const bool probing = signature && signature->probes;
       const bool probe_reflected = probing && probed(reflected_node(signature->node));
       const bool probe_refracted = probing && probed(refracted_node(signature->node));
+      const bool footprinting = signature && signature->footprint;
+      const bool footprint_reflected = footprinting && footprinted(reflected_node(signature->node));
+      const bool footprint_refracted = footprinting && footprinted(refracted_node(signature->node));
       if (reflect_lanes.any()) {
         counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        if ((signature && depth <= 1) || probe_reflected) seen_reflected.emplace();
-        if (probe_reflected) seen_reflected->probes = signature->probes, seen_reflected->node = reflected_node(signature->node);
+        if ((signature && depth <= 1) || probe_reflected || footprint_reflected) {
+          seen_reflected.emplace();
+          seen_reflected->node = reflected_node(signature->node);
+        }
+        if (probe_reflected) seen_reflected->probes = signature->probes;
+        if (footprint_reflected) seen_reflected->footprint = signature->footprint;
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
                                         float4::load(reflect_path), counters, seen_reflected ? &*seen_reflected : nullptr);
         if (seen_reflected) {
@@ -634,8 +649,12 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           // A refracted ray's first hit is mostly the far side of the same glass; what the
           // glass shows is the hit after that, so a camera packet's signature keeps both.
           const bool sign = signature && depth <= 1;
-          if (sign || probe_refracted) seen_refracted.emplace();
-          if (probe_refracted) seen_refracted->probes = signature->probes, seen_refracted->node = refracted_node(signature->node);
+          if (sign || probe_refracted || footprint_refracted) {
+            seen_refracted.emplace();
+            seen_refracted->node = refracted_node(signature->node);
+          }
+          if (probe_refracted) seen_refracted->probes = signature->probes;
+          if (footprint_refracted) seen_refracted->footprint = signature->footprint;
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
                                         float4::load(refract_path), counters, seen_refracted ? &*seen_refracted : nullptr);
           if (seen_refracted) {
@@ -658,6 +677,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (do_reflect[i]) scale_probes(signature->probes, reflected_node(signature->node), i, reflect_weight[i]);
           if (do_refract[i]) scale_probes(signature->probes, refracted_node(signature->node), i, refract_weight[i]);
         }
+      if (footprinting)
+        for (int i = 0; i < 4; ++i) {
+          if (do_reflect[i]) scale_footprints(signature->footprint, reflected_node(signature->node), i, reflect_weight[i]);
+          if (do_refract[i]) scale_footprints(signature->footprint, refracted_node(signature->node), i, refract_weight[i]);
+        }
     }
   }
 
@@ -673,6 +697,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           out[c][i] *= kept[c];
         }
         if (signature && signature->probes) scale_probes(signature->probes, signature->node, i, kept);  // highlights too
+        if (signature && signature->footprint) scale_footprints(signature->footprint, signature->node, i, kept);
       }
     }
   }

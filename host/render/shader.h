@@ -65,10 +65,22 @@ struct ProbeTree {
   explicit operator bool() const { return lane[0] != nullptr; }
 };
 
-// Where a camera packet's footprint probes go, lane by lane.
+// The path-tree nodes whose textures the footprint correction (render/texture_detail.h)
+// integrates over the pixel: the primary hit, what its reflection and refraction rays hit,
+// and what the refraction's refraction hits and the one after it (what a glass shows
+// through its two walls, and a thick glass through four).
+inline constexpr int kFootprintNodes = 5;
+constexpr int footprint_slot(int node) {
+  return node == 0 ? 0 : node == 1 ? 1 : node == 2 ? 2 : node == 6 ? 3 : node == 14 ? 4 : -1;
+}
+constexpr bool footprinted(int node) { return footprint_slot(node) >= 0; }
+inline constexpr int kFootprintNode[kFootprintNodes] = {0, 1, 2, 6, 14};
+
+// Where a camera packet's footprint probes go: node k of lane i is at(k, i), in slot
+// footprint_slot(k) of lane i's probes, contiguous from lane[i].
 struct FootprintLanes {
   FootprintProbe* lane[4] = {};
-  FootprintProbe& operator[](int i) const { return *lane[i]; }
+  FootprintProbe& at(int node, int i) const { return lane[i][footprint_slot(node)]; }
   explicit operator bool() const { return lane[0] != nullptr; }
 };
 
@@ -91,8 +103,10 @@ struct PathSignature4 {
   // has no such node; specular 0 where the node's ray hits nothing.
   ProbeTree probes;
   int node = 0;  // this packet's node of the tree
-  // Where the caller wants them (a camera packet only): per lane, the primary hit's data
-  // for the texture footprint correction (render/texture_detail.h).
+  // Where the caller wants them (a camera packet only): per lane, the data of the footprinted
+  // nodes of its path tree for the texture footprint correction (render/texture_detail.h),
+  // each with the weight of the path that reached it. Left as they were where the lane's
+  // path has no such node.
   FootprintLanes footprint;
 };
 

@@ -389,6 +389,52 @@ TEST(Renderer, TextureFootprintComesCloserToTheReferenceDeterministically) {
   EXPECT_TRUE(bit_identical(on, render(scene, s)));
 }
 
+// textured_floor's texture seen in a mirror: the textured plane hangs at z = 6 facing down,
+// lit from below (the light to the side, its image in the mirror out of the frame), its
+// texture repeated 16 times (seen from 10 units away, about as many texels per pixel as
+// the floor from 4), and the floor is a mirror.
+Scene textured_ceiling_in_a_mirror() {
+  Scene s = textured_floor();
+  for (size_t t = 0; t < s.positions.size(); t += 3) std::swap(s.positions[t + 1], s.positions[t + 2]),
+                                                    std::swap(s.uvs[t + 1], s.uvs[t + 2]);
+  for (glm::vec3& p : s.positions) p.z = 6.0f;
+  for (glm::vec3& n : s.normals) n = {0, 0, -1};
+  for (glm::vec2& uv : s.uvs) uv *= 0.4f;
+  s.materials.push_back(test::mirror_material(glm::vec3(0.9f)));
+  test::add_quad(s, {-10, -10, 0}, {10, -10, 0}, {10, 10, 0}, {-10, 10, 0}, 1);
+  s.tangents.resize(s.positions.size(), glm::vec4(1, 0, 0, 1));
+  s.lights[0].position = {6, 6, 3};
+  s.finalize_materials();
+  return s;
+}
+
+// The correction follows the camera ray into a mirror: the texture it shows is integrated
+// over the pixel too, weighed by the mirror's reflectance (render/scene_source.h).
+TEST(Renderer, TextureFootprintFollowsTheCameraRayIntoAMirror) {
+  const Scene scene = textured_ceiling_in_a_mirror();
+  RenderSettings s;
+  s.width = 96;
+  s.height = 64;
+  s.aa = AaMode::Uniform;
+  s.uniform = {UniformPattern::Stratified, 256};
+  const Film reference = render(scene, s);
+  s.aa = AaMode::Adaptive;
+  s.adaptive.highlights = s.adaptive.curvature = true;
+  RenderStats off_stats, on_stats;
+  const Film off = render(scene, s, &off_stats);
+  s.adaptive.footprint = true;
+  s.threads = 1;
+  const Film on = render(scene, s, &on_stats);
+  EXPECT_EQ(on_stats.rays.primary, off_stats.rays.primary);
+  EXPECT_LT(rmse(on, reference), 0.6 * rmse(off, reference)) << rmse(on, reference) << " " << rmse(off, reference);
+  s.threads = 2;
+  s.tile_size = 7;
+  EXPECT_TRUE(bit_identical(on, render(scene, s)));
+  s.corner_field = false;
+  s.tile_size = 16;
+  EXPECT_TRUE(bit_identical(on, render(scene, s)));
+}
+
 TEST(Renderer, PendingMapFailureIsRethrown) {
   const Scene scene = box_scene();
   const Bvh bvh = Bvh::build(scene.positions);
