@@ -198,7 +198,7 @@ class SceneSource {
   // the corners' mean weight of the path to it); lane 3 is 1 where the correction applies
   // to some node, 0 elsewhere. `prepared`: footprint_corner of the four corners.
   // `mean`: the corners' mean radiance; a first estimate is kept where it moves the display
-  // by less than half a step and its samples agree within that (texture_detail.h).
+  // by less than kFootprintSettledSteps and its samples agree within that (texture_detail.h).
   struct FootprintCorner {
     zz::FootprintCorner node[kFootprintNodes];
   };
@@ -216,7 +216,7 @@ class SceneSource {
                          float4 mean) const {
     if (!detail_ || !detail_->footprint) return float4(0.0f);
     const Probe* const four[4] = {tl, tl + 1, tl + stride, tl + stride + 1};
-    const float4 settled = float4(0.5f / 255.0f) / tonemap_.slope4(mean);
+    const float4 settled = float4(kFootprintSettledSteps / 255.0f) / tonemap_.slope4(mean);
     glm::vec3 delta(0.0f);
     bool applies = false;
     for (int n = 0; n < kFootprintNodes; ++n) {
@@ -241,7 +241,7 @@ class SceneSource {
                                        unweighted(*four[3], n)};
       const zz::FootprintCorner* const made[4] = {&prepared[0]->node[n], &prepared[1]->node[n],
                                                   &prepared[2]->node[n], &prepared[3]->node[n]};
-      // Half a display step at the camera is half a step over the weight at the node.
+      // A display step at the camera is a step over the weight at the node.
       const glm::vec3 at_node = glm::vec3(settled[0], settled[1], settled[2]) / glm::max(weight, glm::vec3(1e-30f));
       const FootprintDelta d = texture_footprint_delta(shader_.scene(), corners, light, made, at_node);
       if (!d.applies) continue;

@@ -409,9 +409,10 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     return glm::vec3(hsum(sum.x), hsum(sum.y), hsum(sum.z)) / float(count);
   };
   // 2 x 2 samples first. They settle the pixel where what they add could not show and no
-  // two of them differ by more (`settled`, half a display step). On the car's fabric floor,
-  // 2 x 2 means whose samples disagree were a display step off the pixel's on 26 000
-  // pixels, which FLIP counts (1.44x the lattice's error without the agreement test).
+  // two of them differ by more (`settled`, kFootprintSettledSteps of a display step). On
+  // the car's fabric floor, 2 x 2 means whose samples disagree were a display step off the
+  // pixel's on 26 000 pixels, which FLIP counts (1.44x the lattice's error without the
+  // agreement test).
   glm::vec3 spread;
   const glm::vec3 coarse = model_mean(kFootprintCoarse.data(), int(kFootprintCoarse.size()), spread) - at_corners;
   if (glm::all(glm::lessThan(glm::abs(coarse), settled)) && glm::all(glm::lessThan(spread, settled)))
