@@ -64,9 +64,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
              "Adaptive: refine pixels whose texture, averaged over the pixel, differs from what the corners "
              "sampled (emissive and base-colour detail between them)");
   add_choice(cmd, "--footprint", o.footprint, kOnOff,
-             "Adaptive: unrefined pixels on one textured surface take the texture's mean over the pixel (4-16 "
-             "points between the corners' texture coordinates, each lit at its normal-mapped normal), not the "
-             "corners' mean");
+             "Adaptive: unrefined pixels on one textured surface, or seeing one in a mirror or through glass, take "
+             "the texture's mean over the pixel (2x2 points between the corners' texture coordinates, else the "
+             "25-point lattice's, each lit at its normal-mapped normal), not the corners' mean");
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
              "Adaptive: unrefined pixels corrected for the shading's curvature (reads a ring of corners around "
              "each tile)");
