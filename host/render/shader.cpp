@@ -14,20 +14,15 @@ namespace zz {
 
 namespace {
 
-// Scales the weight of lane `lane`'s footprint probes at `node` and below it in the path tree.
-void scale_footprints(const FootprintLanes& footprints, int node, int lane, glm::vec3 weight) {
-  if (node >= kPathTreeNodes) return;
-  if (footprinted(node)) footprints.at(node, lane).weight *= weight;
-  scale_footprints(footprints, reflected_node(node), lane, weight);
-  scale_footprints(footprints, refracted_node(node), lane, weight);
-}
-
-// Scales the specular of lane `lane`'s probes at `node` and below it in the path tree.
-void scale_probes(const ProbeTree& probes, int node, int lane, glm::vec3 weight) {
+// Weighs lane `lane`'s records at `node` and below it in the path tree by the light the ray
+// to `node` keeps: the probes' specular and the footprint probes' weight (the footprinted
+// nodes are probed ones, so one walk over the probed subtree reaches both).
+void scale_path(const PathSignature4& signature, int node, int lane, glm::vec3 weight) {
   if (!probed(node)) return;
-  probes.at(node, lane).specular *= weight;
-  scale_probes(probes, reflected_node(node), lane, weight);
-  scale_probes(probes, refracted_node(node), lane, weight);
+  if (signature.probes) signature.probes.at(node, lane).specular *= weight;
+  if (signature.footprint && footprinted(node)) signature.footprint.at(node, lane).weight *= weight;
+  scale_path(signature, reflected_node(node), lane, weight);
+  scale_path(signature, refracted_node(node), lane, weight);
 }
 
 constexpr float kInvPi = 0.318309886f;
@@ -672,15 +667,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         }
       }
       // The children's probes carry the weight of the ray that reached them.
-      if (probing)
+      if (probing || footprinting)
         for (int i = 0; i < 4; ++i) {
-          if (do_reflect[i]) scale_probes(signature->probes, reflected_node(signature->node), i, reflect_weight[i]);
-          if (do_refract[i]) scale_probes(signature->probes, refracted_node(signature->node), i, refract_weight[i]);
-        }
-      if (footprinting)
-        for (int i = 0; i < 4; ++i) {
-          if (do_reflect[i]) scale_footprints(signature->footprint, reflected_node(signature->node), i, reflect_weight[i]);
-          if (do_refract[i]) scale_footprints(signature->footprint, refracted_node(signature->node), i, refract_weight[i]);
+          if (do_reflect[i]) scale_path(*signature, reflected_node(signature->node), i, reflect_weight[i]);
+          if (do_refract[i]) scale_path(*signature, refracted_node(signature->node), i, refract_weight[i]);
         }
     }
   }
@@ -696,8 +686,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           kept[c] = std::exp(-sigma[c] * sp[i].distance);
           out[c][i] *= kept[c];
         }
-        if (signature && signature->probes) scale_probes(signature->probes, signature->node, i, kept);  // highlights too
-        if (signature && signature->footprint) scale_footprints(signature->footprint, signature->node, i, kept);
+        if (signature && (signature->probes || signature->footprint))
+          scale_path(*signature, signature->node, i, kept);  // highlights and footprints too
       }
     }
   }

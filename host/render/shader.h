@@ -70,11 +70,21 @@ struct ProbeTree {
 // and what the refraction's refraction hits and the one after it (what a glass shows
 // through its two walls, and a thick glass through four).
 inline constexpr int kFootprintNodes = 5;
+inline constexpr int kFootprintNode[kFootprintNodes] = {0, 1, 2, 6, 14};
+// The slot of tree node k in a lane's footprint probes; -1 where the correction does not follow.
 constexpr int footprint_slot(int node) {
-  return node == 0 ? 0 : node == 1 ? 1 : node == 2 ? 2 : node == 6 ? 3 : node == 14 ? 4 : -1;
+  for (int slot = 0; slot < kFootprintNodes; ++slot)
+    if (kFootprintNode[slot] == node) return slot;
+  return -1;
 }
 constexpr bool footprinted(int node) { return footprint_slot(node) >= 0; }
-inline constexpr int kFootprintNode[kFootprintNodes] = {0, 1, 2, 6, 14};
+// The shader reaches a footprinted node by walking the probed subtree (and reads the
+// node's surface probe): each must be probed.
+static_assert([] {
+  for (int node : kFootprintNode)
+    if (!probed(node)) return false;
+  return true;
+}());
 
 // Where a camera packet's footprint probes go: node k of lane i is at(k, i), in slot
 // footprint_slot(k) of lane i's probes, contiguous from lane[i].

@@ -52,8 +52,8 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 // the mean of its four corner samples is not the mean of the texture over the pixel. With
 // the corners (TL, TR, BL, BR) on one material, the pixel's texture coordinates are their
 // bilinear interpolation; the base-colour (diffuse albedo) and emissive textures are
-// averaged over it at 2 x 2 points, or the 25-point lattice's where those disagree (the box filter the lattice and the
-// reference apply, without rays), and
+// averaged over it at 2 x 2 points, or the 25-point lattice's where those disagree (the box
+// filter the lattice and the reference apply, without rays), and
 //   delta = mean_s(A_s E_s) - mean_k(A_k E_k) + emission * (mean_s(T_s) - mean_k(T_k)),
 // over samples s and corners k, with A the diffuse albedo, T the emissive texture and E the
 // direct light per unit albedo (FootprintProbe::irradiance): at a sample, the corners' mean,
@@ -90,9 +90,8 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner,
 
 // `settled`: per channel, kFootprintSettledSteps of a display step: the 2 x 2 first
 // estimate is kept when its delta stays below it and no two of its four samples differ by
-// more, in every channel;
-// otherwise the model at the 25-point lattice (aa/lattice.h: 24 inner points, four at a
-// time in SSE lanes, and the corners).
+// more, in every channel; otherwise the model at the 25-point lattice (aa/lattice.h: 24
+// inner points, four at a time in SSE lanes, and the corners).
 // `prepared`: footprint_corner of each corner.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4],
