@@ -34,6 +34,12 @@ float material_tag(const Scene& scene, size_t triangle) {
   return float(m % (1u << 24));  // exact in a float; materials 2^24 apart share a tag
 }
 
+bool seen_by_map(const Scene& scene, size_t triangle) {
+  if (triangle >= scene.material_of.size()) return true;
+  const uint32_t m = scene.material_of[triangle];
+  return m >= scene.materials.size() || scene.materials[m].alpha_mode != AlphaMode::Blend;
+}
+
 std::vector<glm::vec4> geometric_normals(const Scene& scene) {
   size_t n = scene.positions.size() / 3;
   std::vector<glm::vec4> normals(n, glm::vec4(0.0f));
@@ -74,8 +80,11 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
   normals.resize(std::max<size_t>(triangles_, 1), glm::vec4(0.0f));
   if (triangles_ > 0) bounds_min_ = bounds_max_ = scene.positions[0];
   for (size_t t = 0; t < triangles_; ++t) {
+    // A triangle the map does not see is drawn as a point, which covers no sample; its id
+    // stays reserved, so every other triangle keeps the id the ray tracer gives it.
+    const bool seen = seen_by_map(scene, t);
     for (int k = 0; k < 3; ++k) {
-      glm::vec3 p = scene.positions[3 * t + k];
+      glm::vec3 p = scene.positions[3 * t + (seen ? k : 0)];
       positions[3 * t + k] = glm::vec4(p, 1.0f);
       bounds_min_ = glm::min(bounds_min_, p);
       bounds_max_ = glm::max(bounds_max_, p);

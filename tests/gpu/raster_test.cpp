@@ -23,7 +23,10 @@ Scene mixed_scene() {
 }
 
 // Fraction of agreeing samples; every disagreement must sit next to a ray-traced edge.
-void check_agreement(VulkanContext& context, const Scene& scene, const Camera& camera, int w, int h, int s) {
+// `traced`: the triangles the rays see, the rastered scene's first ones (by default all).
+void check_agreement(VulkanContext& context, const Scene& scene, const Camera& camera, int w, int h, int s,
+                     const Scene* traced_scene = nullptr) {
+  const Scene& seen = traced_scene ? *traced_scene : scene;
   VisibilityPass pass(context, scene);
   VisibilitySettings settings;
   settings.supersample = s;
@@ -35,7 +38,7 @@ void check_agreement(VulkanContext& context, const Scene& scene, const Camera& c
   for (int v = 0; v < sh; ++v)
     for (int u = 0; u < sw; ++u) {
       glm::vec3 d = rays.direction((u - 1 + 0.5f) / s, (v - 1 + 0.5f) / s);
-      traced[size_t(v) * sw + u] = first_hit(scene, glm::dvec3(rays.origin), glm::dvec3(d));
+      traced[size_t(v) * sw + u] = first_hit(seen, glm::dvec3(rays.origin), glm::dvec3(d));
     }
   size_t mismatches = 0, hits = 0;
   for (int v = 0; v < sh; ++v)
@@ -66,6 +69,35 @@ TEST_F(RasterTest, IdsMatchPrimaryRaysS4) {
 TEST_F(RasterTest, IdsMatchPrimaryRaysS6OddSize) {
   Camera camera = Camera::look_at({-1.5f, 0.4f, 2.0f}, {0.1f, 0.0f, -0.2f}, {0, 1, 0}, 0.7f);
   check_agreement(context(), mixed_scene(), camera, 37, 29, 6);
+}
+
+TEST_F(RasterTest, AlphaBlendSurfacesAreSeenThrough) {
+  // A blended pane in front of everything: the map shows what lies behind it, and its
+  // triangles (appended last) never appear, though they cover most of the frame.
+  const Scene behind = mixed_scene();
+  Scene scene = behind;
+  SceneBuilder pane;
+  pane.quad({-3.0f, -3.0f, 1.2f}, {3.0f, -3.0f, 1.2f}, {3.0f, 3.0f, 1.2f}, {-3.0f, 3.0f, 1.2f});
+  const Scene p = pane.done();
+  Material glass;
+  glass.alpha_mode = AlphaMode::Blend;
+  glass.base_alpha = 0.3f;
+  scene.materials.push_back(glass);
+  const size_t first_pane = scene.triangle_count();
+  for (size_t t = 0; t < p.triangle_count(); ++t) {
+    for (int k = 0; k < 3; ++k) {
+      scene.positions.push_back(p.positions[3 * t + k]);
+      scene.normals.push_back(p.normals[3 * t + k]);
+      scene.uvs.push_back(p.uvs[3 * t + k]);
+    }
+    scene.material_of.push_back(uint32_t(scene.materials.size() - 1));
+  }
+  scene.finalize_materials();
+  ASSERT_FALSE(seen_by_map(scene, first_pane));
+  ASSERT_TRUE(seen_by_map(scene, 0));
+  Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
+  ASSERT_GT(first_hit(scene, glm::dvec3(0.3, 0.8, 2.6), glm::dvec3(-0.3, -0.8, -2.6)), first_pane);
+  check_agreement(context(), scene, camera, 80, 60, 4, &behind);
 }
 
 TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
