@@ -102,7 +102,11 @@ class SceneSource {
   SceneSource(const Shader& shader, const CameraRays& camera, unsigned signature_parts = kSignatureNone,
               const HiddenDetail* detail = nullptr, ToneMap tonemap = {})
       : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail),
-        tonemap_(tonemap) {}
+        tonemap_(tonemap) {
+    view_.origin = camera.origin;
+    const glm::vec3 forward = glm::normalize(glm::cross(camera.du, camera.dv));
+    view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
+  }
 
   Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters); }
 
@@ -243,7 +247,8 @@ class SceneSource {
                                                   &prepared[2]->node[n], &prepared[3]->node[n]};
       // A display step at the camera is a step over the weight at the node.
       const glm::vec3 at_node = glm::vec3(settled[0], settled[1], settled[2]) / glm::max(weight, glm::vec3(1e-30f));
-      const FootprintDelta d = texture_footprint_delta(shader_.scene(), corners, light, made, at_node);
+      const FootprintDelta d =
+          texture_footprint_delta(shader_.scene(), corners, light, made, at_node, n == 0 ? &view_ : nullptr);
       if (!d.applies) continue;
       applies = true;
       delta += weight * d.delta;
@@ -297,6 +302,7 @@ class SceneSource {
   unsigned parts_;
   const HiddenDetail* detail_;
   ToneMap tonemap_;
+  FootprintView view_;  // the camera, for the footprint's samples on the primary hit
 };
 
 static_assert(SignedSampleSource<SceneSource>);

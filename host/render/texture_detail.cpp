@@ -193,6 +193,93 @@ struct Bilerp4 {
   glm::vec2 lane(int i, glm::vec2 a, glm::vec2 b, glm::vec2 c, glm::vec2 d) const {
     return w[0][i] * a + w[1][i] * b + w[2][i] * c + w[3][i] * d;
   }
+  glm::vec3 lane3(int i, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) const {
+    return w[0][i] * a + w[1][i] * b + w[2][i] * c + w[3][i] * d;
+  }
+};
+
+// What four samples of the pixel hit where their camera rays meet one of the corners'
+// triangles: that triangle's texture coordinates and shading frame at the hit, exact where
+// the corners' bilinear interpolation is not (a pixel over two or more triangles of a
+// curved, smooth-shaded mesh, whose normals and texture coordinates are linear per
+// triangle, not over the pixel). Lanes bit i: lane i has its own.
+struct SampleSurface4 {
+  int lanes = 0;
+  glm::vec2 uv0[4], uv1[4];
+  glm::vec3 frame[3][4];  // with a normal map: tangent, bitangent, normal (the shader's)
+};
+
+// The corners' distinct triangles, each as the ray test needs it.
+class CornerTriangles {
+ public:
+  CornerTriangles(const Scene& scene, const FootprintProbe* const f[4], bool frames)
+      : scene_(scene), frames_(frames) {
+    for (int i = 0; i < 4; ++i) {
+      const int32_t prim = f[i]->prim;
+      if (prim < 0 || size_t(prim) * 3 + 2 >= scene.positions.size()) continue;
+      bool seen = false;
+      for (int j = 0; j < count_; ++j) seen |= prim_[j] == prim;
+      if (seen) continue;
+      const size_t t3 = size_t(prim) * 3;
+      prim_[count_] = prim;
+      p0_[count_] = scene.positions[t3];
+      e1_[count_] = scene.positions[t3 + 1] - scene.positions[t3];
+      e2_[count_] = scene.positions[t3 + 2] - scene.positions[t3];
+      ++count_;
+    }
+  }
+  int count() const { return count_; }
+
+  // Lane i's ray: from `origin` along d[i]. A lane that meets none of the triangles keeps
+  // the interpolation.
+  SampleSurface4 hit4(glm::vec3 origin, const glm::vec3 d[4]) const {
+    SampleSurface4 out;
+    for (int lane = 0; lane < 4; ++lane) {
+      float best = std::numeric_limits<float>::infinity(), bu = 0.0f, bv = 0.0f;
+      int which = -1;
+      for (int j = 0; j < count_; ++j) {
+        // Moller & Trumbore 1997, with a little slack at the edges: a sample on the
+        // triangles' shared edge may fall in either.
+        const glm::vec3 p = glm::cross(d[lane], e2_[j]);
+        const float det = glm::dot(e1_[j], p);
+        if (!(std::abs(det) > 0.0f)) continue;
+        const float inv = 1.0f / det;
+        const glm::vec3 s = origin - p0_[j];
+        const float u = glm::dot(s, p) * inv;
+        const glm::vec3 q = glm::cross(s, e1_[j]);
+        const float v = glm::dot(d[lane], q) * inv;
+        constexpr float kSlack = 1e-4f;
+        if (!(u >= -kSlack && v >= -kSlack && u + v <= 1.0f + kSlack)) continue;
+        const float t = glm::dot(e2_[j], q) * inv;
+        if (t > 0.0f && t < best) best = t, bu = u, bv = v, which = j;
+      }
+      if (which < 0) continue;
+      const size_t t3 = size_t(prim_[which]) * 3;
+      const float u = std::clamp(bu, 0.0f, 1.0f), v = std::clamp(bv, 0.0f, 1.0f - u), w = 1.0f - u - v;
+      out.uv0[lane] = w * scene_.uvs[t3] + u * scene_.uvs[t3 + 1] + v * scene_.uvs[t3 + 2];
+      out.uv1[lane] = scene_.uvs1.empty() ? glm::vec2(0.0f)
+                                           : w * scene_.uvs1[t3] + u * scene_.uvs1[t3 + 1] + v * scene_.uvs1[t3 + 2];
+      if (frames_) {
+        const glm::vec3 winding = glm::cross(e1_[which], e2_[which]);
+        const float winding_len = glm::length(winding);
+        if (!(winding_len > 0.0f)) continue;
+        const glm::vec3 ng = winding / winding_len;
+        glm::vec3 frame[3];
+        if (!normal_map_frame(scene_, t3, u, v, interpolated_normal(scene_, t3, u, v, ng), frame)) continue;
+        const float side = glm::dot(winding, d[lane]) < 0.0f ? 1.0f : -1.0f;  // the shader's front
+        for (int axis = 0; axis < 3; ++axis) out.frame[axis][lane] = frame[axis] * side;
+      }
+      out.lanes |= 1 << lane;
+    }
+    return out;
+  }
+
+ private:
+  const Scene& scene_;
+  bool frames_ = false;
+  int count_ = 0;
+  int32_t prim_[4] = {};
+  glm::vec3 p0_[4], e1_[4], e2_[4];
 };
 
 // A texture the footprint's samples read, with its coordinates at the four corners: a
@@ -200,17 +287,39 @@ struct Bilerp4 {
 // commutes with the interpolation).
 struct CornerTexture {
   const Texture* texture = nullptr;
+  const TextureRef* ref = nullptr;
   glm::vec2 st[4];
   CornerTexture() = default;
-  CornerTexture(const Scene& scene, const TextureRef& ref, const SurfaceProbe c[4]) {
-    if (!valid_ref(scene, ref)) return;
-    texture = &scene.textures[size_t(ref.index)];
-    for (int i = 0; i < 4; ++i) st[i] = ref.at(c[i].uv0, c[i].uv1);
+  CornerTexture(const Scene& scene, const TextureRef& r, const SurfaceProbe c[4]) {
+    if (!valid_ref(scene, r)) return;
+    texture = &scene.textures[size_t(r.index)];
+    ref = &r;
+    for (int i = 0; i < 4; ++i) st[i] = r.at(c[i].uv0, c[i].uv1);
   }
-  void sample4(const Bilerp4& w, float4 rgba[4]) const {
-    texture->sample4(w.at(st[0].x, st[1].x, st[2].x, st[3].x), w.at(st[0].y, st[1].y, st[2].y, st[3].y), rgba);
+  // At the interpolated coordinates, except in the lanes `exact` has its own for.
+  void sample4(const Bilerp4& w, const SampleSurface4& exact, float4 rgba[4]) const {
+    alignas(16) float s[4], t[4];
+    w.at(st[0].x, st[1].x, st[2].x, st[3].x).store(s);
+    w.at(st[0].y, st[1].y, st[2].y, st[3].y).store(t);
+    for (int lane = 0; lane < 4; ++lane)
+      if ((exact.lanes >> lane) & 1) {
+        const glm::vec2 at = ref->at(exact.uv0[lane], exact.uv1[lane]);
+        s[lane] = at.x;
+        t[lane] = at.y;
+      }
+    texture->sample4(float4::load(s), float4::load(t), rgba);
   }
 };
+
+// One lane's vector from `bilinear`, except in the lanes `exact` has its own for.
+vec3x4 patch_lanes(const vec3x4& bilinear, const SampleSurface4& exact, const glm::vec3 (&own)[4]) {
+  if (exact.lanes == 0) return bilinear;
+  alignas(16) float x[4], y[4], z[4];
+  bilinear.x.store(x), bilinear.y.store(y), bilinear.z.store(z);
+  for (int lane = 0; lane < 4; ++lane)
+    if ((exact.lanes >> lane) & 1) x[lane] = own[lane].x, y[lane] = own[lane].y, z[lane] = own[lane].z;
+  return {float4::load(x), float4::load(y), float4::load(z)};
+}
 
 }  // namespace
 
@@ -266,15 +375,16 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, cons
 }
 
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[4], const FootprintProbe* const f[4],
-                                       glm::vec3 settled) {
+                                       glm::vec3 settled, const FootprintView* view) {
   const FootprintCorner k[4] = {footprint_corner(scene, c[0], *f[0]), footprint_corner(scene, c[1], *f[1]),
                                 footprint_corner(scene, c[2], *f[2]), footprint_corner(scene, c[3], *f[3])};
   const FootprintCorner* const corners[4] = {&k[0], &k[1], &k[2], &k[3]};
-  return texture_footprint_delta(scene, c, f, corners, settled);
+  return texture_footprint_delta(scene, c, f, corners, settled, view);
 }
 
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[4], const FootprintProbe* const f[4],
-                                       const FootprintCorner* const k[4], glm::vec3 settled) {
+                                       const FootprintCorner* const k[4], glm::vec3 settled,
+                                       const FootprintView* view) {
   const uint32_t m = c[0].material;
   if (m >= scene.materials.size()) return {};
   for (int i = 0; i < 4; ++i)
@@ -317,15 +427,32 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   const vec3x4 zero = splat(glm::vec3(0.0f));
   const CornerTexture emissive_map(scene, material.emissive_texture, c), base_map(scene, material.base_color_texture, c);
   const CornerTexture normal_map = per_light ? CornerTexture(scene, material.normal_texture, c) : CornerTexture();
+  // With the camera, each sample's own triangle among the corners' (SampleSurface4). The
+  // rays' directions on the image plane are affine in (s, t), so the corners' directions
+  // scaled to unit depth interpolate to them exactly.
+  const CornerTriangles triangles(scene, f, per_light);
+  const bool exact = view && triangles.count() > 1;
+  glm::vec3 image[4];
+  if (exact)
+    for (int i = 0; i < 4; ++i) {
+      const glm::vec3 d = c[i].position - view->origin;
+      image[i] = d / glm::dot(d, view->forward);
+    }
 
   // The model's radiance at four points (s, t) of the pixel at once (corner TL at 0, 0; BR
   // at 1, 1), every quantity interpolated between the corners with the same four weights.
   auto model4 = [&](float4 s, float4 t) {
     const Bilerp4 w(s, t);
+    SampleSurface4 own;
+    if (exact) {
+      glm::vec3 d[4];
+      for (int lane = 0; lane < 4; ++lane) d[lane] = w.lane3(lane, image[0], image[1], image[2], image[3]);
+      own = triangles.hit4(view->origin, d);
+    }
     vec3x4 sum = zero;
     if (emissive) {
       float4 rgba[4];
-      emissive_map.sample4(w, rgba);
+      emissive_map.sample4(w, own, rgba);
       sum = vec3x4{rgba[0], rgba[1], rgba[2]} * splat(emission);
     }
     if (!lit) return sum;
@@ -334,14 +461,17 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
       albedo = splat(whitted.diffuse);
       if (base_map.texture) {
         float4 rgba[4];
-        base_map.sample4(w, rgba);
+        base_map.sample4(w, own, rgba);
         albedo = albedo * vec3x4{rgba[0], rgba[1], rgba[2]};
       }
     } else {  // metallic, roughness or transmission textured: the material, lane by lane
       alignas(16) float ax[4], ay[4], az[4];
       for (int lane = 0; lane < 4; ++lane) {
-        const glm::vec3 a = diffuse_albedo(scene, m, Texcoords(w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
-                                                               w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
+        const bool mine = (own.lanes >> lane) & 1;
+        const glm::vec3 a = diffuse_albedo(
+            scene, m,
+            Texcoords(mine ? own.uv0[lane] : w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
+                      mine ? own.uv1[lane] : w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
         ax[lane] = a.x;
         ay[lane] = a.y;
         az[lane] = a.z;
@@ -351,12 +481,13 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (!per_light) return sum + albedo * splat(light);
     // The normal map at the samples, in the corners' frames interpolated (mapped_in_frame).
     float4 rgb[4];
-    normal_map.sample4(w, rgb);
+    normal_map.sample4(w, own, rgb);
     const float4 scale(material.normal_scale);
-    const vec3x4 mapped =
-        w.at(k[0]->frame[0], k[1]->frame[0], k[2]->frame[0], k[3]->frame[0]) * ((rgb[0] * 2.0f - 1.0f) * scale) +
-        w.at(k[0]->frame[1], k[1]->frame[1], k[2]->frame[1], k[3]->frame[1]) * ((rgb[1] * 2.0f - 1.0f) * scale) +
-        w.at(k[0]->frame[2], k[1]->frame[2], k[2]->frame[2], k[3]->frame[2]) * (rgb[2] * 2.0f - 1.0f);
+    auto axis = [&](int a) {
+      return patch_lanes(w.at(k[0]->frame[a], k[1]->frame[a], k[2]->frame[a], k[3]->frame[a]), own, own.frame[a]);
+    };
+    const vec3x4 mapped = axis(0) * ((rgb[0] * 2.0f - 1.0f) * scale) + axis(1) * ((rgb[1] * 2.0f - 1.0f) * scale) +
+                          axis(2) * (rgb[2] * 2.0f - 1.0f);
     const float4 mapped_len = sqrt(dot(mapped, mapped));
     const vec3x4 normal = select((mapped_len > float4(1e-12f)) & isfinite(mapped_len),
                                  mapped * rcp_exact(mapped_len), splat(c[0].normal));

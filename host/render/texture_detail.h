@@ -51,7 +51,8 @@ glm::vec3 hidden_texture_detail(const Scene& scene, const std::vector<TexturePyr
 // The texture footprint correction (ours): what a pixel finished at level 1 lacks because
 // the mean of its four corner samples is not the mean of the texture over the pixel. With
 // the corners (TL, TR, BL, BR) on one material, the pixel's texture coordinates are their
-// bilinear interpolation; the base-colour (diffuse albedo) and emissive textures are
+// bilinear interpolation (with a FootprintView, a sample whose camera ray meets one of the
+// corners' triangles takes that triangle's coordinates and normal-map frame instead); the base-colour (diffuse albedo) and emissive textures are
 // averaged over it at 2 x 2 points, or the 25-point lattice's where those disagree (the box
 // filter the lattice and the reference apply, without rays), and
 //   delta = mean_s(A_s E_s) - mean_k(A_k E_k) + emission * (mean_s(T_s) - mean_k(T_k)),
@@ -88,6 +89,13 @@ struct FootprintCorner {
 };
 FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner, const FootprintProbe& footprint);
 
+// The camera of a pinhole view (origin, unit forward axis): with it, a sample whose camera
+// ray meets one of the corners' triangles takes that triangle's texture coordinates and
+// shading frame, not the corners' interpolation. Only for the primary hit (node 0).
+struct FootprintView {
+  glm::vec3 origin{0.0f}, forward{0.0f, 0.0f, -1.0f};
+};
+
 // `settled`: per channel, kFootprintSettledSteps of a display step: the 2 x 2 first
 // estimate is kept when its delta stays below it and no two of its four samples differ by
 // more, in every channel; otherwise the model at the 25-point lattice (aa/lattice.h: 24
@@ -95,9 +103,11 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner,
 // `prepared`: footprint_corner of each corner.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
                                        const FootprintProbe* const footprint[4],
-                                       const FootprintCorner* const prepared[4], glm::vec3 settled);
+                                       const FootprintCorner* const prepared[4], glm::vec3 settled,
+                                       const FootprintView* view = nullptr);
 // The same, preparing the four corners itself.
 FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe corners[4],
-                                       const FootprintProbe* const footprint[4], glm::vec3 settled);
+                                       const FootprintProbe* const footprint[4], glm::vec3 settled,
+                                       const FootprintView* view = nullptr);
 
 }  // namespace zz

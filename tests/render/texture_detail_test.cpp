@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
+#include "aa/lattice.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -148,6 +150,57 @@ TEST(TextureFootprint, StripesAlongThePixelsAxisDoNotAlias) {
   ASSERT_TRUE(d.applies);
   // The bilinear stripes' mean over whole periods is 1/2 (the lattice's 25 points: 0.48).
   EXPECT_NEAR(d.delta.r, 0.5f, 0.03f);
+}
+
+// A surface folded in the middle of the pixel, seen from the camera at the origin looking
+// down -z, with a texture whose value is its u coordinate: u runs along the surface, flat
+// at depth 1 left of x = 0 (triangle 0), then receding as z = -1 - 2x (triangle 1). Across
+// the pixel (image points x, y in [-0.3, 0.3] at depth 1) u is linear left of the fold and
+// convex right of it, which no interpolation between the corners follows; with the camera,
+// each sample takes its own triangle's u, as the rays of the lattice would.
+TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
+  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });  // bilinear: u itself
+  constexpr float kScale = 0.02f, kSlope = 2.0f;
+  const float along = std::sqrt(1.0f + kSlope * kSlope);  // surface length per unit x on the right
+  const glm::vec3 far(10.0f, 0.0f, -1.0f - kSlope * 10.0f);
+  s.scene.positions = {glm::vec3(0.0f, -10.0f, -1.0f), glm::vec3(0.0f, 10.0f, -1.0f), glm::vec3(-10.0f, 0.0f, -1.0f),
+                       glm::vec3(0.0f, -10.0f, -1.0f), glm::vec3(0.0f, 10.0f, -1.0f), far};
+  auto uv_at = [&](glm::vec3 p) {
+    return glm::vec2(0.5f + kScale * (p.x > 0.0f ? p.x * along : p.x), 0.5f + kScale * p.y);
+  };
+  for (const glm::vec3& p : s.scene.positions) s.scene.uvs.push_back(uv_at(p));
+  s.scene.material_of = {0, 0};
+  // Where the ray through image point (x, y) meets the surface.
+  auto hit = [&](float x, float y) {
+    const float t = x < 0.0f ? 1.0f : 1.0f / (1.0f - kSlope * x);
+    return glm::vec3(x * t, y * t, -t);
+  };
+  auto image = [](float s_, float t_) { return glm::vec2(-0.3f + 0.6f * s_, -0.3f + 0.6f * t_); };
+  FootprintCorners k;
+  for (int i = 0; i < 4; ++i) {
+    const glm::vec2 q = image(float(i % 2), float(i / 2));
+    k.c[i].material = 0;
+    k.c[i].position = hit(q.x, q.y);
+    k.c[i].uv0 = uv_at(k.c[i].position);
+    k.f[i].prim = q.x < 0.0f ? 0 : 1;
+  }
+  // The lattice's mean of u (its corner point as the corners' mean) minus the corners'.
+  double inner = 0.0, corners = 0.0;
+  for (int i = 0; i < 4; ++i) corners += 0.25 * k.c[i].uv0.x;
+  for (int p = 1; p < kLatticePoints; ++p) {
+    const glm::vec2 q = image(kLattice[size_t(p)].u, kLattice[size_t(p)].v);
+    inner += uv_at(hit(q.x, q.y)).x / double(kLatticePoints - 1);
+  }
+  const float expected = float((inner - corners) * (kLatticePoints - 1) / kLatticePoints);
+  const FootprintView view{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &view);
+  const FootprintDelta interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
+  ASSERT_TRUE(exact.applies);
+  ASSERT_TRUE(interpolated.applies);
+  EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
+  EXPECT_GT(std::abs(interpolated.delta.r - expected), 5e-3f);  // the interpolation sees no delta at all
+  std::printf("delta: lattice %.6f, own triangles %.6f, interpolated %.6f\n", expected, exact.delta.r,
+              interpolated.delta.r);
 }
 
 TEST(TextureFootprint, NotAcrossMaterialsSeamsAtlasJumpsOrMisses) {
