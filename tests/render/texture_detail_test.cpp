@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "aa/lattice.h"
+#include "render/normal_map.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -153,53 +154,139 @@ TEST(TextureFootprint, StripesAlongThePixelsAxisDoNotAlias) {
 }
 
 // A surface folded in the middle of the pixel, seen from the camera at the origin looking
-// down -z, with a texture whose value is its u coordinate: u runs along the surface, flat
-// at depth 1 left of x = 0 (triangle 0), then receding as z = -1 - 2x (triangle 1). Across
-// the pixel (image points x, y in [-0.3, 0.3] at depth 1) u is linear left of the fold and
-// convex right of it, which no interpolation between the corners follows; with the camera,
-// each sample takes its own triangle's u, as the rays of the lattice would.
-TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
-  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });  // bilinear: u itself
-  constexpr float kScale = 0.02f, kSlope = 2.0f;
-  const float along = std::sqrt(1.0f + kSlope * kSlope);  // surface length per unit x on the right
-  const glm::vec3 far(10.0f, 0.0f, -1.0f - kSlope * 10.0f);
-  s.scene.positions = {glm::vec3(0.0f, -10.0f, -1.0f), glm::vec3(0.0f, 10.0f, -1.0f), glm::vec3(-10.0f, 0.0f, -1.0f),
-                       glm::vec3(0.0f, -10.0f, -1.0f), glm::vec3(0.0f, 10.0f, -1.0f), far};
-  auto uv_at = [&](glm::vec3 p) {
-    return glm::vec2(0.5f + kScale * (p.x > 0.0f ? p.x * along : p.x), 0.5f + kScale * p.y);
-  };
-  for (const glm::vec3& p : s.scene.positions) s.scene.uvs.push_back(uv_at(p));
-  s.scene.material_of = {0, 0};
-  // Where the ray through image point (x, y) meets the surface.
-  auto hit = [&](float x, float y) {
+// down -z: flat at depth 1 left of x = 0 (triangle 0), then receding as z = -1 - 2x
+// (triangle 1), u running along it. The pixel spans image points x, y in [-0.3, 0.3] at
+// depth 1. Across it u is linear left of the fold and convex right of it, and the smooth
+// shading normal turns at one rate on each side: no interpolation between the corners
+// follows either; with the camera, each sample takes its own triangle's, as the lattice's
+// rays would.
+struct FoldScene {
+  static constexpr float kScale = 0.02f, kSlope = 2.0f;
+  Scene scene;
+  FoldScene() {
+    const glm::vec3 far(10.0f, 0.0f, -1.0f - kSlope * 10.0f);
+    // Both wound counter-clockwise as the camera sees them, as their normals face it.
+    scene.positions = {glm::vec3(0.0f, -10.0f, -1.0f), glm::vec3(0.0f, 10.0f, -1.0f), glm::vec3(-10.0f, 0.0f, -1.0f),
+                       glm::vec3(0.0f, 10.0f, -1.0f), glm::vec3(0.0f, -10.0f, -1.0f), far};
+    for (const glm::vec3& p : scene.positions) scene.uvs.push_back(uv_at(p));
+    scene.material_of = {0, 0};
+    // Smooth across the fold: its edge's vertices take the mean of the two faces' normals.
+    const glm::vec3 flat(0.0f, 0.0f, 1.0f), slope = glm::normalize(glm::vec3(kSlope, 0.0f, 1.0f));
+    const glm::vec3 edge = glm::normalize(flat + slope);
+    scene.normals = {edge, edge, flat, edge, edge, slope};
+    scene.tangents.assign(6, glm::vec4(1.0f, 0.0f, 0.0f, 1.0f));
+  }
+  static glm::vec2 uv_at(glm::vec3 p) {
+    const float along = std::sqrt(1.0f + kSlope * kSlope);  // surface length per unit x on the right
+    return {0.5f + kScale * (p.x > 0.0f ? p.x * along : p.x), 0.5f + kScale * p.y};
+  }
+  // Where the ray through image point (x, y) meets the surface, and on which triangle.
+  static glm::vec3 hit(float x, float y) {
     const float t = x < 0.0f ? 1.0f : 1.0f / (1.0f - kSlope * x);
-    return glm::vec3(x * t, y * t, -t);
-  };
-  auto image = [](float s_, float t_) { return glm::vec2(-0.3f + 0.6f * s_, -0.3f + 0.6f * t_); };
+    return {x * t, y * t, -t};
+  }
+  static int32_t prim(float x) { return x < 0.0f ? 0 : 1; }
+  static glm::vec2 image(float s, float t) { return {-0.3f + 0.6f * s, -0.3f + 0.6f * t}; }
+  // The barycentrics (of vertices 1 and 2) of point p on triangle `prim`.
+  glm::vec2 barycentrics(int32_t prim, glm::vec3 p) const {
+    const glm::vec3 a = scene.positions[size_t(prim) * 3], e1 = scene.positions[size_t(prim) * 3 + 1] - a,
+                    e2 = scene.positions[size_t(prim) * 3 + 2] - a, d = p - a;
+    const float d11 = glm::dot(e1, e1), d12 = glm::dot(e1, e2), d22 = glm::dot(e2, e2);
+    const float q1 = glm::dot(d, e1), q2 = glm::dot(d, e2), det = d11 * d22 - d12 * d12;
+    return {(d22 * q1 - d12 * q2) / det, (d11 * q2 - d12 * q1) / det};
+  }
+  glm::vec3 normal(glm::vec3 p) const {
+    const int32_t t = prim(p.x);
+    const glm::vec2 b = barycentrics(t, p);
+    return interpolated_normal(scene, size_t(t) * 3, b.x, b.y, glm::vec3(0.0f, 0.0f, 1.0f));
+  }
+  // The lattice's mean of f over the pixel (its corner point as the corners' mean) minus
+  // the corners' mean, as texture_footprint_delta returns it.
+  template <class F>
+  static float lattice_delta(F f) {
+    double inner = 0.0, corners = 0.0;
+    for (int i = 0; i < 4; ++i) {
+      const glm::vec2 q = image(float(i % 2), float(i / 2));
+      corners += 0.25 * f(hit(q.x, q.y));
+    }
+    for (int p = 1; p < kLatticePoints; ++p) {
+      const glm::vec2 q = image(kLattice[size_t(p)].u, kLattice[size_t(p)].v);
+      inner += f(hit(q.x, q.y)) / double(kLatticePoints - 1);
+    }
+    return float((inner - corners) * (kLatticePoints - 1) / kLatticePoints);
+  }
+  void corners(FootprintCorners& k) const {
+    for (int i = 0; i < 4; ++i) {
+      const glm::vec2 q = image(float(i % 2), float(i / 2));
+      k.c[i] = SurfaceProbe{};
+      k.c[i].material = 0;
+      k.c[i].position = hit(q.x, q.y);
+      k.c[i].uv0 = uv_at(k.c[i].position);
+      k.c[i].normal = normal(k.c[i].position);
+      k.c[i].view = -glm::normalize(k.c[i].position);
+      const glm::vec2 b = barycentrics(prim(q.x), k.c[i].position);
+      k.f[i] = FootprintProbe{glm::vec3(0.0f), prim(q.x), b.x, b.y, 1.0f};
+    }
+  }
+  static constexpr FootprintView kView{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+};
+
+TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
+  // An emissive texture whose value is u (bilinear between texel centres).
+  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });
+  const FoldScene fold;
+  s.scene.positions = fold.scene.positions;
+  s.scene.uvs = fold.scene.uvs;
+  s.scene.material_of = fold.scene.material_of;
   FootprintCorners k;
-  for (int i = 0; i < 4; ++i) {
-    const glm::vec2 q = image(float(i % 2), float(i / 2));
-    k.c[i].material = 0;
-    k.c[i].position = hit(q.x, q.y);
-    k.c[i].uv0 = uv_at(k.c[i].position);
-    k.f[i].prim = q.x < 0.0f ? 0 : 1;
-  }
-  // The lattice's mean of u (its corner point as the corners' mean) minus the corners'.
-  double inner = 0.0, corners = 0.0;
-  for (int i = 0; i < 4; ++i) corners += 0.25 * k.c[i].uv0.x;
-  for (int p = 1; p < kLatticePoints; ++p) {
-    const glm::vec2 q = image(kLattice[size_t(p)].u, kLattice[size_t(p)].v);
-    inner += uv_at(hit(q.x, q.y)).x / double(kLatticePoints - 1);
-  }
-  const float expected = float((inner - corners) * (kLatticePoints - 1) / kLatticePoints);
-  const FootprintView view{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
-  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &view);
+  fold.corners(k);
+  const float expected = FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; });
+  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
   const FootprintDelta interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
   ASSERT_TRUE(exact.applies);
   ASSERT_TRUE(interpolated.applies);
   EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
   EXPECT_GT(std::abs(interpolated.delta.r - expected), 5e-3f);  // the interpolation sees no delta at all
   std::printf("delta: lattice %.6f, own triangles %.6f, interpolated %.6f\n", expected, exact.delta.r,
+              interpolated.delta.r);
+}
+
+// The same fold, smooth-shaded, normal-mapped (a flat map: the shading normal is the
+// interpolated one) and lit by one directional light: each sample is lit at its own
+// triangle's normal, as the lattice's rays are.
+TEST(TextureFootprint, SamplesAreLitAtTheirOwnTrianglesNormalAcrossAFold) {
+  FoldScene fold;
+  Scene& scene = fold.scene;
+  Texture flat_map;
+  flat_map.width = flat_map.height = 4;
+  flat_map.texels.assign(16, glm::vec4(0.5f, 0.5f, 1.0f, 1.0f));
+  scene.textures.push_back(flat_map);
+  Material m;
+  m.base_color = glm::vec3(1.0f);
+  m.normal_texture.index = 0;
+  scene.materials.push_back(m);
+  scene.finalize_materials();
+  const glm::vec3 to_light = glm::normalize(glm::vec3(0.3f, 0.2f, 1.0f));
+  Light light;
+  light.type = Light::Type::Directional;
+  light.direction = -to_light;
+  light.intensity = glm::vec3(2.0f);
+  scene.lights.push_back(light);
+  const float albedo = scene.whitted[0].diffuse.r;
+  auto lambert = [&](glm::vec3 p) {
+    return albedo * 2.0f / float(M_PI) * std::max(glm::dot(fold.normal(p), to_light), 0.0f);
+  };
+  FootprintCorners k;
+  fold.corners(k);
+  for (int i = 0; i < 4; ++i) k.f[i].irradiance = glm::vec3(lambert(k.c[i].position) / albedo);
+  const float expected = FoldScene::lattice_delta(lambert);
+  const FootprintDelta exact = texture_footprint_delta(scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
+  const FootprintDelta interpolated = texture_footprint_delta(scene, k.c, k.p, glm::vec3(0.0f));
+  ASSERT_TRUE(exact.applies);
+  ASSERT_GT(std::abs(expected), 1e-3f);
+  EXPECT_NEAR(exact.delta.r, expected, 1e-3f * std::abs(expected));
+  EXPECT_GT(std::abs(interpolated.delta.r - expected), 0.1f * std::abs(expected));
+  std::printf("lit delta: lattice %.6f, own triangles %.6f, interpolated %.6f\n", expected, exact.delta.r,
               interpolated.delta.r);
 }
 
