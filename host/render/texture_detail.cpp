@@ -169,6 +169,17 @@ glm::vec3 direct_light(int lights, glm::vec3 albedo, glm::vec3 specular, float s
   return sum;
 }
 
+// The normal map's frame at barycentrics (u, v) of the triangle at t3, as the shader builds
+// it, on the side a ray hit (`side` +1 where the winding's normal faces the ray, -1 else).
+// False where there is none.
+bool facing_frame(const Scene& scene, size_t t3, float u, float v, float side, glm::vec3 frame[3]) {
+  const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+  const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  if (!normal_map_frame(scene, t3, u, v, interpolated_normal(scene, t3, u, v, ng), frame)) return false;
+  for (int axis = 0; axis < 3; ++axis) frame[axis] *= side;
+  return true;
+}
+
 // The footprint's first estimate's 2 x 2 points (s, t): TL corner at (0, 0), BR at (1, 1).
 constexpr std::array<LatticePoint, 4> kFootprintCoarse = {
     LatticePoint{0.25f, 0.25f}, LatticePoint{0.75f, 0.25f}, LatticePoint{0.25f, 0.75f}, LatticePoint{0.75f, 0.75f}};
@@ -205,7 +216,7 @@ struct Bilerp4 {
 // triangle, not over the pixel). Lanes bit i: lane i has its own.
 struct SampleSurface4 {
   int lanes = 0;
-  glm::vec2 uv0[4], uv1[4];
+  Texcoords tc[4];
   glm::vec3 frame[3][4];  // with a normal map: tangent, bitangent, normal (the shader's)
 };
 
@@ -255,19 +266,13 @@ class CornerTriangles {
       }
       if (which < 0) continue;
       const size_t t3 = size_t(prim_[which]) * 3;
-      const float u = std::clamp(bu, 0.0f, 1.0f), v = std::clamp(bv, 0.0f, 1.0f - u), w = 1.0f - u - v;
-      out.uv0[lane] = w * scene_.uvs[t3] + u * scene_.uvs[t3 + 1] + v * scene_.uvs[t3 + 2];
-      out.uv1[lane] = scene_.uvs1.empty() ? glm::vec2(0.0f)
-                                           : w * scene_.uvs1[t3] + u * scene_.uvs1[t3 + 1] + v * scene_.uvs1[t3 + 2];
+      const float u = std::clamp(bu, 0.0f, 1.0f), v = std::clamp(bv, 0.0f, 1.0f - u);
+      out.tc[lane] = Texcoords(scene_, t3, u, v);
       if (frames_) {
-        const glm::vec3 winding = glm::cross(e1_[which], e2_[which]);
-        const float winding_len = glm::length(winding);
-        if (!(winding_len > 0.0f)) continue;
-        const glm::vec3 ng = winding / winding_len;
+        const float side = glm::dot(glm::cross(e1_[which], e2_[which]), d[lane]) < 0.0f ? 1.0f : -1.0f;
         glm::vec3 frame[3];
-        if (!normal_map_frame(scene_, t3, u, v, interpolated_normal(scene_, t3, u, v, ng), frame)) continue;
-        const float side = glm::dot(winding, d[lane]) < 0.0f ? 1.0f : -1.0f;  // the shader's front
-        for (int axis = 0; axis < 3; ++axis) out.frame[axis][lane] = frame[axis] * side;
+        if (!facing_frame(scene_, t3, u, v, side, frame)) continue;
+        for (int axis = 0; axis < 3; ++axis) out.frame[axis][lane] = frame[axis];
       }
       out.lanes |= 1 << lane;
     }
@@ -303,7 +308,7 @@ struct CornerTexture {
     w.at(st[0].y, st[1].y, st[2].y, st[3].y).store(t);
     for (int lane = 0; lane < 4; ++lane)
       if ((exact.lanes >> lane) & 1) {
-        const glm::vec2 at = ref->at(exact.uv0[lane], exact.uv1[lane]);
+        const glm::vec2 at = ref->at(exact.tc[lane].uv0, exact.tc[lane].uv1);
         s[lane] = at.x;
         t[lane] = at.y;
       }
@@ -337,13 +342,8 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, cons
   const int lights = int(scene.lights.size());
   bool per_light = use.bump_map && lights <= kFootprintLights;
   if (per_light) {
-    const size_t t3 = size_t(f.prim) * 3;
-    const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-    const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
-    const glm::vec3 n = interpolated_normal(scene, t3, f.u, f.v, ng);
-    per_light = normal_map_frame(scene, t3, f.u, f.v, n, k.frame);
+    per_light = facing_frame(scene, size_t(f.prim) * 3, f.u, f.v, f.side, k.frame);
     if (per_light) {
-      for (glm::vec3& axis : k.frame) axis *= f.side;
       // The shader's normal at the corner: the map's, unless it faced away (then ng).
       const glm::vec3 rgb(Texcoords(c.uv0, c.uv1).sample(scene, material.normal_texture));
       per_light = glm::length(mapped_in_frame(k.frame, rgb, material.normal_scale, k.frame[2]) - c.normal) < 1e-4f;
@@ -467,11 +467,11 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     } else {  // metallic, roughness or transmission textured: the material, lane by lane
       alignas(16) float ax[4], ay[4], az[4];
       for (int lane = 0; lane < 4; ++lane) {
-        const bool mine = (own.lanes >> lane) & 1;
         const glm::vec3 a = diffuse_albedo(
             scene, m,
-            Texcoords(mine ? own.uv0[lane] : w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
-                      mine ? own.uv1[lane] : w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
+            (own.lanes >> lane) & 1 ? own.tc[lane]
+                                    : Texcoords(w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
+                                                w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
         ax[lane] = a.x;
         ay[lane] = a.y;
         az[lane] = a.z;

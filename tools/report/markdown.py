@@ -188,16 +188,18 @@ def quality_targets(per: dict) -> list[str]:
     lines = [f"Display RMSE ≤ {ERROR_TARGET}× and mean FLIP ≤ {FLIP_TARGET}× the lattice's in each scene:", "",
              "| scene | rays/px | display RMSE × lattice | FLIP × lattice |", "|---|---:|---:|---:|"]
 
+    def meets(v: float, target: float) -> bool:
+        return ok(v) and v <= target
+
     def verdict(v: float, target: float) -> str:
-        return f"{fmt(v, '.3f')} (met)" if ok(v) and v <= target else f"{fmt(v, '.3f')} (missed by {fmt(v / target - 1, '.0%')})"
+        return f"{fmt(v, '.3f')} (met)" if meets(v, target) else f"{fmt(v, '.3f')} (missed by {fmt(v / target - 1, '.0%')})"
 
     missed = []
     for s in got:
         rat = per[s]["ratios"]
         lines.append(f"| {s} | {per[s]['rays']:.2f} | {verdict(rat['rmse_display'], ERROR_TARGET)} | "
                      f"{verdict(rat['flip'], FLIP_TARGET)} |")
-        if not (ok(rat["rmse_display"]) and rat["rmse_display"] <= ERROR_TARGET and ok(rat["flip"])
-                and rat["flip"] <= FLIP_TARGET):
+        if not (meets(rat["rmse_display"], ERROR_TARGET) and meets(rat["flip"], FLIP_TARGET)):
             missed.append(s)
     if missed:
         lines += ["", f"Missed in {', '.join(missed)}: the crops below (`crops_<scene>.png`) set 1 ray/px, the "
