@@ -30,8 +30,9 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
              throw CLI::ValidationError("--eps-specular", "expected off or a threshold in [0, 1], got '" + text + "'");
            o.eps_specular = v;
          },
-         "Adaptive: colour threshold for pixels whose four corners all see a mirror's or a glass's image (the "
-         "visibility map sees the mirror, not the edges in it), or off for --eps (default " +
+         "Adaptive: colour threshold for pixels whose four corners all see a mirror's or a glass's image, or "
+         "through a BLEND surface of alpha below 1/2 (the visibility map sees the mirror, not the edges in it), "
+         "or off for --eps (default " +
              (o.eps_specular < 0.0f ? std::string("off") : CLI::detail::to_string(o.eps_specular)) + ")")
       ->type_name("off|E");
   std::vector<std::string> tables;

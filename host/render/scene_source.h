@@ -185,13 +185,16 @@ class SceneSource {
     return {float4(h.r, h.g, h.b, 0.0f), points};
   }
 
-  // Whether all four corners' primary hits show mostly a reflected or refracted image
+  // Whether all four corners' primary hits show mostly a reflected or refracted image, or
+  // what lies behind a BLEND surface
   // (shows_an_image, scene/materials.h).
   bool specular_corners(const Probe* tl, ptrdiff_t stride) const {
-    const std::vector<WhittedMaterial>& whitted = shader_.scene().whitted;
+    const Scene& scene = shader_.scene();
     for (const Probe* c : {tl, tl + 1, tl + stride, tl + stride + 1}) {
       const uint32_t m = c->surface().material;
-      if (m >= whitted.size() || !shows_an_image(whitted[m])) return false;
+      if (m >= scene.whitted.size() || m >= scene.materials.size() ||
+          !shows_an_image(scene.materials[m], scene.whitted[m]))
+        return false;
     }
     return true;
   }

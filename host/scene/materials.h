@@ -87,6 +87,13 @@ inline bool shows_an_image(const WhittedMaterial& m) {
   return m.transmits() || (!m.fresnel_mirror && reflectance >= 0.5f);
 }
 
+// The same for a glTF material: also an alpha-BLEND surface that lets more than half the
+// light through. Its coverage is base_alpha times a texture's alpha, at most base_alpha,
+// so a factor below 1/2 bounds it everywhere.
+inline bool shows_an_image(const Material& gltf, const WhittedMaterial& m) {
+  return shows_an_image(m) || (gltf.alpha_mode == AlphaMode::Blend && gltf.base_alpha < 0.5f);
+}
+
 // Roughness at and above which a surface is treated as not a mirror.
 inline constexpr float kMirrorRoughnessLimit = 0.2f;
 
