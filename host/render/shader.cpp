@@ -704,40 +704,14 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     }
     if (blend != 0) {
       counters.continuation += uint64_t(std::popcount(unsigned(blend)));
-      // What lies behind a surface that does not refract takes its refraction's node of the
-      // path tree: the camera packet's signature, probes and footprints follow it there.
-      std::optional<PathSignature4> seen_behind;
-      int followed = 0;
-      if (signature) {
-        const int node = refracted_node(signature->node);
-        for (int i = 0; i < 4; ++i)
-          if (((blend >> i) & 1) && !sp[i].material->transmits()) followed |= 1 << i;
-        const bool sign = depth <= 1, probe = signature->probes && probed(node),
-                   footprint = signature->footprint && footprinted(node);
-        if (followed != 0 && (sign || probe || footprint)) {
-          seen_behind.emplace();
-          seen_behind->node = node;
-          if (probe) seen_behind->probes = signature->probes;
-          if (footprint) seen_behind->footprint = signature->footprint;
-        } else {
-          followed = 0;
-        }
-      }
       const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
-                                           blend_layers + 1, throughput, counters,
-                                           seen_behind ? &*seen_behind : nullptr);  // bounded by kMaxBlendLayers
+                                           blend_layers + 1, throughput, counters, nullptr);  // bounded by kMaxBlendLayers
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
         const float a = sp[i].alpha;
         out[0][i] = a * out[0][i] + (1.0f - a) * c.r[i];
         out[1][i] = a * out[1][i] + (1.0f - a) * c.g[i];
         out[2][i] = a * out[2][i] + (1.0f - a) * c.b[i];
-        if (!((followed >> i) & 1)) continue;
-        const PathSignature4& seen = *seen_behind;
-        if (depth <= 1)
-          signature->refracted[i] = depth == 0 ? hit_then(seen.object[i], seen.refracted[i]) : seen.object[i];
-        if (signature->probes || signature->footprint)
-          scale_path(*signature, refracted_node(signature->node), i, glm::vec3(1.0f - a));
       }
     }
   }

@@ -105,9 +105,7 @@ struct PathSignature4 {
   // The first hit of the primary hit's reflection ray, combined with what that hit's own
   // reflection ray hits where that path keeps at least half the light (a mirror in a mirror).
   uint32_t reflected[4] = {};
-  // The first two hits along its refraction rays, combined; behind a BLEND surface that
-  // does not refract, along its continuation ray (which takes the refraction's node).
-  uint32_t refracted[4] = {};
+  uint32_t refracted[4] = {};  // the first two hits along its refraction rays, combined
   // Where the caller wants them (a camera packet only): probes.at(k, lane), the surface of node
   // k of each lane's path tree (probe_nodes below) for the highlight flag, its specular
   // scaled by the path's weight from the camera and by Beer's absorption along it: the

@@ -183,53 +183,6 @@ TEST(SceneSignature, AMirrorSeenInAMirrorSignsWhatItShows) {
   EXPECT_EQ(dim.signature[0], dim.signature[1]);
 }
 
-// A floor red on the left half and green on the right, seen from above through a grey
-// alpha-BLEND pane of coverage 0.3 at z = 2 (the vase's left glass).
-Scene floor_behind_a_pane() {
-  Scene s;
-  s.materials = {test::diffuse_material({0.8f, 0.1f, 0.1f}), test::diffuse_material({0.1f, 0.8f, 0.1f}),
-                 test::diffuse_material(glm::vec3(0.5f))};
-  s.materials[2].alpha_mode = AlphaMode::Blend;
-  s.materials[2].base_alpha = 0.3f;
-  test::add_quad(s, {-10, -10, 0}, {0, -10, 0}, {0, 10, 0}, {-10, 10, 0}, 0);
-  test::add_quad(s, {0, -10, 0}, {10, -10, 0}, {10, 10, 0}, {0, 10, 0}, 1);
-  test::add_quad(s, {-10, -10, 2}, {10, -10, 2}, {10, 10, 2}, {-10, 10, 2}, 2);
-  Light light;
-  light.type = Light::Type::Directional;
-  light.direction = glm::vec3(0.0f, 0.0f, -1.0f);
-  light.intensity = glm::vec3(2.0f);
-  s.lights.push_back(light);
-  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.5f));
-  s.max_depth = 2;
-  s.finalize_materials();
-  return s;
-}
-
-TEST(SceneSignature, WhatABlendPaneShowsBehindItIsFollowed) {
-  // The pane is one object; what its continuation rays hit behind it is not, and the probes
-  // of the refraction's node hold it, weighted by the 70 % the pane lets through.
-  const Scene s = floor_behind_a_pane();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  const CameraRays rays(s.cameras[0], 64, 64);
-  const float4 px(16.0f, 48.0f, 16.0f, 48.0f), py(32.0f);
-  int4 object, secondary;
-  SceneSource(shader, rays, kSignatureObject).sample4(px, py, object);
-  SceneSource(shader, rays, kSignatureSecondary).sample4(px, py, secondary);
-  EXPECT_EQ(object[0], object[1]);        // both on the pane
-  EXPECT_NE(secondary[0], secondary[1]);  // red behind one, green behind the other
-  EXPECT_EQ(secondary[0], secondary[2]);
-
-  SceneSource::Probe probes[4];
-  int4 signature;
-  SceneSource(shader, rays, kSignatureAll).sample4(px, py, signature, ProbeLanes(&probes[0], &probes[1], &probes[2], &probes[3]));
-  const int behind = probe_slot(refracted_node(0));
-  EXPECT_EQ(probes[0].node[0].material, 2u);
-  EXPECT_EQ(probes[0].node[behind].material, 0u);
-  EXPECT_EQ(probes[1].node[behind].material, 1u);
-  EXPECT_NEAR(probes[0].node[behind].position.z, 0.0f, 1e-4f);
-}
-
 TEST(SceneSignature, SignaturesDoNotChangeTheImageOrTheRays) {
   // Signatures are bookkeeping: the same colours and ray counts, whatever the parts.
   const Scene s = two_shadows();
