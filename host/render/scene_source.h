@@ -164,19 +164,22 @@ class SceneSource {
   // may differ unseen; `visible`: per channel, the smallest increment that could show.
   MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
     if (!detail_) return {};
-    const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
     glm::vec3 h(0.0f);
     uint32_t points = 0;
     if (detail_->highlights)
       for (int k = 0; k < kProbeNodes; ++k) {
+        // Tested in place: most nodes have no highlight at some corner, and the copies cost.
+        if (!has_highlight(tl[0].node[k]) || !has_highlight(tl[1].node[k]) || !has_highlight(tl[stride].node[k]) ||
+            !has_highlight(tl[stride + 1].node[k]))
+          continue;
         const SurfaceProbe c[4] = {tl[0].node[k], tl[1].node[k], tl[stride].node[k], tl[stride + 1].node[k]};
-        if (!has_highlight(c[0]) || !has_highlight(c[1]) || !has_highlight(c[2]) || !has_highlight(c[3])) continue;
         const ProbeStencil stencil(&tl->node[k], sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
         h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit, &detail_->normal_spreads,
                               &points);
       }
     if (detail_->textures) {
+      const SurfaceProbe corners[4] = {tl[0].surface(), tl[1].surface(), tl[stride].surface(), tl[stride + 1].surface()};
       const glm::vec3 t =
           hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
       if (t.r > 0.0f || t.g > 0.0f || t.b > 0.0f) points = kAllLatticePoints;  // anywhere between the corners
