@@ -21,8 +21,9 @@ struct AdaptiveSettings {
   float eps = 0.1f;  // on tone-mapped display values; rho <= eps is no discontinuity
   // Levels 1-2 of a pixel whose four corners see a mirror's or a glass's image, or
   // through a BLEND surface of alpha below 1/2 (specular_corners, aa/hidden_detail.h),
-  // compare colours with this threshold instead; < 0: eps. The visibility map sees the mirror, not the edges in its image, so the
-  // colour test is their only detector there. Only sources with probes tell such pixels.
+  // compare colours with this threshold instead; < 0: eps. The visibility map sees the
+  // mirror, not the edges in its image, so the colour test is their only detector there.
+  // Only sources with probes tell such pixels.
   float eps_specular = -1.0f;
   const TableSet* tables = &paper_table_set();
   GeoPolicy geo_policy = GeoPolicy::Paper;

@@ -40,8 +40,7 @@ inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 struct AdaptiveOptions {
   float eps = 0.05f;
   // Pixels whose corners all see a mirror's or a glass's image (or through a thin BLEND
-  // surface): their own threshold
-  // (AdaptiveSettings::eps_specular); < 0 = eps.
+  // surface): their own threshold (AdaptiveSettings::eps_specular); < 0 = eps.
   float eps_specular = 0.01f;
   const TableSet* tables = find_table_set("tuned");  // beats paper on the held-out edge population
   GeoPolicy geo_policy = GeoPolicy::Split;

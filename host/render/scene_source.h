@@ -189,8 +189,7 @@ class SceneSource {
   }
 
   // Whether all four corners' primary hits show mostly a reflected or refracted image, or
-  // what lies behind a BLEND surface
-  // (shows_an_image, scene/materials.h).
+  // what lies behind a BLEND surface (shows_an_image, scene/materials.h).
   bool specular_corners(const Probe* tl, ptrdiff_t stride) const {
     const Scene& scene = shader_.scene();
     for (const Probe* c : {tl, tl + 1, tl + stride, tl + stride + 1}) {

@@ -220,12 +220,12 @@ struct SampleSurface4 {
   glm::vec3 frame[3][4];  // with a normal map: tangent, bitangent, normal (the shader's)
 };
 
-// The corners' distinct triangles, each as the ray test needs it.
+// The corners' distinct triangles, each as the ray test needs it; none without `f` (no
+// camera to cast the samples' rays from).
 class CornerTriangles {
  public:
-  CornerTriangles(const Scene& scene, const FootprintProbe* const f[4], bool frames)
-      : scene_(scene), frames_(frames) {
-    for (int i = 0; i < 4; ++i) {
+  CornerTriangles(const Scene& scene, const FootprintProbe* const* f, bool frames) : scene_(scene), frames_(frames) {
+    for (int i = 0; f && i < 4; ++i) {
       const int32_t prim = f[i]->prim;
       if (prim < 0 || size_t(prim) * 3 + 2 >= scene.positions.size()) continue;
       bool seen = false;
@@ -430,7 +430,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   // With the camera, each sample's own triangle among the corners' (SampleSurface4). The
   // rays' directions on the image plane are affine in (s, t), so the corners' directions
   // scaled to unit depth interpolate to them exactly.
-  const CornerTriangles triangles(scene, f, per_light);
+  const CornerTriangles triangles(scene, view ? f : nullptr, per_light);
   const bool exact = view && triangles.count() > 1;
   glm::vec3 image[4];
   if (exact)
