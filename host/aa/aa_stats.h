@@ -25,6 +25,7 @@ struct AaStats {
   uint64_t geo_pixels = 0;         // own pixels whose geo flag was set
   uint64_t hidden_pixels = 0;      // own pixels flagged for detail between their corners (hidden_detail.h)
   uint64_t specular_pixels = 0;    // own pixels that took eps_specular (kSpecularCorners)
+  uint64_t gap_pixels = 0;         // own pixels refined only as a gap between refined ones (fills_gap)
   double seconds_corners = 0;      // level 1: tracing + tone mapping the corner grid
   double seconds_refine = 0;       // per-pixel levels 1–3 (+ box filter)
   double seconds_filter = 0;       // Mitchell pass
@@ -42,6 +43,7 @@ struct AaStats {
     geo_pixels += o.geo_pixels;
     hidden_pixels += o.hidden_pixels;
     specular_pixels += o.specular_pixels;
+    gap_pixels += o.gap_pixels;
     seconds_corners += o.seconds_corners;
     seconds_refine += o.seconds_refine;
     seconds_filter += o.seconds_filter;

@@ -151,6 +151,18 @@ inline int zones_of_points(Orientation o, uint32_t points) {
   return zones;
 }
 
+// ---- gaps between refined pixels (ours, beyond §5) -------------------------------
+// An unrefined pixel whose four corners all see an image (a mirror's, a glass's, what lies
+// behind a thin BLEND pane) between two pixels that refine, left and right or above and
+// below, refines too (--fill-gaps): there the image varies faster than the corners'
+// spacing, and a line thinner than a pixel may lie between all four of its corners, as
+// the stems refracted through the vase's thick wall do (every other column of pixels at
+// level 1 between columns at level 3). The neighbours' decisions are level 1's by their
+// corners and the map (refined_around in adaptive_sampler.h).
+inline bool fills_gap(bool left, bool right, bool above, bool below) {
+  return (left && right) || (above && below);
+}
+
 // Whether a refined pixel traces its split zones (a geo one per its policy).
 inline bool splits_zones(bool geo, GeoPolicy policy, bool split_unflagged) {
   return geo ? policy == GeoPolicy::Split : split_unflagged;

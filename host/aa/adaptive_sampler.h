@@ -68,6 +68,7 @@ struct AdaptiveScratch {
   CornerGrid corners;
   std::vector<float4> lattice;         // Mitchell: 25 per region pixel, by physical k
   std::vector<uint8_t> refined;        // Mitchell: per region pixel
+  std::vector<uint8_t> around;         // --fill-gaps: refined_around's decisions
 
   static AdaptiveScratch& local() {
     static thread_local AdaptiveScratch s;
@@ -352,6 +353,29 @@ void trace_corners(S& source, const TileTarget& target, const AdaptiveSettings& 
   stats.seconds_corners += std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
+// --fill-gaps: whether each pixel of the region grown by one on every side refines at level
+// 1 by its corners' colours and signatures at `eps` or by the map, into `around` (row pitch
+// region width + 2; 0 beyond the frame). No hidden-detail flag: a pixel beyond the region
+// lacks the probes' second ring. Made from the ring of corners and the frame's map, so a
+// pixel decides the same whichever tile it borders.
+inline void refined_around(const CornerLayout& layout, const CornerGrid& grid, const GeoMap& geo, float4 eps,
+                           int frame_width, int frame_height, std::vector<uint8_t>& around) {
+  assert(layout.ring >= 1);
+  const TileRect r = layout.region;
+  const size_t pitch = size_t(r.width()) + 2;
+  around.assign(pitch * (size_t(r.height()) + 2), 0);
+  const int cw = layout.width;
+  const float4* disp = grid.display.data();
+  const int32_t* sig = grid.signature.data();
+  for (int y = std::max(r.y0 - 1, 0); y <= std::min(r.y1, frame_height - 1); ++y)
+    for (int x = std::max(r.x0 - 1, 0); x <= std::min(r.x1, frame_width - 1); ++x) {
+      const int ci = layout.index(x, y);
+      const Rgb4 d = soa_from_aos(disp[ci], disp[ci + 1], disp[ci + cw], disp[ci + cw + 1]);
+      const int4 g(sig[ci], sig[ci + 1], sig[ci + cw], sig[ci + cw + 1]);
+      around[size_t(y - r.y0 + 1) * pitch + size_t(x - r.x0 + 1)] = decide_level1(d, g, eps, geo.at(x, y), false).refine;
+    }
+}
+
 // Levels 2-3 and the filter of a tile whose corners trace_corners (or gather_corners) has
 // put into `grid`.
 template <SampleSource S>
@@ -379,6 +403,14 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const float4 eps_surface(settings.eps), eps_specular(settings.eps_specular);
   const ToneMap& tonemap = settings.tonemap;
   const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
+  // Gaps are image pixels, which only sources with probes tell, at eps_specular.
+  const bool gaps = settings.fill_gaps && hidden && settings.eps_specular >= 0.0f && !settings.refine_all;
+  const size_t around_pitch = size_t(rw) + 2;
+  if (gaps)
+    refined_around(layout, grid, geo, eps_specular, target.frame_width, target.frame_height, scratch.around);
+  auto refined_at = [&](int x, int y) {
+    return scratch.around[size_t(y - region.y0 + 1) * around_pitch + size_t(x - region.x0 + 1)] != 0;
+  };
   using Clock = std::chrono::steady_clock;
   auto seconds_since = [](Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); };
   Clock::time_point t0 = Clock::now();
@@ -404,8 +436,10 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const bool specular = (peak_flag & kSpecularCorners) != 0;
       const float4 eps = specular ? eps_specular : eps_surface;
       const bool map_along_x = geo.along_x(x, y);  // the map's frame for its zones, too
-      const Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all,
-                                      settings.geo_orient && map_along_x);
+      Level1 l1 = decide_level1(disp, sig, eps, g || peak, settings.refine_all, settings.geo_orient && map_along_x);
+      const bool gap = gaps && specular && !l1.refine &&
+                       fills_gap(refined_at(x - 1, y), refined_at(x + 1, y), refined_at(x, y - 1), refined_at(x, y + 1));
+      l1.refine |= gap;
       const bool refine = l1.refine;
       float4 value;
       int rays = 1, level = 1, zones = 0;
@@ -463,6 +497,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       stats.geo_pixels += g;
       stats.hidden_pixels += peak;
       stats.specular_pixels += specular;
+      stats.gap_pixels += gap;
       const size_t fi = target.index(x, y);
       if (!mitchell) {
         alignas(16) float v[4];

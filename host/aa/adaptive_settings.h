@@ -55,6 +55,10 @@ struct AdaptiveSettings {
   // Refined pixels the map does not flag trace the zones whose interpolation sources saw
   // different things too, as GeoPolicy::Split makes geo pixels do (decide_zones).
   bool split_unflagged = false;
+  // An unrefined pixel whose corners all see an image (eps_specular's pixels) between two
+  // refined ones, left and right or above and below, refines (fills_gap in adaptive_pixel.h);
+  // needs eps_specular >= 0 and a source with probes.
+  bool fill_gaps = false;
   // The visibility map's normal angle as a distance between unit normals, 2 sin(angle / 2);
   // 0 without a map. The highlight flag leaves steps of the shading normal wider than this
   // to the map (normal_interpolation_error in render/specular_peak.h).

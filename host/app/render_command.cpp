@@ -80,6 +80,7 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
                      {"geo_orient", r.adaptive.geo_orient},
                      {"geo_zones", r.adaptive.geo_zones},
                      {"split_unflagged", r.adaptive.split_unflagged},
+                     {"fill_gaps", r.adaptive.fill_gaps},
                      {"edges", name_of(kEdgeModes, r.edges)}};
   if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}, {"material", r.edge_material}};
   if (r.aa == AaMode::Uniform) j["uniform"] = {{"spp", r.spp}, {"pattern", name_of(kUniformPatterns, r.pattern)}};

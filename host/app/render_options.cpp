@@ -83,6 +83,10 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--split-unflagged", o.split_unflagged, kOnOff,
              "Adaptive: a refined pixel the visibility map does not flag also traces the zones the tables would "
              "interpolate between samples that saw different things (what --geo-policy split does for flagged ones)");
+  add_choice(cmd, "--fill-gaps", o.fill_gaps, kOnOff,
+             "Adaptive: a pixel whose corners all see a mirror's or a glass's image (--eps-specular), left "
+             "unrefined between two refined pixels (left and right, or above and below), is refined: the image "
+             "varies faster than the corners' spacing");
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -100,6 +104,7 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
   s.geo_orient = o.geo_orient;
   s.geo_zones = o.geo_zones;
   s.split_unflagged = o.split_unflagged;
+  s.fill_gaps = o.fill_gaps;
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {

@@ -44,6 +44,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"geo_orient", o.adaptive.geo_orient},
                      {"geo_zones", o.adaptive.geo_zones},
                      {"split_unflagged", o.adaptive.split_unflagged},
+                     {"fill_gaps", o.adaptive.fill_gaps},
                      {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},
@@ -55,6 +56,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      {"geo_fraction", a.per_pixel(a.geo_pixels)},
                      {"hidden_fraction", a.per_pixel(a.hidden_pixels)},
                      {"specular_fraction", a.per_pixel(a.specular_pixels)},
+                     {"gap_fraction", a.per_pixel(a.gap_pixels)},
                      // Summed over tiles (CPU seconds across threads): the split of render time.
                      {"time_s", {{"level1_corners", a.seconds_corners},
                                  {"levels_2_3", a.seconds_refine},

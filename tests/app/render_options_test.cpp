@@ -46,6 +46,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(o.render.adaptive.geo_orient);
   EXPECT_TRUE(o.render.adaptive.geo_zones);
   EXPECT_TRUE(o.render.adaptive.split_unflagged);
+  EXPECT_FALSE(o.render.adaptive.fill_gaps);
   EXPECT_FLOAT_EQ(o.render.adaptive.eps_specular, 0.01f);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
@@ -71,7 +72,7 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   BatchOptions o;
   ASSERT_EQ(parse({"a.json", "--highlights", "on", "--textures", "on", "--curvature", "on", "--signature", "lights",
                    "--hdr-zones", "on", "--footprint", "on", "--geo-orient", "on", "--geo-zones", "on",
-                   "--split-unflagged", "on"},
+                   "--split-unflagged", "on", "--fill-gaps", "on"},
                   o),
             "");
   AdaptiveSettings s;
@@ -84,17 +85,18 @@ TEST(RenderOptions, DetailFlagsAndCurvatureReachTheSamplerSettings) {
   EXPECT_TRUE(s.geo_orient);
   EXPECT_TRUE(s.geo_zones);
   EXPECT_TRUE(s.split_unflagged);
+  EXPECT_TRUE(s.fill_gaps);
   EXPECT_EQ(s.signature, unsigned(kSignatureLights));
   EXPECT_FLOAT_EQ(s.eps, 0.05f);
   BatchOptions off;
   ASSERT_EQ(parse({"a.json", "--highlights", "off", "--textures", "off", "--curvature", "off", "--hdr-zones", "off",
                    "--footprint", "off", "--geo-orient", "off",
-                   "--geo-zones", "off", "--split-unflagged", "off"},
+                   "--geo-zones", "off", "--split-unflagged", "off", "--fill-gaps", "off"},
                   off),
             "");
   apply_adaptive_options(off.render.adaptive, s);
   EXPECT_FALSE(s.highlights || s.textures || s.curvature || s.hdr_zones || s.footprint || s.geo_orient || s.geo_zones ||
-               s.split_unflagged);
+               s.split_unflagged || s.fill_gaps);
 }
 
 TEST(RenderOptions, TheMirrorsThresholdIsANumberOrOff) {
