@@ -297,7 +297,9 @@ def beyond_ablation(rows: list[dict]) -> list[str]:
                     "refined pixels the map does not flag also trace the zones whose interpolation sources have "
                     "different signatures), and that with the threshold of pixels whose corners all see a mirror's "
                     "or a glass's image (`--eps-specular E`: the visibility map sees the mirror, not the edges in "
-                    "its image). *Removed* as above.", BEYOND_BASE, variants)
+                    "its image), and at 0.01 with the gaps filled (`--fill-gaps on`: such a pixel left unrefined "
+                    "between two refined ones, left and right or above and below, refines). *Removed* as above.",
+                    BEYOND_BASE, variants)
 
 
 def star_table(rows: list[dict]) -> list[str]:
@@ -325,7 +327,8 @@ def recommendation(choice: dict) -> list[str]:
              f"--curvature {r.get('curvature') or 'off'} --edge-material {r.get('material') or 'off'} "
              f"--hdr-zones {r.get('hdr') or 'off'} --footprint {r.get('footprint') or 'off'} "
              f"--geo-orient {r.get('orient') or 'off'} --geo-zones {r.get('zones') or 'off'} "
-             f"--split-unflagged {r.get('split') or 'off'} --eps-specular {r.get('eps_specular') or 'off'}")
+             f"--split-unflagged {r.get('split') or 'off'} --eps-specular {r.get('eps_specular') or 'off'} "
+             f"--fill-gaps {r.get('gaps') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
             f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "

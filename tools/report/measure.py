@@ -116,6 +116,7 @@ def base_row(scene: str, s: Setting, stats: dict) -> dict:
         "zones": s.zones if s.mode == "adaptive" else "",
         "split": s.split if s.mode == "adaptive" else "",
         "eps_specular": s.eps_spec if s.mode == "adaptive" else "",
+        "gaps": s.gaps if s.mode == "adaptive" else "",
         "hidden_fraction": ad.get("hidden_fraction", ""),
         "width": stats.get("width"), "height": stats.get("height"),
         "threads": stats.get("threads"), "triangles": stats.get("triangles"),

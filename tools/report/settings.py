@@ -22,7 +22,8 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     (--geo-zones on: geo pixels trace the zones where the map saw their edge), and that with
     the split zones in refined pixels the map does not flag too (--split-unflagged on), and
     that with the threshold of pixels whose corners all see a mirror's or a glass's image at
-    0.02, 0.015 and 0.01 (--eps-specular);
+    0.02, 0.015 and 0.01 (--eps-specular), and at 0.01 with the gaps between refined pixels
+    filled (--fill-gaps on);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
 Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
 for the other uniform points (4-25x longer renders, so their relative noise is smaller).
@@ -54,6 +55,7 @@ class Setting:
     zones: str = "off"         # --geo-zones on | off: geo pixels trace the zones where the map saw their edge
     split: str = "off"         # --split-unflagged on | off: refined pixels the map does not flag trace their split zones
     eps_spec: str = "off"      # --eps-specular off | E: the threshold of pixels whose corners all see a mirror's or glass's image
+    gaps: str = "off"          # --fill-gaps on | off: image pixels between two refined ones refine
 
     @property
     def label(self) -> str:
@@ -73,7 +75,8 @@ class Setting:
                 + ("-hz" if self.hdr == "on" else "") + ("-fp" if self.footprint == "on" else "")
                 + ("-go" if self.orient == "on" else "") + ("-gz" if self.zones == "on" else "")
                 + ("-su" if self.split == "on" else "")
-                + ("" if self.eps_spec == "off" else f"-es{self.eps_spec}"))
+                + ("" if self.eps_spec == "off" else f"-es{self.eps_spec}")
+                + ("-fg" if self.gaps == "on" else ""))
 
     @property
     def family(self) -> str:
@@ -88,7 +91,8 @@ class Setting:
                 + ("/hz" if self.hdr == "on" else "") + ("/fp" if self.footprint == "on" else "")
                 + ("/go" if self.orient == "on" else "") + ("/gz" if self.zones == "on" else "")
                 + ("/su" if self.split == "on" else "")
-                + ("" if self.eps_spec == "off" else f"/es {self.eps_spec}"))
+                + ("" if self.eps_spec == "off" else f"/es {self.eps_spec}")
+                + ("/fg" if self.gaps == "on" else ""))
         return f"adaptive {self.tables}/geo {self.geo}/{self.edges}/{self.filter}{sig}{more}"
 
     def timed_runs(self, runs: int) -> int:
@@ -105,7 +109,7 @@ class Setting:
                 "--signature", self.signature, "--highlights", self.highlights, "--textures", self.textures,
                 "--curvature", self.curvature, "--edge-material", self.material, "--hdr-zones", self.hdr,
                 "--footprint", self.footprint, "--geo-orient", self.orient, "--geo-zones", self.zones,
-                "--split-unflagged", self.split, "--eps-specular", self.eps_spec]
+                "--split-unflagged", self.split, "--eps-specular", self.eps_spec, "--fill-gaps", self.gaps]
 
     def analytic_args(self, geo_ss: int) -> list[str]:
         """The same adaptive setting in the analytic harness (`edges off` = no geo map)."""
@@ -162,6 +166,8 @@ BEYOND_VARIANTS = [("highlights", {"highlights": "on"}), ("curvature", {"curvatu
 ALL_DETECTORS = BEYOND_VARIANTS[-1][1]
 EPS_SPECULAR = ["0.02", "0.015", "0.01"]
 BEYOND_VARIANTS += [(f"all + eps specular {e}", {**ALL_DETECTORS, "eps_spec": e}) for e in EPS_SPECULAR]
+# The gaps between refined pixels on top of the tightest threshold (they need one).
+BEYOND_VARIANTS += [("all + eps specular 0.01 + fill gaps", {**ALL_DETECTORS, "eps_spec": "0.01", "gaps": "on"})]
 
 
 def beyond_settings(quick: bool) -> list[Setting]:
