@@ -214,6 +214,16 @@ uint64_t trace_corner_block(S& source, const ToneMap& tonemap, int x0, int y0, i
   return corner_rays;
 }
 
+// A pixel's four corners (TL, TR, BL, BR) in a corner grid of row pitch `stride`, `tl` its
+// TL corner: display colours as the level-1 and level-2 comparisons read them, and their
+// signatures.
+inline Rgb4 pixel_corners(const float4* tl, ptrdiff_t stride) {
+  return soa_from_aos(tl[0], tl[1], tl[stride], tl[stride + 1]);
+}
+inline int4 pixel_corners(const int32_t* tl, ptrdiff_t stride) {
+  return int4(tl[0], tl[1], tl[stride], tl[stride + 1]);
+}
+
 // What level 1 traced at a block's corners: corner (i, j) at [j * stride + i].
 struct CornerView {
   const float4* linear;
@@ -292,10 +302,8 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
       flags[j * flag_stride + i] = flag | (specular ? kSpecularCorners : 0u);
       if constexpr (FootprintSource<S>) {
         if (!footprint) continue;
-        const float4* d = corners.display + at;
-        const int32_t* g = corners.signature + at;
         const bool refined =
-            decide_level1(soa_from_aos(d[0], d[1], d[cs], d[cs + 1]), int4(g[0], g[1], g[cs], g[cs + 1]), eps,
+            decide_level1(pixel_corners(corners.display + at, cs), pixel_corners(corners.signature + at, cs), eps,
                           flagged, false)
                 .refine;
         if (refined) {
@@ -365,14 +373,13 @@ inline void refined_around(const CornerLayout& layout, const CornerGrid& grid, c
   const size_t pitch = size_t(r.width()) + 2;
   around.assign(pitch * (size_t(r.height()) + 2), 0);
   const int cw = layout.width;
-  const float4* disp = grid.display.data();
-  const int32_t* sig = grid.signature.data();
   for (int y = std::max(r.y0 - 1, 0); y <= std::min(r.y1, frame_height - 1); ++y)
     for (int x = std::max(r.x0 - 1, 0); x <= std::min(r.x1, frame_width - 1); ++x) {
       const int ci = layout.index(x, y);
-      const Rgb4 d = soa_from_aos(disp[ci], disp[ci + 1], disp[ci + cw], disp[ci + cw + 1]);
-      const int4 g(sig[ci], sig[ci + 1], sig[ci + cw], sig[ci + cw + 1]);
-      around[size_t(y - r.y0 + 1) * pitch + size_t(x - r.x0 + 1)] = decide_level1(d, g, eps, geo.at(x, y), false).refine;
+      around[size_t(y - r.y0 + 1) * pitch + size_t(x - r.x0 + 1)] =
+          decide_level1(pixel_corners(grid.display.data() + ci, cw), pixel_corners(grid.signature.data() + ci, cw),
+                        eps, geo.at(x, y), false)
+              .refine;
     }
 }
 
@@ -425,9 +432,9 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
       const int ci = layout.index(x, y);
       const float4 tl = corner_lin[ci], tr = corner_lin[ci + 1];
       const float4 bl = corner_lin[ci + cw], br = corner_lin[ci + cw + 1];
-      const Rgb4 disp = soa_from_aos(corner_disp[ci], corner_disp[ci + 1], corner_disp[ci + cw], corner_disp[ci + cw + 1]);
+      const Rgb4 disp = pixel_corners(corner_disp + ci, cw);
 
-      const int4 sig(corner_sig[ci], corner_sig[ci + 1], corner_sig[ci + cw], corner_sig[ci + cw + 1]);
+      const int4 sig = pixel_corners(corner_sig + ci, cw);
       const bool g = geo.at(x, y);
       // Detail the corners may have missed sends the pixel on like a geo flag.
       const HiddenFlag peak_flag = hidden ? hidden[size_t(ry) * rw + rx] : 0;

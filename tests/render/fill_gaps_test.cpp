@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "aa/adaptive_pixel.h"
 #include "core/film.h"
