@@ -316,6 +316,39 @@ struct CornerTexture {
   }
 };
 
+// std::clamp(v, 0, 1) lane by lane (NaN stays NaN, -0 stays -0), as whitted_surface clamps.
+float4 clamp01(float4 v) {
+  const float4 zero(0.0f), one(1.0f);
+  return select(v < zero, zero, select(one < v, one, v));
+}
+
+// The diffuse albedo that textured_material gives a metallic- or transmission-textured
+// material (whitted_surface's base x (1 - metallic) x (1 - transmission)) at four points of
+// the pixel, with the same float operations in the same order: the same floats, lane by lane.
+vec3x4 pbr_albedo4(const Material& material, const CornerTexture& base_map, const CornerTexture& metallic_map,
+                   const CornerTexture& transmission_map, const Bilerp4& w, const SampleSurface4& own) {
+  vec3x4 base = splat(material.base_color);
+  float4 rgba[4];
+  if (base_map.texture) {
+    base_map.sample4(w, own, rgba);
+    base = base * vec3x4{rgba[0], rgba[1], rgba[2]};
+  }
+  float4 metallic(material.metallic), transmission(material.transmission);
+  if (metallic_map.texture) {  // glTF: B = metallic
+    metallic_map.sample4(w, own, rgba);
+    metallic = metallic * rgba[2];
+  }
+  if (transmission_map.texture) {
+    transmission_map.sample4(w, own, rgba);
+    transmission = transmission * rgba[0];
+  }
+  const float4 one(1.0f);
+  metallic = clamp01(metallic);
+  transmission = clamp01(transmission) * (one - metallic);
+  const vec3x4 clamped{clamp01(base.x), clamp01(base.y), clamp01(base.z)};
+  return clamped * (one - metallic) * (one - transmission);
+}
+
 // One lane's vector from `bilinear`, except in the lanes `exact` has its own for.
 vec3x4 patch_lanes(const vec3x4& bilinear, const SampleSurface4& exact, const glm::vec3 (&own)[4]) {
   if (exact.lanes == 0) return bilinear;
@@ -426,6 +459,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   const bool plain_albedo = !material.varies_per_hit();  // albedo = diffuse x base texture
   const vec3x4 zero = splat(glm::vec3(0.0f));
   const CornerTexture emissive_map(scene, material.emissive_texture, c), base_map(scene, material.base_color_texture, c);
+  const CornerTexture metallic_map = plain_albedo ? CornerTexture() : CornerTexture(scene, material.metallic_roughness_texture, c);
+  const CornerTexture transmission_map = plain_albedo ? CornerTexture() : CornerTexture(scene, material.transmission_texture, c);
   const CornerTexture normal_map = per_light ? CornerTexture(scene, material.normal_texture, c) : CornerTexture();
   // With the camera, each sample's own triangle among the corners' (SampleSurface4). The
   // rays' directions on the image plane are affine in (s, t), so the corners' directions
@@ -464,19 +499,8 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
         base_map.sample4(w, own, rgba);
         albedo = albedo * vec3x4{rgba[0], rgba[1], rgba[2]};
       }
-    } else {  // metallic, roughness or transmission textured: the material, lane by lane
-      alignas(16) float ax[4], ay[4], az[4];
-      for (int lane = 0; lane < 4; ++lane) {
-        const glm::vec3 a = diffuse_albedo(
-            scene, m,
-            (own.lanes >> lane) & 1 ? own.tc[lane]
-                                    : Texcoords(w.lane(lane, c[0].uv0, c[1].uv0, c[2].uv0, c[3].uv0),
-                                                w.lane(lane, c[0].uv1, c[1].uv1, c[2].uv1, c[3].uv1)));
-        ax[lane] = a.x;
-        ay[lane] = a.y;
-        az[lane] = a.z;
-      }
-      albedo = {float4::load(ax), float4::load(ay), float4::load(az)};
+    } else {  // metallic or transmission textured: whitted_surface's diffuse term, four lanes at once
+      albedo = pbr_albedo4(material, base_map, metallic_map, transmission_map, w, own);
     }
     if (!per_light) return sum + albedo * splat(light);
     // The normal map at the samples, in the corners' frames interpolated (mapped_in_frame).

@@ -137,6 +137,47 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   EXPECT_EQ(black.delta, glm::vec3(0.0f));
 }
 
+// A material whose metallic texture (B channel) is 0 but for the stroke's column, lit by a
+// light of irradiance 1: the diffuse albedo is base x (1 - metallic), so the stroke darkens
+// the pixel by base x the stroke's third of the footprint, and a transmission texture the
+// same way scales what the metal leaves. Both go through the lanes' material, not the
+// plain albedo's product.
+TEST(TextureFootprint, AMetallicOrTransmissionStrokeBetweenTheCornersDarkensTheDiffuse) {
+  for (const bool transmission : {false, true}) {
+    StrokeScene s;
+    with_triangle(s.scene);
+    // G (roughness) is the stroke's negative: a read of the wrong channel shows.
+    for (glm::vec4& texel : s.scene.textures[0].texels) texel.g = 1.0f - texel.r;
+    Material& m = s.scene.materials[0];
+    m.emissive = glm::vec3(0.0f);
+    m.emissive_texture = TextureRef{};
+    m.base_color = glm::vec3(0.8f, 0.6f, 0.4f);
+    if (transmission) {
+      m.transmission = 1.0f;
+      m.transmission_texture.index = 0;  // R: 1 on the stroke
+    } else {
+      m.metallic = 1.0f;
+      m.metallic_roughness_texture.index = 0;  // B: 1 on the stroke
+    }
+    s.scene.finalize_materials();
+    ASSERT_TRUE(m.varies_per_hit());
+    FootprintCorners k;
+    s.corners(30.5f / 64, 33.5f / 64, k.c);
+    for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
+    const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+    ASSERT_TRUE(d.applies) << transmission;
+    // The corners see no stroke: albedo = base; the pixel a third less of it.
+    EXPECT_NEAR(d.delta.r, -0.8f / 3.0f, 0.02f) << transmission;
+    EXPECT_NEAR(d.delta.g, -0.6f / 3.0f, 0.02f) << transmission;
+    EXPECT_NEAR(d.delta.b, -0.4f / 3.0f, 0.02f) << transmission;
+    // Far from the stroke the lanes' albedo is the corners' own: exactly nothing to add.
+    s.corners(2.0f / 64, 5.0f / 64, k.c);
+    const FootprintDelta flat = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+    EXPECT_TRUE(flat.applies);
+    EXPECT_EQ(flat.delta, glm::vec3(0.0f)) << transmission;
+  }
+}
+
 // Stripes along the pixel's axis, four periods across it: a regular 4 x 4 grid of samples
 // sees every stripe at the same phase (delta 1: all its samples on white texel centres);
 // the rank-1 lattice has one point in each of its 25 columns, so its mean is the stripes'.
