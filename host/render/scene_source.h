@@ -4,6 +4,7 @@
 // for the hidden-detail flags (aa/hidden_detail.h) which surface it hit.
 #pragma once
 
+#include <bit>
 #include <limits>
 #include <vector>
 
@@ -132,6 +133,10 @@ class SceneSource {
     // Node kFootprintNode[k]'s in footprint[k] (render/shader.h); filled only when the
     // footprint correction is on.
     FootprintProbe footprint[kFootprintNodes];
+    // Bit k: node[k] has a highlight (has_highlight), set after the sample; the highlight
+    // flag reads this one word per corner instead of a line of every node's record.
+    uint32_t highlit = 0;
+    static_assert(kProbeNodes <= 32);
     const SurfaceProbe& surface() const { return node[0]; }
     // Before a sample: what a node's readers see of a node the path lacks. The primary hit's
     // is read whole (a miss); the others are read only where has_highlight, and a node the
@@ -156,6 +161,11 @@ class SceneSource {
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
     const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
+    for (int i = 0; i < 4; ++i) {
+      uint32_t highlit = 0;
+      for (int k = 0; k < kProbeNodes; ++k) highlit |= uint32_t(has_highlight(probes[i].node[k])) << k;
+      probes[i].highlit = highlit;
+    }
     return c;
   }
 
@@ -168,11 +178,10 @@ class SceneSource {
     glm::vec3 h(0.0f);
     uint32_t points = 0;
     if (detail_->highlights)
-      for (int k = 0; k < kProbeNodes; ++k) {
-        // Tested in place: most nodes have no highlight at some corner, and the copies cost.
-        if (!has_highlight(tl[0].node[k]) || !has_highlight(tl[1].node[k]) || !has_highlight(tl[stride].node[k]) ||
-            !has_highlight(tl[stride + 1].node[k]))
-          continue;
+      // Only the nodes with a highlight at all four corners: most have none at some corner.
+      for (uint32_t nodes = tl[0].highlit & tl[1].highlit & tl[stride].highlit & tl[stride + 1].highlit; nodes != 0;
+           nodes &= nodes - 1) {
+        const int k = std::countr_zero(nodes);
         const SurfaceProbe c[4] = {tl[0].node[k], tl[1].node[k], tl[stride].node[k], tl[stride + 1].node[k]};
         const ProbeStencil stencil(&tl->node[k], sizeof(Probe), stride * ptrdiff_t(sizeof(Probe)));
         h += hidden_highlight(shader_.scene(), c, shown, &stencil, detail_->step_limit, &detail_->normal_spreads,

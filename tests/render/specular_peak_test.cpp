@@ -451,6 +451,11 @@ TEST(SpecularPeak, ProbesFollowTheReflectionsBranchOfThePathTree) {
   EXPECT_NEAR(ceiling.position.z, 6.0f, 1e-4f);
   EXPECT_NEAR(ceiling.specular.r, s.whitted[2].specular.r * mirror_share * (1.0f - fresnel),
               1e-3f * s.whitted[2].specular.r);
+  // The word the flag reads instead of every node's record says which nodes have a highlight.
+  for (int k = 0; k < kProbeNodes; ++k)
+    EXPECT_EQ((probe.highlit >> k) & 1u, uint32_t(has_highlight(probe.node[k]))) << "slot " << k;
+  EXPECT_NE(probe.highlit & (1u << probe_slot(refracted_node(reflected_node(0)))), 0u);  // the ceiling
+  EXPECT_EQ(probe.highlit & (1u << probe_slot(refracted_node(0))), 0u);                  // none
 }
 
 // The probed nodes fill the slots 0 .. kProbeNodes - 1, each once, and form a subtree: a
