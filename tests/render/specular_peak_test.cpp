@@ -126,6 +126,33 @@ TEST(SpecularPeak, APinpointHighlightBetweenTheCornersIsFound) {
   EXPECT_EQ(hidden.r, hidden.g);
 }
 
+// A point light's four corners are computed in SSE lanes, other lights corner by corner;
+// a spot whose cone is the whole sphere lights as the point does (its cone factor is 1),
+// so both paths must give the very same floats, here over pixels around, on and off the peak.
+TEST(SpecularPeak, APointLightsCornersInLanesMatchTheScalarPath) {
+  GlossyFloor point, spot;
+  Light& cone = spot.scene.lights[0];
+  cone.type = Light::Type::Spot;
+  cone.direction = {0.0f, 0.0f, -1.0f};
+  cone.inner_cone = cone.outer_cone = 3.14159265f;
+  SurfaceProbe c[4];
+  int nonzero = 0;
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      const float x0 = -0.18f + 0.05f * float(i), y0 = -0.17f + 0.05f * float(j);  // (3, 3) holds the peak
+      point.corners(x0, x0 + 0.045f, y0, y0 + 0.05f, c);
+      uint32_t point_points = 0, spot_points = 0;
+      const glm::vec3 a = hidden_highlight(point.scene, c, glm::vec3(1e-5f), nullptr,
+                                           std::numeric_limits<float>::infinity(), nullptr, &point_points);
+      const glm::vec3 b = hidden_highlight(spot.scene, c, glm::vec3(1e-5f), nullptr,
+                                           std::numeric_limits<float>::infinity(), nullptr, &spot_points);
+      EXPECT_EQ(a, b) << i << ", " << j;
+      EXPECT_EQ(point_points, spot_points) << i << ", " << j;
+      nonzero += a.r > 0.0f;
+    }
+  EXPECT_GT(nonzero, 0);
+}
+
 // Where it may show: the peak at (0, 0) lies a quarter of the way across the pixel from
 // its TL corner, so the lattice points the flag names are around (0.25, 0.25), the one
 // nearest the peak among them, and none in the far half (the lobe, exponent 10000, spans
