@@ -4,6 +4,7 @@
 // for the hidden-detail flags (aa/hidden_detail.h) which surface it hit.
 #pragma once
 
+#include <algorithm>
 #include <bit>
 #include <limits>
 #include <vector>
@@ -32,16 +33,17 @@ inline constexpr float kBoundMargin = 1.1f;
 // most s d where it was blocked (above: one that can say no). Those bounds decide most
 // lanes, with kBoundMargin for the tone map's table chords (under 5 % off its slope). A
 // slot with a lane left undecided tone-maps the other ends, four lanes at a time, and
-// decides all four exactly.
+// decides all four exactly. Slots from `slots` on hold no light (a scene with fewer lights
+// than slots) and are not read.
 inline void lights_shown(const ToneMap& tonemap, const Rgb4& colour, const glm::vec3 (*light)[4],
-                         const uint32_t shadowed[4], uint32_t shows[4]) {
+                         const uint32_t shadowed[4], uint32_t shows[4], int slots = kLightSlots) {
   const Rgb4 slope{tonemap.slope4(colour.r), tonemap.slope4(colour.g), tonemap.slope4(colour.b)};
   Rgb4 shown;
   bool tone_mapped = false;
   alignas(16) float cr[4], cg[4], cb[4];
   colour.r.store(cr), colour.g.store(cg), colour.b.store(cb);
   const float4 step(kDisplayStep), above(kDisplayStep * kBoundMargin), below(kDisplayStep / kBoundMargin);
-  for (int slot = 0; slot < kLightSlots; ++slot) {
+  for (int slot = 0; slot < std::min(slots, kLightSlots); ++slot) {
     alignas(16) float r[4], g[4], b[4], dr[4], dg[4], db[4];
     bool blocked_lane[4], any = false;
     for (int i = 0; i < 4; ++i) {
@@ -103,7 +105,8 @@ class SceneSource {
   SceneSource(const Shader& shader, const CameraRays& camera, unsigned signature_parts = kSignatureNone,
               const HiddenDetail* detail = nullptr, ToneMap tonemap = {})
       : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail),
-        tonemap_(tonemap) {
+        tonemap_(tonemap),
+        light_slots_(int(std::min(shader.scene().lights.size(), size_t(kLightSlots)))) {
     view_.origin = camera.origin;
     const glm::vec3 forward = glm::normalize(glm::cross(camera.du, camera.dv));
     view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
@@ -299,7 +302,7 @@ class SceneSource {
     uint32_t shadowed[4] = {}, shows[4] = {};
     if (parts_ & kSignatureLights) {
       for (int i = 0; i < 4; ++i) shadowed[i] = fold_to_slots(seen.shadowed[i]);
-      lights_shown(tonemap_, colour, seen.light_radiance, shadowed, shows);
+      lights_shown(tonemap_, colour, seen.light_radiance, shadowed, shows, light_slots_);
     }
     for (int i = 0; i < 4; ++i) {
       uint32_t h = 0;
@@ -316,6 +319,7 @@ class SceneSource {
   unsigned parts_;
   const HiddenDetail* detail_;
   ToneMap tonemap_;
+  int light_slots_;  // the slots the scene's lights fold onto (fold_to_slots)
   FootprintView view_;  // the camera, for the footprint's samples on the primary hit
 };
 

@@ -229,6 +229,12 @@ TEST(SceneSignature, LightsShownAgreesWithToneMappingBothEnds) {
                    float4(colour[0].b, colour[1].b, colour[2].b, colour[3].b)};
       uint32_t shows[4] = {};
       lights_shown(tm, c, light, shadowed, shows);
+      // Told that only the first slots hold lights, it decides those slots the same and
+      // leaves the others clear.
+      const int slots = 1 + round % kLightSlots;
+      uint32_t first_shows[4] = {};
+      lights_shown(tm, c, light, shadowed, first_shows, slots);
+      for (int i = 0; i < 4; ++i) ASSERT_EQ(first_shows[i], shows[i] & ((1u << slots) - 1u)) << slots;
       for (int i = 0; i < 4; ++i)
         for (int l = 0; l < kLightSlots; ++l) {
           const glm::vec3 a = colour[i], d = light[l][i];
