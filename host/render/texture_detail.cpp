@@ -201,9 +201,6 @@ struct Bilerp4 {
   vec3x4 at(glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) const {
     return {at(a.x, b.x, c.x, d.x), at(a.y, b.y, c.y, d.y), at(a.z, b.z, c.z, d.z)};
   }
-  glm::vec2 lane(int i, glm::vec2 a, glm::vec2 b, glm::vec2 c, glm::vec2 d) const {
-    return w[0][i] * a + w[1][i] * b + w[2][i] * c + w[3][i] * d;
-  }
   glm::vec3 lane3(int i, glm::vec3 a, glm::vec3 b, glm::vec3 c, glm::vec3 d) const {
     return w[0][i] * a + w[1][i] * b + w[2][i] * c + w[3][i] * d;
   }
