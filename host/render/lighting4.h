@@ -1,8 +1,8 @@
 // Direct lighting of 4 hit points at once (SoA, one lane per ray of a packet): the light's
 // direction, distance and irradiance factor (glTF KHR_lights_punctual) for each lane.
 // Every lane runs the same IEEE operations in the same order as the scalar light_towards
-// (render/lighting.h, which the highlight flag still uses; no reassociation, no reciprocal
-// approximations, the build uses -ffp-contract=off), so each lane's result is bit-identical.
+// (render/lighting.h; no reassociation, no reciprocal approximations, the build uses
+// -ffp-contract=off), so each lane's result is bit-identical.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -23,6 +23,7 @@ struct LightSample4 {
   vec3x4 to_light;  // unit direction from the point to the light
   vec3x4 scale;     // light.intensity * falloff (distance, range window, spot cone)
   mask4 lit;        // falloff > 0 (and the point is not at the light's position)
+  mask4 towards;    // to_light holds (light_towards sets it): directional, or not at the position
 };
 
 // Per-light constants, computed once per light rather than once per lane.
@@ -53,7 +54,7 @@ inline LightSample4 light_towards4(const Light& light, const LightConstants& k, 
   if (light.type == Light::Type::Directional) {
     s.to_light = k.directional_to_light;
     s.scale = k.intensity;
-    s.lit = mask4(true);
+    s.lit = s.towards = mask4(true);
     return s;
   }
   const vec3x4 d = k.position - p;
@@ -73,7 +74,8 @@ inline LightSample4 light_towards4(const Light& light, const LightConstants& k, 
     falloff = falloff * (t * t);
   }
   s.scale = k.intensity * falloff;
-  s.lit = (dist2 > float4(0.0f)) & (falloff > float4(0.0f));
+  s.towards = dist2 > float4(0.0f);
+  s.lit = s.towards & (falloff > float4(0.0f));
   return s;
 }
 

@@ -7,6 +7,7 @@
 #include "aa/lattice.h"
 #include "core/simd.h"
 #include "render/lighting.h"
+#include "render/lighting4.h"
 #include "render/texture_range.h"
 #include "scene/scene.h"
 
@@ -63,41 +64,30 @@ uint32_t lattice_points_lit(const glm::vec2 d[4], float normal_error, float shin
   return lit ? lit : 1u << nearest;
 }
 
-// The four corners' terms of a point light without a range window, the corners in SSE
-// lanes: the cosine at the normal (0 where unlit), d = n - h and the light's radiance scale,
-// with light_towards's and glm::normalize's float operations in their order, so the same
-// floats as corner by corner (a quarter of the divisions and square roots, which were most
-// of the flag's per-corner time).
-void point_light_corners(const Light& light, const SurfaceProbe c[4], glm::vec3 d3[4], float cos_n[4],
-                         glm::vec3 scale[4]) {
+// One light's terms at the pixel's four corners, the corners in SSE lanes (light_towards4,
+// bit-identical to light_towards corner by corner): the cosine at the normal (0 where
+// unlit), d = n - h (h from the direction light_towards gives, else the normal) and the
+// light's radiance scale. One division or square root serves four corners.
+void corner_light_terms(const Light& light, const SurfaceProbe c[4], glm::vec3 d3[4], float cos_n[4],
+                        glm::vec3 scale[4]) {
   auto lanes = [&](auto member) {
-    vec3x4 v;
     alignas(16) float x[4], y[4], z[4];
     for (int k = 0; k < 4; ++k) {
       const glm::vec3& a = c[k].*member;
       x[k] = a.x, y[k] = a.y, z[k] = a.z;
     }
-    v.x = float4::load(x), v.y = float4::load(y), v.z = float4::load(z);
-    return v;
+    return vec3x4{float4::load(x), float4::load(y), float4::load(z)};
   };
-  const vec3x4 p = lanes(&SurfaceProbe::position), n = lanes(&SurfaceProbe::normal), view = lanes(&SurfaceProbe::view);
-  const vec3x4 d = vec3x4{float4(light.position.x), float4(light.position.y), float4(light.position.z)} - p;
-  const float4 dist2 = dot(d, d);
-  const mask4 towards = dist2 > float4(0.0f);
-  const float4 dist = sqrt(dist2);
-  const vec3x4 wi = select(towards, vec3x4{d.x / dist, d.y / dist, d.z / dist}, n);
-  const float4 falloff = float4(1.0f) / dist2;
-  const mask4 lit = towards & (falloff > float4(0.0f));
-  const float4 cos = select(lit, dot(n, wi), float4(0.0f));
+  const vec3x4 n = lanes(&SurfaceProbe::normal), view = lanes(&SurfaceProbe::view);
+  const LightSample4 s = light_towards4(light, LightConstants(light), lanes(&SurfaceProbe::position));
+  const vec3x4 wi = select(s.towards, s.to_light, n);
+  const float4 cos = select(s.lit, dot(n, wi), float4(0.0f));
   const vec3x4 h = wi + view;
-  const float4 inv = float4(1.0f) / sqrt(dot(h, h));
-  const vec3x4 dn = n - h * inv;
-  const vec3x4 s = {float4(light.intensity.x) * falloff, float4(light.intensity.y) * falloff,
-                    float4(light.intensity.z) * falloff};
+  const vec3x4 dn = n - h * (float4(1.0f) / sqrt(dot(h, h)));  // glm::normalize's v * (1 / |v|)
   alignas(16) float out[7][4];
   cos.store(out[0]);
   dn.x.store(out[1]), dn.y.store(out[2]), dn.z.store(out[3]);
-  s.x.store(out[4]), s.y.store(out[5]), s.z.store(out[6]);
+  s.scale.x.store(out[4]), s.scale.y.store(out[5]), s.scale.z.store(out[6]);
   for (int k = 0; k < 4; ++k) {
     cos_n[k] = out[0][k];
     d3[k] = {out[1][k], out[2][k], out[3][k]};
@@ -212,18 +202,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
     }
     glm::vec3 d3[4], scale[4], incident(0.0f), strongest(0.0f);
     float cos_n[4];
-    if (light.type == Light::Type::Point && !(light.range > 0.0f)) {
-      point_light_corners(light, c, d3, cos_n, scale);
-    } else {
-      for (int k = 0; k < 4; ++k) {
-        float distance;
-        glm::vec3 wi = c[k].normal;
-        scale[k] = glm::vec3(0.0f);
-        const bool lit = light_towards(light, c[k].position, wi, distance, scale[k]);
-        cos_n[k] = lit ? glm::dot(c[k].normal, wi) : 0.0f;
-        d3[k] = c[k].normal - glm::normalize(wi + c[k].view);  // n - h
-      }
-    }
+    corner_light_terms(light, c, d3, cos_n, scale);
     for (int k = 0; k < 4; ++k) {
       if (!(cos_n[k] > 0.0f)) continue;
       incident += scale[k] * cos_n[k];

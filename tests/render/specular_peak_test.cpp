@@ -126,10 +126,11 @@ TEST(SpecularPeak, APinpointHighlightBetweenTheCornersIsFound) {
   EXPECT_EQ(hidden.r, hidden.g);
 }
 
-// A point light's four corners are computed in SSE lanes, other lights corner by corner;
-// a spot whose cone is the whole sphere lights as the point does (its cone factor is 1),
-// so both paths must give the very same floats, here over pixels around, on and off the peak.
-TEST(SpecularPeak, APointLightsCornersInLanesMatchTheScalarPath) {
+// The corners' light terms come from light_towards4 for every kind of light (its lanes
+// equal the scalar light_towards: lighting4_test.cpp); a spot whose cone is the whole
+// sphere lights as the point does (its cone factor is 1), so the flag must give the very
+// same floats and points for both, over pixels around, on and off the peak.
+TEST(SpecularPeak, ASpotWhoseConeIsTheWholeSphereFlagsAsThePointLight) {
   GlossyFloor point, spot;
   Light& cone = spot.scene.lights[0];
   cone.type = Light::Type::Spot;

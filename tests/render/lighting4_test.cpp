@@ -1,0 +1,74 @@
+// The four-lane light_towards (render/lighting4.h) against the scalar one (render/lighting.h)
+// it must equal bit for bit: the shader's SoA light loop and the highlight flag's corner
+// terms both rely on it.
+#include "render/lighting4.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "render/lighting.h"
+
+namespace zz {
+namespace {
+
+bool same_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::vector<Light> every_kind_of_light() {
+  Light point;
+  point.position = {0.3f, 1.2f, -0.4f};
+  point.intensity = {2.0f, 1.5f, 0.7f};
+  Light ranged = point;
+  ranged.range = 1.5f;  // the glTF window: some lanes beyond it
+  Light spot = point;
+  spot.type = Light::Type::Spot;
+  spot.direction = {0.1f, -1.0f, 0.2f};
+  spot.inner_cone = 0.3f;
+  spot.outer_cone = 0.6f;  // lanes inside, in the penumbra and outside
+  Light sun;
+  sun.type = Light::Type::Directional;
+  sun.direction = {0.2f, -1.0f, -0.3f};
+  sun.intensity = {3.0f, 3.0f, 2.5f};
+  return {point, ranged, spot, sun};
+}
+
+TEST(LightTowards4, EqualsTheScalarLightTowardsBitForBitInEveryLane) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> coord(-2.0f, 2.0f);
+  const glm::vec3 unset(7.0f);  // no unit vector: light_towards left to_light as it was
+  for (const Light& light : every_kind_of_light()) {
+    const LightConstants constants(light);
+    for (int round = 0; round < 2000; ++round) {
+      glm::vec3 p[4];
+      for (glm::vec3& q : p) q = {coord(rng), coord(rng), coord(rng)};
+      if (round == 0) p[2] = light.position;  // at the light: no direction
+      alignas(16) float x[4], y[4], z[4];
+      for (int i = 0; i < 4; ++i) x[i] = p[i].x, y[i] = p[i].y, z[i] = p[i].z;
+      const LightSample4 s =
+          light_towards4(light, constants, vec3x4{float4::load(x), float4::load(y), float4::load(z)});
+      for (int i = 0; i < 4; ++i) {
+        glm::vec3 to_light = unset, scale(0.0f);
+        float distance;
+        const bool lit = light_towards(light, p[i], to_light, distance, scale);
+        const bool towards = to_light != unset;
+        ASSERT_EQ(s.lit[i], lit) << int(light.type) << " lane " << i;
+        ASSERT_EQ(s.towards[i], towards) << int(light.type) << " lane " << i;
+        if (towards) {
+          EXPECT_TRUE(same_bits(s.to_light.x[i], to_light.x) && same_bits(s.to_light.y[i], to_light.y) &&
+                      same_bits(s.to_light.z[i], to_light.z))
+              << int(light.type) << " lane " << i;
+        }
+        if (lit) {
+          EXPECT_TRUE(same_bits(s.scale.x[i], scale.x) && same_bits(s.scale.y[i], scale.y) &&
+                      same_bits(s.scale.z[i], scale.z))
+              << int(light.type) << " lane " << i;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace zz
