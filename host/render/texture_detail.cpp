@@ -8,6 +8,7 @@
 #include "aa/lattice.h"
 
 #include "render/lighting.h"
+#include "render/lighting4.h"
 #include "render/normal_map.h"
 #include "render/surface_material.h"
 #include "scene/materials.h"
@@ -184,8 +185,6 @@ bool facing_frame(const Scene& scene, size_t t3, float u, float v, float side, g
 constexpr std::array<LatticePoint, 4> kFootprintCoarse = {
     LatticePoint{0.25f, 0.25f}, LatticePoint{0.75f, 0.25f}, LatticePoint{0.25f, 0.75f}, LatticePoint{0.75f, 0.75f}};
 
-// The same vector in all four lanes.
-vec3x4 splat(glm::vec3 v) { return {float4(v.x), float4(v.y), float4(v.z)}; }
 
 // The bilinear weights of the corners (TL, TR, BL, BR) at four points (s, t) of the pixel.
 struct Bilerp4 {
@@ -313,8 +312,9 @@ struct CornerTexture {
   }
 };
 
-// std::clamp(v, 0, 1) lane by lane (NaN stays NaN, -0 stays -0), as whitted_surface clamps.
-float4 clamp01(float4 v) {
+// std::clamp(v, 0, 1) lane by lane, as whitted_surface clamps: NaN stays NaN and -0 stays
+// -0, where lighting4.h's clamp01 (min and max) gives 0 and +0.
+float4 std_clamp01(float4 v) {
   const float4 zero(0.0f), one(1.0f);
   return select(v < zero, zero, select(one < v, one, v));
 }
@@ -324,7 +324,7 @@ float4 clamp01(float4 v) {
 // the pixel, with the same float operations in the same order: the same floats, lane by lane.
 vec3x4 pbr_albedo4(const Material& material, const CornerTexture& base_map, const CornerTexture& metallic_map,
                    const CornerTexture& transmission_map, const Bilerp4& w, const SampleSurface4& own) {
-  vec3x4 base = splat(material.base_color);
+  vec3x4 base = broadcast(material.base_color);
   float4 rgba[4];
   if (base_map.texture) {
     base_map.sample4(w, own, rgba);
@@ -340,9 +340,9 @@ vec3x4 pbr_albedo4(const Material& material, const CornerTexture& base_map, cons
     transmission = transmission * rgba[0];
   }
   const float4 one(1.0f);
-  metallic = clamp01(metallic);
-  transmission = clamp01(transmission) * (one - metallic);
-  const vec3x4 clamped{clamp01(base.x), clamp01(base.y), clamp01(base.z)};
+  metallic = std_clamp01(metallic);
+  transmission = std_clamp01(transmission) * (one - metallic);
+  const vec3x4 clamped{std_clamp01(base.x), std_clamp01(base.y), std_clamp01(base.z)};
   return clamped * (one - metallic) * (one - transmission);
 }
 
@@ -454,7 +454,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   const bool lit = diffuse && light != glm::vec3(0.0f);
   const WhittedMaterial& whitted = scene.whitted[m];
   const bool plain_albedo = !material.varies_per_hit();  // albedo = diffuse x base texture
-  const vec3x4 zero = splat(glm::vec3(0.0f));
+  const vec3x4 zero = broadcast(glm::vec3(0.0f));
   const CornerTexture emissive_map(scene, material.emissive_texture, c), base_map(scene, material.base_color_texture, c);
   const CornerTexture metallic_map = plain_albedo ? CornerTexture() : CornerTexture(scene, material.metallic_roughness_texture, c);
   const CornerTexture transmission_map = plain_albedo ? CornerTexture() : CornerTexture(scene, material.transmission_texture, c);
@@ -485,12 +485,12 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (emissive) {
       float4 rgba[4];
       emissive_map.sample4(w, own, rgba);
-      sum = vec3x4{rgba[0], rgba[1], rgba[2]} * splat(emission);
+      sum = vec3x4{rgba[0], rgba[1], rgba[2]} * broadcast(emission);
     }
     if (!lit) return sum;
     vec3x4 albedo;
     if (plain_albedo) {
-      albedo = splat(whitted.diffuse);
+      albedo = broadcast(whitted.diffuse);
       if (base_map.texture) {
         float4 rgba[4];
         base_map.sample4(w, own, rgba);
@@ -499,7 +499,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     } else {  // metallic or transmission textured: whitted_surface's diffuse term, four lanes at once
       albedo = pbr_albedo4(material, base_map, metallic_map, transmission_map, w, own);
     }
-    if (!per_light) return sum + albedo * splat(light);
+    if (!per_light) return sum + albedo * broadcast(light);
     // The normal map at the samples, in the corners' frames interpolated (mapped_in_frame).
     float4 rgb[4];
     normal_map.sample4(w, own, rgb);
@@ -511,7 +511,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
                           axis(2) * (rgb[2] * 2.0f - 1.0f);
     const float4 mapped_len = sqrt(dot(mapped, mapped));
     const vec3x4 normal = select((mapped_len > float4(1e-12f)) & isfinite(mapped_len),
-                                 mapped * rcp_exact(mapped_len), splat(c[0].normal));
+                                 mapped * rcp_exact(mapped_len), broadcast(c[0].normal));
     const vec3x4 view = w.at(c[0].view, c[1].view, c[2].view, c[3].view);
     const vec3x4 wo = view * rcp_exact(sqrt(dot(view, view)));
     const vec3x4 specular = w.at(c[0].specular, c[1].specular, c[2].specular, c[3].specular);
@@ -545,7 +545,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   auto model_mean = [&](const LatticePoint* points, int count, glm::vec3& spread) {
     vec3x4 sum = zero;
     const glm::vec3 inf(std::numeric_limits<float>::infinity());
-    vec3x4 lo = splat(inf), hi = splat(-inf);
+    vec3x4 lo = broadcast(inf), hi = broadcast(-inf);
     for (int first = 0; first < count; first += 4) {
       alignas(16) float ss[4], ts[4];
       for (int lane = 0; lane < 4; ++lane) {
