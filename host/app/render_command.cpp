@@ -65,23 +65,10 @@ std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const
 std::string image_settings(const BatchOptions& o, const Scene& scene) {
   const RenderOptions& r = o.render;
   nlohmann::json j = {{"aa", name_of(kAaModes, r.aa)}, {"max_depth", scene.max_depth}, {"time", scene.time}};
-  if (r.aa == AaMode::Adaptive)
-    j["adaptive"] = {{"eps", r.adaptive.eps},
-                     {"eps_specular", r.adaptive.eps_specular},
-                     {"tables", r.adaptive.tables->name},
-                     {"geo_policy", name_of(kGeoPolicies, r.adaptive.geo_policy)},
-                     {"filter", name_of(kFilters, r.adaptive.filter)},
-                     {"signature", signature_name(r.adaptive.signature)},
-                     {"highlights", r.adaptive.highlights},
-                     {"textures", r.adaptive.textures},
-                     {"footprint", r.adaptive.footprint},
-                     {"curvature", r.adaptive.curvature},
-                     {"hdr_zones", r.adaptive.hdr_zones},
-                     {"geo_orient", r.adaptive.geo_orient},
-                     {"geo_zones", r.adaptive.geo_zones},
-                     {"split_unflagged", r.adaptive.split_unflagged},
-                     {"fill_gaps", r.adaptive.fill_gaps},
-                     {"edges", name_of(kEdgeModes, r.edges)}};
+  if (r.aa == AaMode::Adaptive) {
+    j["adaptive"] = adaptive_settings_json(r.adaptive);
+    j["adaptive"]["edges"] = name_of(kEdgeModes, r.edges);
+  }
   if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}, {"material", r.edge_material}};
   if (r.aa == AaMode::Uniform) j["uniform"] = {{"spp", r.spp}, {"pattern", name_of(kUniformPatterns, r.pattern)}};
   return j.dump();

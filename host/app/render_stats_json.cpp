@@ -4,6 +4,24 @@
 
 namespace zz {
 
+nlohmann::json adaptive_settings_json(const AdaptiveOptions& a) {
+  return {{"eps", a.eps},
+          {"eps_specular", a.eps_specular},
+          {"tables", a.tables->name},
+          {"geo_policy", name_of(kGeoPolicies, a.geo_policy)},
+          {"filter", name_of(kFilters, a.filter)},
+          {"signature", signature_name(a.signature)},
+          {"highlights", a.highlights},
+          {"textures", a.textures},
+          {"footprint", a.footprint},
+          {"curvature", a.curvature},
+          {"hdr_zones", a.hdr_zones},
+          {"geo_orient", a.geo_orient},
+          {"geo_zones", a.geo_zones},
+          {"split_unflagged", a.split_unflagged},
+          {"fill_gaps", a.fill_gaps}};
+}
+
 nlohmann::json render_stats_json(const JobRecord& r) {
   const RenderOptions& o = *r.options;
   const RenderSettings& settings = *r.settings;
@@ -30,22 +48,8 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   }
   if (o.aa == AaMode::Adaptive) {
     const AaStats& a = stats.aa;
-    j["adaptive"] = {{"eps", o.adaptive.eps},
-                     {"eps_specular", o.adaptive.eps_specular},
-                     {"tables", o.adaptive.tables->name},
-                     {"geo_policy", name_of(kGeoPolicies, o.adaptive.geo_policy)},
-                     {"filter", name_of(kFilters, o.adaptive.filter)},
-                     {"signature", signature_name(o.adaptive.signature)},
-                     {"highlights", o.adaptive.highlights},
-                     {"textures", o.adaptive.textures},
-                     {"footprint", o.adaptive.footprint},
-                     {"curvature", o.adaptive.curvature},
-                     {"hdr_zones", o.adaptive.hdr_zones},
-                     {"geo_orient", o.adaptive.geo_orient},
-                     {"geo_zones", o.adaptive.geo_zones},
-                     {"split_unflagged", o.adaptive.split_unflagged},
-                     {"fill_gaps", o.adaptive.fill_gaps},
-                     {"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
+    nlohmann::json& adaptive = j["adaptive"] = adaptive_settings_json(o.adaptive);
+    adaptive.update({{"by_level", {a.per_pixel(a.rays[0]), a.per_pixel(a.rays[1]), a.per_pixel(a.rays[2])}},
                      {"padded", a.per_pixel(a.padded_rays)},  // by_level + padded = rays_per_pixel
                      {"level2_fraction", a.level2_fraction()},
                      {"level3_fraction", a.level3_fraction()},
@@ -60,7 +64,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                      // Summed over tiles (CPU seconds across threads): the split of render time.
                      {"time_s", {{"level1_corners", a.seconds_corners},
                                  {"levels_2_3", a.seconds_refine},
-                                 {"mitchell_filter", a.seconds_filter}}}};
+                                 {"mitchell_filter", a.seconds_filter}}}});
   }
   j["triangles"] = r.scene->triangle_count();
   j["dropped_degenerate_triangles"] = r.scene->dropped_degenerate;

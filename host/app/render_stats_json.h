@@ -46,6 +46,10 @@ struct JobRecord {
   double aov_seconds = 0;
 };
 
+// The adaptive options, as the stats record and the image's settings stamp (what
+// `zigzag merge` compares) both give them.
+nlohmann::json adaptive_settings_json(const AdaptiveOptions& a);
+
 nlohmann::json render_stats_json(const JobRecord& r);
 
 }  // namespace zz

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "aa/corner_field.h"  // kCornerFieldBudget
+#include "test_render.h"
 #include "test_scenes.h"
 
 namespace zz {
@@ -34,16 +35,7 @@ Scene box_scene() {
   return s;
 }
 
-Film render(const Scene& scene, RenderSettings settings, RenderStats* stats_out = nullptr,
-            const RenderCallbacks& callbacks = {}) {
-  const Bvh bvh = Bvh::build(scene.positions);
-  const Shader shader(scene, bvh);
-  Film film;
-  RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
-  if (stats_out) *stats_out = stats;
-  return film;
-}
+using test::render;
 
 bool bit_identical(const Film& a, const Film& b) {
   return a.width == b.width && a.height == b.height &&

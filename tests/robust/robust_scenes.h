@@ -11,6 +11,7 @@
 #include <cstring>
 #include <vector>
 
+#include "../render/test_render.h"
 #include "../render/test_scenes.h"
 #include "accel/bvh.h"
 #include "render/image_io.h"
@@ -18,17 +19,7 @@
 
 namespace zz::robust {
 
-// Renders cameras[0] of `scene` with an empty visibility map.
-inline Film render(const Scene& scene, const RenderSettings& settings, RenderStats* stats_out = nullptr,
-                   const RenderCallbacks& callbacks = {}) {
-  const Bvh bvh = Bvh::build(scene.positions);
-  const Shader shader(scene, bvh);
-  Film film;
-  RenderStats stats;
-  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
-  if (stats_out) *stats_out = stats;
-  return film;
-}
+using test::render;
 
 inline RenderSettings settings(int w, int h, AaMode aa, int threads = 0) {
   RenderSettings s;

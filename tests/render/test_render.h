@@ -1,0 +1,23 @@
+// A whole-frame render of a scene built in code, for the render and robustness tests.
+#pragma once
+
+#include "accel/bvh.h"
+#include "core/geo_map.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace zz::test {
+
+// Renders cameras[0] of `scene` with an empty visibility map.
+inline Film render(const Scene& scene, const RenderSettings& settings, RenderStats* stats_out = nullptr,
+                   const RenderCallbacks& callbacks = {}) {
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  Film film;
+  RenderStats stats;
+  render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
+  if (stats_out) *stats_out = stats;
+  return film;
+}
+
+}  // namespace zz::test
