@@ -241,25 +241,39 @@ class CornerTriangles {
   // the interpolation.
   SampleSurface4 hit4(glm::vec3 origin, const glm::vec3 d[4]) const {
     SampleSurface4 out;
+    alignas(16) float x[4], y[4], z[4];
+    for (int lane = 0; lane < 4; ++lane) x[lane] = d[lane].x, y[lane] = d[lane].y, z[lane] = d[lane].z;
+    const vec3x4 dir{float4::load(x), float4::load(y), float4::load(z)};
+    float4 best(std::numeric_limits<float>::infinity()), best_u(0.0f), best_v(0.0f);
+    int4 best_j(-1);
+    for (int j = 0; j < count_; ++j) {
+      // Moller & Trumbore 1997, the four rays in lanes (the same operations as glm's, in the
+      // same order), with a little slack at the edges: a sample on the triangles' shared edge
+      // may fall in either. s and q do not depend on the ray.
+      const vec3x4 p = cross(dir, broadcast(e2_[j]));
+      const float4 det = dot(broadcast(e1_[j]), p);
+      const float4 inv = float4(1.0f) / det;
+      const glm::vec3 s = origin - p0_[j];
+      const float4 u = dot(broadcast(s), p) * inv;
+      const glm::vec3 q = glm::cross(s, e1_[j]);
+      const float4 v = dot(dir, broadcast(q)) * inv;
+      constexpr float kSlack = 1e-4f;
+      const float4 t = float4(glm::dot(e2_[j], q)) * inv;
+      const mask4 take = (abs(det) > float4(0.0f)) & (u >= float4(-kSlack)) & (v >= float4(-kSlack)) &
+                         (u + v <= float4(1.0f + kSlack)) & (t > float4(0.0f)) & (t < best);
+      best = select(take, t, best);
+      best_u = select(take, u, best_u);
+      best_v = select(take, v, best_v);
+      best_j = select(take, int4(j), best_j);
+    }
+    alignas(16) float us[4], vs[4];
+    alignas(16) int32_t js[4];
+    best_u.store(us);
+    best_v.store(vs);
+    best_j.store(js);
     for (int lane = 0; lane < 4; ++lane) {
-      float best = std::numeric_limits<float>::infinity(), bu = 0.0f, bv = 0.0f;
-      int which = -1;
-      for (int j = 0; j < count_; ++j) {
-        // Moller & Trumbore 1997, with a little slack at the edges: a sample on the
-        // triangles' shared edge may fall in either.
-        const glm::vec3 p = glm::cross(d[lane], e2_[j]);
-        const float det = glm::dot(e1_[j], p);
-        if (!(std::abs(det) > 0.0f)) continue;
-        const float inv = 1.0f / det;
-        const glm::vec3 s = origin - p0_[j];
-        const float u = glm::dot(s, p) * inv;
-        const glm::vec3 q = glm::cross(s, e1_[j]);
-        const float v = glm::dot(d[lane], q) * inv;
-        constexpr float kSlack = 1e-4f;
-        if (!(u >= -kSlack && v >= -kSlack && u + v <= 1.0f + kSlack)) continue;
-        const float t = glm::dot(e2_[j], q) * inv;
-        if (t > 0.0f && t < best) best = t, bu = u, bv = v, which = j;
-      }
+      const int which = js[lane];
+      const float bu = us[lane], bv = vs[lane];
       if (which < 0) continue;
       const size_t t3 = size_t(prim_[which]) * 3;
       const float u = std::clamp(bu, 0.0f, 1.0f), v = std::clamp(bv, 0.0f, 1.0f - u);

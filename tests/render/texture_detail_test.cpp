@@ -292,6 +292,26 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
               interpolated.delta.r);
 }
 
+// The same, the texture's value u + 3v: along the fold's edge v runs with the image's y
+// and on the receding triangle the sample's depth scales it, so each sample's two
+// barycentrics both count (with the first, u alone, one of them never did).
+TEST(TextureFootprint, SamplesTakeTheirOwnTrianglesBothCoordinatesAcrossAFold) {
+  StrokeScene s([](int x, int y) { return (float(x) + 0.5f) / 64.0f + 3.0f * (float(y) + 0.5f) / 64.0f; });
+  const FoldScene fold;
+  s.scene.positions = fold.scene.positions;
+  s.scene.uvs = fold.scene.uvs;
+  s.scene.material_of = fold.scene.material_of;
+  FootprintCorners k;
+  fold.corners(k);
+  const float expected = FoldScene::lattice_delta([](glm::vec3 p) {
+    const glm::vec2 uv = FoldScene::uv_at(p);
+    return uv.x + 3.0f * uv.y;
+  });
+  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
+  ASSERT_TRUE(exact.applies);
+  EXPECT_NEAR(exact.delta.r, expected, 4e-6f);
+}
+
 // The same fold, smooth-shaded, normal-mapped (a flat map: the shading normal is the
 // interpolated one) and lit by one directional light: each sample is lit at its own
 // triangle's normal, as the lattice's rays are.
