@@ -18,6 +18,16 @@ float reduce(float u, TextureWrap wrap) {
   return u;
 }
 
+// reduce() in four lanes, for finite coordinates.
+float4 reduce4(float4 u, TextureWrap wrap) {
+  switch (wrap) {
+    case TextureWrap::Repeat: return u - floor(u);
+    case TextureWrap::MirroredRepeat: return u - float4(2.0f) * floor(float4(0.5f) * u);
+    case TextureWrap::ClampToEdge: return min(max(u, float4(-1.0f)), float4(2.0f));  // std::clamp's values
+  }
+  return u;
+}
+
 }  // namespace
 
 // Texel index i wrapped into [0, n) (OpenGL 4.6 §8.14.2 wrap functions).
@@ -78,32 +88,45 @@ glm::vec4 Texture::sample(glm::vec2 uv) const {
 }
 
 void Texture::sample4(float4 u, float4 v, float4 rgba[4]) const {
-  alignas(16) float c[4][4];  // c[channel][lane]
-  alignas(16) float us[4], vs[4];
-  u.store(us);
-  v.store(vs);
   const bool bilinear_rgba8 = filter == TextureFilter::Linear && texels.empty() && width > 0 && height > 0 &&
                               texels8.size() >= size_t(width) * size_t(height);
-  for (int lane = 0; lane < 4; ++lane) {
-    if (!bilinear_rgba8 || !std::isfinite(us[lane]) || !std::isfinite(vs[lane])) {
-      const glm::vec4 t = sample(glm::vec2(us[lane], vs[lane]));
+  if (!bilinear_rgba8 || !(isfinite(u) & isfinite(v)).all()) {
+    alignas(16) float c[4][4];  // c[channel][lane]
+    for (int lane = 0; lane < 4; ++lane) {
+      const glm::vec4 t = sample(glm::vec2(u[lane], v[lane]));
       for (int ch = 0; ch < 4; ++ch) c[ch][lane] = t[ch];
-      continue;
     }
-    // sample()'s bilinear path, with the four texels' bytes decoded into their weighted sum.
-    const BilinearTaps taps = bilinear_taps(*this, reduce(us[lane], wrap_s), reduce(vs[lane], wrap_t));
-    const float tx = taps.tx, ty = taps.ty;
-    const uint32_t p[4] = {texels8[taps.index[0]], texels8[taps.index[1]], texels8[taps.index[2]],
-                           texels8[taps.index[3]]};
-    for (int ch = 0; ch < 4; ++ch) {
-      const std::array<float, 256>& table = ch == 3 ? alpha_of_byte : colour_of_byte;
-      const unsigned shift = 8u * unsigned(ch);
-      const float a = table[(p[0] >> shift) & 0xffu], b = table[(p[1] >> shift) & 0xffu];
-      const float cc = table[(p[2] >> shift) & 0xffu], d = table[(p[3] >> shift) & 0xffu];
-      c[ch][lane] = (a * (1.0f - tx) + b * tx) * (1.0f - ty) + (cc * (1.0f - tx) + d * tx) * ty;
+    for (int ch = 0; ch < 4; ++ch) rgba[ch] = float4::load(c[ch]);
+    return;
+  }
+  // sample()'s bilinear path in lanes, the same operations: reduce, bilinear_taps' texel
+  // coordinates and weights, and the weighted sum; the texels' bytes decoded lane by lane.
+  const float4 x = reduce4(u, wrap_s) * float4(float(width)) - float4(0.5f);
+  const float4 y = reduce4(v, wrap_t) * float4(float(height)) - float4(0.5f);
+  const float4 fx = floor(x), fy = floor(y);
+  const float4 tx = x - fx, ty = y - fy;
+  alignas(16) int32_t ix[4], iy[4];
+  int4(_mm_cvttps_epi32(fx)).store(ix);  // integral floats within +-2 periods of the texture
+  int4(_mm_cvttps_epi32(fy)).store(iy);
+  alignas(16) float tap[4][4][4];  // tap[corner TL, TR, BL, BR][channel][lane]
+  for (int lane = 0; lane < 4; ++lane) {
+    const size_t x0 = size_t(wrap_index(ix[lane], width, wrap_s)), x1 = size_t(wrap_index(ix[lane] + 1L, width, wrap_s));
+    const size_t r0 = size_t(wrap_index(iy[lane], height, wrap_t)) * size_t(width);
+    const size_t r1 = size_t(wrap_index(iy[lane] + 1L, height, wrap_t)) * size_t(width);
+    const uint32_t p[4] = {texels8[r0 + x0], texels8[r0 + x1], texels8[r1 + x0], texels8[r1 + x1]};
+    for (int k = 0; k < 4; ++k) {
+      tap[k][0][lane] = colour_of_byte[p[k] & 0xffu];
+      tap[k][1][lane] = colour_of_byte[(p[k] >> 8) & 0xffu];
+      tap[k][2][lane] = colour_of_byte[(p[k] >> 16) & 0xffu];
+      tap[k][3][lane] = alpha_of_byte[p[k] >> 24];
     }
   }
-  for (int ch = 0; ch < 4; ++ch) rgba[ch] = float4::load(c[ch]);
+  const float4 one(1.0f);
+  for (int ch = 0; ch < 4; ++ch) {
+    const float4 a = float4::load(tap[0][ch]), b = float4::load(tap[1][ch]);
+    const float4 c = float4::load(tap[2][ch]), d = float4::load(tap[3][ch]);
+    rgba[ch] = (a * (one - tx) + b * tx) * (one - ty) + (c * (one - tx) + d * tx) * ty;
+  }
 }
 
 }  // namespace zz
