@@ -73,13 +73,14 @@ void run(const AnalyticArgs& a) {
                 r.level2_fraction, r.level3_fraction, r.error.rmse,
                 lattice_rmse > 0 ? r.error.rmse / lattice_rmse : 0.0, (unsigned long long)r.error.pixels_off);
 
+  OutputSet outputs;  // published together (core/atomic_file.h)
   if (!a.json.empty()) {
     nlohmann::json j = {{"image", a.image},   {"size", a.size},           {"eps", a.adaptive.eps},
                         {"tables", tables},   {"geo_policy", geo_policy}, {"geo_ss", a.geo_ss},
                         {"filter", filter},   {"signature", signature_name(a.adaptive.signature)},
                         {"runs", nlohmann::json::array()}};
     for (const AnalyticRun& r : report.runs) j["runs"].push_back(to_json(r));
-    write_text_atomically(a.json, j.dump(2) + "\n");
+    write_text_atomically(a.json, j.dump(2) + "\n", &outputs);
   }
   if (!a.out.empty()) {
     // Analytic values are already display values in [0, 1]: quantise without a tone map.
@@ -88,8 +89,9 @@ void run(const AnalyticArgs& a) {
     for (size_t i = 0; i < fb.radiance.size(); ++i)
       for (int c = 0; c < 3; ++c)
         rgb[3 * i + c] = uint8_t(std::clamp(fb.radiance[i][c], 0.0f, 1.0f) * 255.0f + 0.5f);
-    write_rgb8(a.out, fb.width, fb.height, rgb);
+    write_rgb8(a.out, fb.width, fb.height, rgb, &outputs);
   }
+  outputs.commit();
 }
 
 }  // namespace

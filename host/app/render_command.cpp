@@ -197,12 +197,14 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
       aov_s = seconds_since(t);
     }
 
+    // The job's files are published together once all are written (core/atomic_file.h).
+    OutputSet outputs;
     t = std::chrono::steady_clock::now();
     write_film(output, film, settings.tonemap,
-               {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}});
+               {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
     const double write_s = seconds_since(t);
     for (const AovRequest& a : o.aovs)
-      if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo);
+      if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo, &outputs);
 
     JobRecord record;
     record.scene_name = scene_name;
@@ -228,7 +230,9 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
       record.vulkan_device = vulkan->device_name();
     }
     const nlohmann::json j = render_stats_json(record);
-    if (!o.stats.empty()) write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n");
+    if (!o.stats.empty())
+      write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
+    outputs.commit();
     if (!o.quiet) {
       std::string effects;
       for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;

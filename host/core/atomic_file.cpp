@@ -3,12 +3,12 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 
 #include "core/error.h"
 
@@ -85,34 +85,77 @@ void sync_directory(const fs::path& dir) {
 
 }  // namespace
 
-void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write) {
+struct OutputSet::Staged {
+  fs::path target, temporary;
+  RegisteredTemporary registered;
+  Staged(fs::path t, fs::path tmp) : target(std::move(t)), temporary(std::move(tmp)), registered(temporary) {}
+};
+
+OutputSet::OutputSet() = default;
+
+OutputSet::~OutputSet() {
+  std::error_code ec;
+  for (const auto& s : staged_) fs::remove(s->temporary, ec);
+}
+
+void OutputSet::stage(const fs::path& target, const std::function<void(const fs::path&)>& write) {
   const fs::path dir = target.parent_path();
   std::error_code ec;
   if (!dir.empty()) {
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
   }
-  const fs::path temporary = temporary_for(target);
-  RegisteredTemporary registered(temporary);
+  auto staged = std::make_unique<Staged>(target, temporary_for(target));
   try {
-    write(temporary);
-    sync_file(temporary);
-    if (::rename(temporary.c_str(), target.c_str()) != 0)
-      throw Error("cannot write " + target.string() + ": " + errno_text());
+    write(staged->temporary);
+    sync_file(staged->temporary);
   } catch (...) {
-    fs::remove(temporary, ec);
+    fs::remove(staged->temporary, ec);
     throw;
   }
-  sync_directory(dir);
+  staged_.push_back(std::move(staged));
 }
 
-void write_text_atomically(const fs::path& target, const std::string& text) {
-  write_atomically(target, [&](const fs::path& temporary) {
-    std::ofstream f(temporary, std::ios::binary);
-    f << text;
-    f.flush();
-    if (!f) throw Error("cannot write " + target.string());
-  });
+void OutputSet::commit() {
+  std::vector<fs::path> dirs;
+  while (!staged_.empty()) {
+    const Staged& s = *staged_.front();
+    if (::rename(s.temporary.c_str(), s.target.c_str()) != 0)
+      throw Error("cannot write " + s.target.string() + ": " + errno_text());
+    if (std::find(dirs.begin(), dirs.end(), s.target.parent_path()) == dirs.end())
+      dirs.push_back(s.target.parent_path());
+    staged_.erase(staged_.begin());
+  }
+  for (const fs::path& dir : dirs) sync_directory(dir);
+}
+
+void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write, OutputSet* set) {
+  if (set) return set->stage(target, write);
+  OutputSet one;
+  one.stage(target, write);
+  one.commit();
+}
+
+void write_text_atomically(const fs::path& target, const std::string& text, OutputSet* set) {
+  write_atomically(
+      target,
+      [&](const fs::path& temporary) {
+        const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+        if (fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
+        size_t done = 0;
+        while (done < text.size()) {
+          const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+          if (n < 0 && errno == EINTR) continue;
+          if (n <= 0) {
+            const std::string why = n < 0 ? errno_text() : "nothing was written";
+            ::close(fd);
+            throw Error("cannot write " + target.string() + ": " + why);
+          }
+          done += size_t(n);
+        }
+        if (::close(fd) != 0) throw Error("cannot write " + target.string() + ": " + errno_text());
+      },
+      set);
 }
 
 void remove_temporaries_from_signal_handler() {

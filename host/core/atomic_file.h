@@ -9,18 +9,45 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
+#include <vector>
 
 namespace zz {
+
+class OutputSet;
 
 // Calls write(temporary) and then publishes the temporary as `target`. The target's
 // directory is created if needed. If `write` throws, or anything fails, the temporary is
 // removed, the target is left untouched, and zz::Error (or write's exception) propagates.
+// With `set`, the written temporary is staged in it instead, published by set->commit().
 void write_atomically(const std::filesystem::path& target,
-                      const std::function<void(const std::filesystem::path& temporary)>& write);
+                      const std::function<void(const std::filesystem::path& temporary)>& write,
+                      OutputSet* set = nullptr);
 
-// Text (e.g. JSON) written atomically.
-void write_text_atomically(const std::filesystem::path& target, const std::string& text);
+// Text (e.g. JSON) written atomically (staged in `set` if given).
+void write_text_atomically(const std::filesystem::path& target, const std::string& text, OutputSet* set = nullptr);
+
+// The outputs of one job, published together: each is written in full to its temporary
+// first, and only when every one was does commit() rename them over their targets. A job
+// that fails half-way (a full disk at its third file) so leaves all of its targets as
+// they were; the destructor removes the temporaries of a set never committed.
+class OutputSet {
+ public:
+  OutputSet();
+  ~OutputSet();
+  OutputSet(const OutputSet&) = delete;
+  OutputSet& operator=(const OutputSet&) = delete;
+
+  void stage(const std::filesystem::path& target,
+             const std::function<void(const std::filesystem::path& temporary)>& write);
+  // Renames every staged temporary over its target, in the order staged.
+  void commit();
+
+ private:
+  struct Staged;
+  std::vector<std::unique_ptr<Staged>> staged_;
+};
 
 // Async-signal-safe: removes every temporary being written right now (for a signal
 // handler that is about to _exit).

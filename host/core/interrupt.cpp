@@ -36,6 +36,9 @@ void install_interrupt_handlers() {
   sa.sa_flags = SA_RESTART;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // A write past the file-size limit (ulimit -f) then fails with EFBIG, which the output
+  // reports as any other failed write, instead of killing the process mid-file.
+  ::signal(SIGXFSZ, SIG_IGN);
 }
 
 const std::atomic<bool>& interrupt_flag() { return g_flag; }

@@ -5,7 +5,8 @@
 // caller throws Interrupted). At any other moment (loading, writing an image through a
 // library that cannot be stopped) the handler removes the temporaries being written
 // (atomic_file.h), prints one line and exits at once. The exit status is 128 + signal:
-// 130 for SIGINT, 143 for SIGTERM.
+// 130 for SIGINT, 143 for SIGTERM. SIGXFSZ is ignored: a write past the file-size limit
+// fails (EFBIG) and is reported as a failed output.
 #pragma once
 
 #include <atomic>

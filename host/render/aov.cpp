@@ -55,7 +55,7 @@ Rgb8Image geo_image(const GeoMap& geo) {
   return img;
 }
 
-void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo) {
+void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo, OutputSet* set) {
   Rgb8Image img;
   switch (aov) {
     case Aov::Rays:
@@ -71,7 +71,7 @@ void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, con
     default:
       throw Error(std::string("--aov ") + aov_name(aov) + " has no image of its own (only channels of an .exr)");
   }
-  write_rgb8(path, img.width, img.height, img.rgb);
+  write_rgb8(path, img.width, img.height, img.rgb, set);
 }
 
 }  // namespace zz

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/geo_map.h"
 #include "core/film.h"
 #include "render/aov_layers.h"
@@ -34,6 +35,7 @@ void level_colour(int level, uint8_t rgb[3]);
 
 // The heatmap image of rays, level or geo (has_heatmap). Throws zz::Error for another
 // AOV or a missing geo map.
-void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo);
+void write_aov(Aov aov, const std::filesystem::path& path, const Film& film, const GeoMap& geo,
+               OutputSet* set = nullptr);
 
 }  // namespace zz

@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "render/checked_output.h"
 
 namespace zz {
 
@@ -22,20 +23,50 @@ std::string first_line(std::string s) {
   return s;
 }
 
+// An image writer for `temporary` (the format by its extension), writing through a
+// CheckedFileOutput: a failed write, which the writer itself may not notice, fails the
+// image. Errors name `target`, the file the user asked for.
+class OpenOutput {
+ public:
+  OpenOutput(const std::filesystem::path& target, const std::filesystem::path& temporary)
+      : target_(target), file_(temporary), out_(OIIO::ImageOutput::create(temporary.string())) {
+    if (!out_) throw Error("cannot write " + target.string() + ": " + first_line(OIIO::geterror()));
+    if (out_->supports("ioproxy") && !out_->set_ioproxy(&file_)) fail();
+  }
+  OIIO::ImageOutput* operator->() const { return out_.get(); }
+  // Throws with the writer's error, or else the file's.
+  [[noreturn]] void fail() {
+    std::string why = first_line(out_->geterror());
+    if (why.empty()) why = file_.failure();
+    throw Error("cannot write " + target_.string() + ": " + (why.empty() ? "the image writer failed" : why));
+  }
+  void close() {
+    const bool closed = out_->close();
+    file_.close();
+    const std::string why = file_.failure();
+    if (!why.empty()) throw Error("cannot write " + target_.string() + ": " + why);
+    if (!closed) fail();
+  }
+
+ private:
+  std::filesystem::path target_;
+  CheckedFileOutput file_;
+  std::unique_ptr<OIIO::ImageOutput> out_;
+};
+
 // Writes through a temporary renamed over `path` (core/atomic_file.h).
-void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const void* data) {
+void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const void* data, OutputSet* set) {
   if (spec.width < 1 || spec.height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
   write_atomically(path, [&](const std::filesystem::path& temporary) {
-    auto out = OIIO::ImageOutput::create(temporary.string());
-    if (!out) throw Error("cannot write " + path.string() + ": " + first_line(OIIO::geterror()));
-    if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data) || !out->close())
-      throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
-  });
+    OpenOutput out(path, temporary);
+    if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data)) out.fail();
+    out.close();
+  }, set);
 }
 
 // An EXR of the radiance plus film.channels, interleaved a band of rows at a time (a
 // whole interleaved copy of a large frame would double the output's memory).
-void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const Film& film) {
+void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const Film& film, OutputSet* set) {
   const size_t extra = film.channels.size();
   for (const FilmChannel& c : film.channels)
     if (c.values.size() != film.radiance.size())
@@ -50,9 +81,8 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
   const size_t stride = 3 + extra;
   std::vector<float> band(size_t(kBand) * size_t(film.width) * stride);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
-    auto out = OIIO::ImageOutput::create(temporary.string());
-    if (!out) throw Error("cannot write " + path.string() + ": " + first_line(OIIO::geterror()));
-    if (!out->open(temporary.string(), spec)) throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+    OpenOutput out(path, temporary);
+    if (!out->open(temporary.string(), spec)) out.fail();
     for (int y0 = 0; y0 < film.height; y0 += kBand) {
       const int y1 = std::min(film.height, y0 + kBand);
       for (int y = y0; y < y1; ++y)
@@ -64,11 +94,10 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
           o[2] = film.radiance[p].b;
           for (size_t c = 0; c < extra; ++c) o[3 + c] = film.channels[c].values[p];
         }
-      if (!out->write_scanlines(film.y0 + y0, film.y0 + y1, 0, OIIO::TypeDesc::FLOAT, band.data()))
-        throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
+      if (!out->write_scanlines(film.y0 + y0, film.y0 + y1, 0, OIIO::TypeDesc::FLOAT, band.data())) out.fail();
     }
-    if (!out->close()) throw Error("cannot write " + path.string() + ": " + first_line(out->geterror()));
-  });
+    out.close();
+  }, set);
 }
 
 }  // namespace
@@ -116,12 +145,13 @@ std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {
   return bytes;
 }
 
-void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb) {
-  write_pixels(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data());
+void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb,
+                OutputSet* set) {
+  write_pixels(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data(), set);
 }
 
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
-                const FilmAttributes& attributes) {
+                const FilmAttributes& attributes, OutputSet* set) {
   if (is_hdr_extension(path)) {
     OIIO::ImageSpec spec(film.width, film.height, 3, OIIO::TypeDesc::FLOAT);
     spec.x = film.x0;
@@ -135,16 +165,16 @@ void write_film(const std::filesystem::path& path, const Film& film, const ToneM
     // OpenImageIO copies the bytes: a glm::vec3 is three packed floats.
     static_assert(sizeof(glm::vec3) == 3 * sizeof(float));
     if (film.channels.empty()) {
-      write_pixels(path, spec, static_cast<const void*>(film.radiance.data()));
+      write_pixels(path, spec, static_cast<const void*>(film.radiance.data()), set);
       return;
     }
     if (!holds_extra_channels(path))
       throw Error("cannot write " + path.string() + ": only an .exr holds the AOV channels");
-    write_layers(path, spec, film);
+    write_layers(path, spec, film, set);
   } else {
     if (!film.channels.empty())
       throw Error("cannot write " + path.string() + ": only an .exr holds the AOV channels");
-    write_rgb8(path, film.width, film.height, display_bytes(film, tonemap));
+    write_rgb8(path, film.width, film.height, display_bytes(film, tonemap), set);
   }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/atomic_file.h"
 #include "core/tonemap.h"
 #include "core/film.h"
 
@@ -30,9 +31,10 @@ using FilmAttributes = std::map<std::string, std::string>;
 // `attributes`, so the parts of a frame merge into exactly the full render. Display
 // formats (PNG, ...) hold the film's own pixels: a region's PNG is region-sized.
 // film.channels go into an EXR after R, G, B as float channels of their own names;
-// any other format with channels is an error (holds_extra_channels).
+// any other format with channels is an error (holds_extra_channels). With `set`, the file
+// is staged in it (core/atomic_file.h), published with the job's other outputs.
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
-                const FilmAttributes& attributes = {});
+                const FilmAttributes& attributes = {}, OutputSet* set = nullptr);
 
 // An EXR written by write_film, read back: radiance with its windows, the exposure and
 // the "zigzag:" attributes (keys without the prefix), and every channel besides R, G, B
@@ -49,7 +51,8 @@ FilmFile read_film(const std::filesystem::path& path);
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap);
 
 // Writes an 8-bit RGB image of width*height pixels.
-void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb);
+void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb,
+                OutputSet* set = nullptr);
 
 // Reads any OpenImageIO format as float RGB (linear as stored; PNGs are display values).
 std::vector<float> read_rgb_float(const std::filesystem::path& path, int& width, int& height);

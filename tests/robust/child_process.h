@@ -51,6 +51,7 @@ struct ChildOptions {
   std::vector<std::pair<std::string, std::string>> env;  // added to the environment
   double timeout_s = 60.0;
   size_t address_space_limit = 0;  // RLIMIT_AS in bytes; 0 = none
+  size_t file_size_limit = 0;      // RLIMIT_FSIZE in bytes (ulimit -f): writes past it fail; 0 = none
 };
 
 inline ChildResult run_child(const std::vector<std::string>& argv, const ChildOptions& opt = {}) {
@@ -86,6 +87,10 @@ inline ChildResult run_child(const std::vector<std::string>& argv, const ChildOp
     if (opt.address_space_limit) {
       rlimit lim{opt.address_space_limit, opt.address_space_limit};
       ::setrlimit(RLIMIT_AS, &lim);
+    }
+    if (opt.file_size_limit) {
+      rlimit lim{opt.file_size_limit, opt.file_size_limit};
+      ::setrlimit(RLIMIT_FSIZE, &lim);
     }
     ::execve(args[0], args.data(), envp.data());
     ::_exit(127);

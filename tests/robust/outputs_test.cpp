@@ -156,6 +156,56 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   EXPECT_LT(a.seconds, 10.0);
 }
 
+std::string contents(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+size_t entries(const fs::path& dir) {
+  return size_t(std::distance(fs::directory_iterator(dir), fs::directory_iterator()));
+}
+
+// A write that fails half-way through the file (a full disk; here the file-size limit,
+// ulimit -f, past which the renderer's writes fail with EFBIG): OpenImageIO's PNG writer
+// did not notice (a truncated PNG, exit 0) and libjpeg's exited the process. The old file
+// stays, the one line says why, and no temporary is left.
+TEST_F(Outputs, AWriteThatFailsMidFileLeavesTheOldImageAndSaysWhy) {
+  const size_t before = entries(dir_);
+  robust::ChildOptions limited;
+  limited.file_size_limit = 4096;  // room at 256^2 takes 18 kB (JPEG) to 760 kB (EXR)
+  for (const char* ext : {"png", "jpg", "exr", "tif"}) {
+    SCOPED_TRACE(ext);
+    const fs::path target = path(std::string("old.") + ext);
+    write(target.filename().string(), "the old image");
+    const auto r = robust::run_child({kZigzag, "render", (kScenes / "room.json").string(), "--width", "256", "--height",
+                                      "256", "-o", target.string(), "--edges", "off", "-q"},
+                                     limited);
+    expect_error(r, target.string() + ": File too large");
+    EXPECT_EQ(contents(target), "the old image");
+  }
+  EXPECT_EQ(entries(dir_), before + 4);  // the four old images, no temporary
+}
+
+// A job's files are published together: its stats failing (the file-size limit between the
+// image's size and theirs) leaves the image it wrote before them as it was.
+TEST_F(Outputs, AJobWhoseLaterOutputFailsLeavesItsEarlierOnesAlone) {
+  const std::vector<std::string> job = {kZigzag,   "render", (kScenes / "room.json").string(), "--width", "24",
+                                        "--height", "16",     "-o", path("out.png").string(),  "--stats",
+                                        path("stats.json").string(), "--edges", "off", "-q"};
+  ASSERT_EQ(robust::run_child(job).exit_code, 0);
+  const size_t image = fs::file_size(path("out.png")), stats = fs::file_size(path("stats.json"));
+  ASSERT_LT(image + 256, stats) << "the test needs stats larger than the image";
+  write("out.png", "the old image");
+  write("stats.json", "the old stats");
+  const size_t before = entries(dir_);
+  robust::ChildOptions limited;
+  limited.file_size_limit = (image + stats) / 2;
+  expect_error(robust::run_child(job, limited), path("stats.json").string() + ": File too large");
+  EXPECT_EQ(contents(path("out.png")), "the old image");
+  EXPECT_EQ(contents(path("stats.json")), "the old stats");
+  EXPECT_EQ(entries(dir_), before);
+}
+
 TEST_F(Outputs, ADirectoryNamedLikeASceneIsNamedAsOne) {
   fs::create_directories(path("x.glb"));
   expect_error(render({path("x.glb").string(), "-o", path("x.png").string()}), "is a directory");

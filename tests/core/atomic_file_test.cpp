@@ -1,0 +1,93 @@
+#include "core/atomic_file.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+namespace fs = std::filesystem;
+
+class AtomicFile : public testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("zz_atomic_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+            std::to_string(::getpid()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path path(const std::string& name) const { return dir_ / name; }
+  static std::string read(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  static void put(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+  // Entries in the folder (a temporary left behind would be one more).
+  size_t files() const { return size_t(std::distance(fs::directory_iterator(dir_), fs::directory_iterator())); }
+  fs::path dir_;
+};
+
+TEST_F(AtomicFile, ASetPublishesNothingUntilCommitted) {
+  put(path("a.json"), "old a");
+  put(path("b.json"), "old b");
+  {
+    OutputSet set;
+    write_text_atomically(path("a.json"), "new a", &set);
+    write_text_atomically(path("b.json"), "new b", &set);
+    write_text_atomically(path("sub/c.json"), "new c", &set);  // its folder is made
+    EXPECT_EQ(read(path("a.json")), "old a");
+    EXPECT_EQ(read(path("b.json")), "old b");
+    EXPECT_FALSE(fs::exists(path("sub/c.json")));
+    set.commit();
+  }
+  EXPECT_EQ(read(path("a.json")), "new a");
+  EXPECT_EQ(read(path("b.json")), "new b");
+  EXPECT_EQ(read(path("sub/c.json")), "new c");
+  EXPECT_EQ(files(), 3u);  // a, b and the folder sub: no temporary left
+}
+
+TEST_F(AtomicFile, AFailedOutputLeavesEveryOutputOfItsSetAsItWas) {
+  put(path("image.png"), "old image");
+  {
+    OutputSet set;
+    write_atomically(path("image.png"), [](const fs::path& t) { put(t, "new image"); }, &set);
+    write_text_atomically(path("fresh.json"), "never published", &set);
+    EXPECT_THROW(write_atomically(path("stats.json"),
+                                  [](const fs::path& t) {
+                                    put(t, "half");
+                                    throw Error("disk full");
+                                  },
+                                  &set),
+                 Error);
+    // The job gives up: no commit.
+  }
+  EXPECT_EQ(read(path("image.png")), "old image");
+  EXPECT_FALSE(fs::exists(path("fresh.json")));
+  EXPECT_FALSE(fs::exists(path("stats.json")));
+  EXPECT_EQ(files(), 1u);  // the old image alone: every temporary removed
+}
+
+TEST_F(AtomicFile, WithoutASetAnOutputIsPublishedAtOnce) {
+  put(path("a.txt"), "old");
+  write_text_atomically(path("a.txt"), "new");
+  EXPECT_EQ(read(path("a.txt")), "new");
+  EXPECT_THROW(write_atomically(path("a.txt"), [](const fs::path&) { throw std::runtime_error("no"); }),
+               std::runtime_error);
+  EXPECT_EQ(read(path("a.txt")), "new");
+  EXPECT_EQ(files(), 1u);
+}
+
+}  // namespace
+}  // namespace zz
