@@ -27,6 +27,11 @@ struct Camera {
   static Camera look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov);
 };
 
+// The vertical fields of view a scene may give, in degrees (open interval): narrower is a
+// telescope of no use, wider folds the image plane's tangent towards infinity.
+inline constexpr float kMinYfovDegrees = 0.1f, kMaxYfovDegrees = 179.0f;
+inline bool valid_yfov_degrees(double degrees) { return degrees > kMinYfovDegrees && degrees < kMaxYfovDegrees; }
+
 // A camera fixed to a frame size: maps image-plane points to ray directions.
 // dir(px, py) = dir00 + px * du + py * dv (then normalised).
 struct CameraRays {

@@ -162,6 +162,31 @@ std::vector<float> read_floats(const tinygltf::Model& model, int index, int comp
   return out;
 }
 
+void check_attribute_type(const tinygltf::Model& model, int index, const std::string& attribute, bool quantized,
+                          const std::string& where) {
+  if (index < 0 || size_t(index) >= model.accessors.size())
+    throw Error(where + ": accessor " + std::to_string(index) + " out of range");
+  const tinygltf::Accessor& acc = model.accessors[size_t(index)];
+  const int t = acc.componentType;
+  if (t == TINYGLTF_COMPONENT_TYPE_FLOAT) return;
+  const bool byte_or_short = t == TINYGLTF_COMPONENT_TYPE_BYTE || t == TINYGLTF_COMPONENT_TYPE_SHORT;
+  const bool unsigned_byte_or_short =
+      t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || t == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+  bool allowed = false;
+  if (attribute.rfind("TEXCOORD_", 0) == 0)
+    allowed = (unsigned_byte_or_short && acc.normalized) || (quantized && (byte_or_short || unsigned_byte_or_short));
+  else if (attribute == "POSITION")
+    allowed = quantized && (byte_or_short || unsigned_byte_or_short);
+  else if (attribute == "NORMAL" || attribute == "TANGENT")
+    allowed = quantized && byte_or_short && acc.normalized;
+  else
+    return;
+  if (!allowed)
+    throw Error(where + ": accessor " + std::to_string(index) + " has component type " + std::to_string(t) +
+                (acc.normalized ? " (normalized)" : "") + ", which glTF 2.0 does not allow for " + attribute +
+                (quantized ? "" : " without KHR_mesh_quantization"));
+}
+
 std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index, const std::string& where) {
   if (index < 0 || size_t(index) >= model.accessors.size())
     throw Error(where + ": index accessor " + std::to_string(index) + " out of range");

@@ -23,6 +23,13 @@
 namespace zz {
 namespace {
 
+// The extensions a file may require (extensionsRequired) and still load: those this loader
+// reads, and KHR_mesh_quantization, whose integer attributes read_floats converts.
+const std::vector<std::string> kSupportedExtensions = {
+    "KHR_lights_punctual",       "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_transmission", "KHR_materials_volume",            "KHR_mesh_quantization",
+    "KHR_texture_transform"};
+
 // ---- tinygltf::Value helpers (Value::Get asserts on the wrong type) ------------------
 const tinygltf::Value* member(const tinygltf::Value& v, const char* key) {
   if (!v.IsObject() || !v.Has(key)) return nullptr;
@@ -300,6 +307,9 @@ struct Loader {
         warn(mesh_name + " primitive " + std::to_string(p) + " has no POSITION, skipped");
         continue;
       }
+      const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                                       "KHR_mesh_quantization") != model.extensionsUsed.end();
+      gltf::check_attribute_type(model, attr("POSITION"), "POSITION", quantized, where + " POSITION");
       std::vector<float> pos = gltf::read_floats(model, attr("POSITION"), 3, where + " POSITION");
       const uint32_t material = material_index(prim.material);
       const bool normal_mapped = scene.materials[material].normal_texture.used();
@@ -308,6 +318,7 @@ struct Loader {
       auto optional_attribute = [&](const char* name, int components) {
         std::vector<float> out;
         if (attr(name) < 0) return out;
+        gltf::check_attribute_type(model, attr(name), name, quantized, where + " " + name);
         out = gltf::read_floats(model, attr(name), components, where + " " + name);
         for (float f : out)
           if (!std::isfinite(f)) throw Error(where + ": NaN/Inf in " + name);
@@ -477,8 +488,17 @@ struct Loader {
       return;
     }
     const auto& p = g.perspective;
-    c.yfov = p.yfov > 0.0 && p.yfov < 3.1 ? float(p.yfov) : 0.8f;
-    c.aspect = p.aspectRatio > 0.0 ? float(p.aspectRatio) : 0.0f;
+    if (!valid_yfov_degrees(glm::degrees(p.yfov))) {
+      warn("camera '" + c.name + "' has yfov " + std::to_string(p.yfov) + " rad, outside (" +
+           std::to_string(kMinYfovDegrees) + ", " + std::to_string(kMaxYfovDegrees) + ") degrees, ignored");
+      return;
+    }
+    if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {  // 0: not given
+      warn("camera '" + c.name + "' has aspectRatio " + std::to_string(p.aspectRatio) + " (not > 0), ignored");
+      return;
+    }
+    c.yfov = float(p.yfov);
+    c.aspect = float(p.aspectRatio);
     if (p.znear > 0.0) c.znear = float(p.znear);
     c.zfar = p.zfar > p.znear ? float(p.zfar) : c.znear * 1e6f;  // 0 = infinite projection
     scene.cameras.push_back(c);
@@ -542,6 +562,9 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
     std::replace(warning.begin(), warning.end(), '\n', ' ');
     std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), warning.c_str());
   }
+  for (const std::string& e : model.extensionsRequired)
+    if (std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), e) == kSupportedExtensions.end())
+      throw Error(file + ": requires the glTF extension " + e + ", which zigzag does not support");
   Loader loader{model, scene, options, file, 0, -1, {}, false, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });

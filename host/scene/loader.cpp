@@ -97,13 +97,16 @@ Camera parse_camera(const Json& J, const json& c, const std::string& where) {
   glm::vec3 target = J.vec3(c["target"], where + ".target");
   glm::vec3 up = c.contains("up") ? J.vec3(c["up"], where + ".up") : glm::vec3(0, 1, 0);
   float yfov_deg = c.contains("yfov_deg") ? J.number(c["yfov_deg"], where + ".yfov_deg") : 45.0f;
-  if (!(yfov_deg > 0.1f && yfov_deg < 179.0f)) J.fail(where + ".yfov_deg must be in (0.1, 179)");
+  if (!valid_yfov_degrees(yfov_deg)) J.fail(where + ".yfov_deg must be in (0.1, 179)");
   glm::vec3 f = target - eye;
   if (glm::length(f) <= 0.0f || glm::length(glm::cross(f, up)) <= 1e-6f * glm::length(f) * glm::length(up))
     J.fail(where + ": eye equals target or up is parallel to the view direction");
   Camera cam = Camera::look_at(eye, target, up, glm::radians(yfov_deg));
   cam.name = c.contains("name") ? J.string(c["name"], where + ".name") : "rig";
-  if (c.contains("aspect")) cam.aspect = J.number(c["aspect"], where + ".aspect");
+  if (c.contains("aspect")) {
+    cam.aspect = J.number(c["aspect"], where + ".aspect");
+    if (!(cam.aspect > 0.0f)) J.fail(where + ".aspect must be > 0 (width / height)");
+  }
   // Near/far from the eye-target distance: the raster pass needs finite planes.
   float dist = glm::length(f);
   cam.znear = dist * 1e-3f;

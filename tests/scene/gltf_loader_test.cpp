@@ -155,6 +155,39 @@ TEST(GltfLoader, NanVertexIsAnErrorNamingTheMesh) {
   expect_error([&] { load_scene(path2, kQuiet); }, "inf_normal");
 }
 
+// glTF 2.0 section 3.12: a loader must refuse a file that requires an extension it does
+// not support (the data may only make sense through it, e.g. Draco-compressed meshes).
+TEST(GltfLoader, ARequiredExtensionItDoesNotSupportIsAnError) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression", "KHR_texture_transform"};
+  b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  const auto dir = test::temp_dir("required");
+  expect_error([&] { load_scene(b.write(dir), kQuiet); }, "requires the glTF extension KHR_draco_mesh_compression");
+  b.doc["extensionsRequired"] = {"KHR_texture_transform"};  // read by the loader: loads
+  EXPECT_EQ(load_scene(b.write(dir), kQuiet).triangle_count(), 1u);
+}
+
+// Section 3.7.2.1: POSITION is float (integers only with KHR_mesh_quantization); read as
+// floats regardless, unsigned bytes gave a silent stray triangle.
+TEST(GltfLoader, AttributeComponentTypesFollowTheSpec) {
+  GltfBuilder b;
+  const uint8_t corners[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0};  // one triangle, padded to 4 bytes
+  const int bv = b.view(corners, sizeof corners);
+  b.doc["accessors"].push_back({{"bufferView", bv}, {"componentType", 5121}, {"count", 3}, {"type", "VEC3"}});
+  b.doc["meshes"].push_back(
+      {{"name", "bytes"}, {"primitives", {{{"attributes", {{"POSITION", int(b.doc["accessors"].size()) - 1}}}}}}});
+  b.node({{"mesh", 0}});
+  const auto dir = test::temp_dir("component");
+  expect_error([&] { load_scene(b.write(dir), kQuiet); }, "not allow for POSITION without KHR_mesh_quantization");
+  b.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+  b.doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+  const Scene s = load_scene(b.write(dir), kQuiet);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.positions[1] - s.positions[0], {1, 0, 0});  // unnormalized bytes: their integer values
+  expect_vec(s.positions[2] - s.positions[0], {0, 1, 0});
+}
+
 TEST(GltfLoader, MissingAndTruncatedFilesAreErrorsNamingTheFile) {
   auto dir = test::temp_dir("trunc");
   expect_error([&] { load_scene(dir / "nope.gltf", kQuiet); }, "nope.gltf");
@@ -336,6 +369,23 @@ TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
   EXPECT_FLOAT_EQ(s.lights[1].outer_cone, 0.4f);
   EXPECT_EQ(s.lights[2].type, Light::Type::Directional);
   expect_vec(s.lights[2].direction, {0, 0, -1});
+}
+
+// A field of view or aspect ratio the spec forbids is not replaced by a made-up one: the
+// camera is ignored, with a warning, and the automatic camera frames the scene.
+TEST(GltfLoader, ACameraWithAnImpossibleFieldOfViewIsIgnored) {
+  for (const nlohmann::json& perspective :
+       {nlohmann::json{{"yfov", 0.0}, {"znear", 0.1}}, nlohmann::json{{"yfov", 3.5}, {"znear", 0.1}},
+        nlohmann::json{{"yfov", 0.5}, {"znear", 0.1}, {"aspectRatio", -1.5}}}) {
+    SCOPED_TRACE(perspective.dump());
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["cameras"] = {{{"type", "perspective"}, {"name", "bad"}, {"perspective", perspective}}};
+    b.node({{"camera", 0}, {"translation", {0, 0, 5}}});
+    const Scene s = load_scene(b.write(test::temp_dir("badcam")), kQuiet);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_NE(s.cameras[0].name, "bad");
+  }
 }
 
 TEST(GltfLoader, AutoCameraFramesTheBoundsWhenTheFileHasNone) {

@@ -106,7 +106,10 @@ TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
                            R"({"model": "model.gltf", "background": [1, 2]})", R"({"model": "model.gltf",)",
                            R"({"model": "missing.gltf"})", R"({"name": "no model"})", R"([1, 2, 3])",
                            R"({"model": "model.gltf", "camera": {"eye": [0,0,0], "target": [0,0,0]}})",
-                           R"({"model": "model.gltf", "default_camera": "nope"})"}) {
+                           R"({"model": "model.gltf", "default_camera": "nope"})",
+                           R"({"model": "model.gltf", "camera": {"eye": [0,0,5], "target": [0,0,0], "yfov_deg": 179}})",
+                           R"({"model": "model.gltf", "camera": {"eye": [0,0,5], "target": [0,0,0], "aspect": -1.5}})",
+                           R"({"model": "model.gltf", "camera": {"eye": [0,0,5], "target": [0,0,0], "aspect": 0}})"}) {
     std::string e = r.error(json);
     EXPECT_NE(e.find("rig.json"), std::string::npos) << json << " -> " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
