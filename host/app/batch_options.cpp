@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "app/option_checks.h"
 #include "core/error.h"
 #include "render/image_io.h"
 
@@ -48,8 +49,10 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_option("scenes", o.scenes, "Scene files")->required();
   cmd->add_option("-o,--output", o.output,
                   "Output image; {scene}, {camera}, {frame} (or {frame:04}) are replaced "
-                  "(.png = display, .exr = linear HDR)");
-  cmd->add_option("--stats", o.stats, "Write JSON stats per job (same placeholders as -o)");
+                  "(.png = display, .exr = linear HDR)")
+      ->check(non_empty("the output path"));
+  cmd->add_option("--stats", o.stats, "Write JSON stats per job (same placeholders as -o)")
+      ->check(non_empty("the stats path"));
   cmd->add_option("--camera", o.camera, "Camera index or name, or 'all'");
   cmd->add_option_function<std::vector<std::vector<std::string>>>(
          "--aov", [&o](const std::vector<std::vector<std::string>>& groups) { o.aovs = parse_aovs(groups); },
@@ -64,10 +67,10 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
                                                            "first frame of the scene's range)")
                            ->check(CLI::Range(0, 100000000));
-  CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(CLI::Range(0.0, 1e7));
+  CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
   frame->excludes(time);
   cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
-      ->check(CLI::Range(1e-3, 1000.0));
+      ->check(number_in(1e-3, 1000.0));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress or summary on stderr");
 }
 

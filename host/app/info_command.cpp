@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/option_checks.h"
 #include "app/commands.h"
 #include "scene/camera_select.h"
 #include "scene/loader.h"
@@ -77,7 +78,7 @@ void add_info_command(CLI::App& app, int& exit_code) {
   cmd->add_option("scenes", o->scenes, "Scene files")->required();
   cmd->add_flag("--json", o->json, "A JSON array, one object per scene (failed scenes have \"error\")");
   cmd->add_option("--fps", o->fps, "Frames per second for the frame range (default: the rig's, else 24)")
-      ->check(CLI::Range(1e-3, 1000.0));
+      ->check(number_in(1e-3, 1000.0));
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->callback([o, &exit_code] {
     nlohmann::json all = nlohmann::json::array();

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "app/option_checks.h"
 #include "core/error.h"
 #include "scene/camera_select.h"
 
@@ -11,7 +12,7 @@ namespace zz {
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   cmd->add_option("--eps", o.eps, "Adaptive: colour threshold on display values [0,1]")
       ->capture_default_str()
-      ->check(CLI::Range(0.0f, 1.0f));
+      ->check(number_in(0.0, 1.0));
   cmd->add_option_function<std::string>(
          "--eps-specular",
          [&o](const std::string& text) {
@@ -118,9 +119,9 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--edge-ss", o.edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
       ->check(CLI::Range(1, 16));
   cmd->add_option("--edge-angle", o.edge_angle, "Visibility map: normal angle threshold, degrees")
-      ->check(CLI::Range(0.0f, 180.0f));
+      ->check(number_in(0.0, 180.0));
   cmd->add_option("--edge-depth", o.edge_depth, "Visibility map: relative distance threshold")
-      ->check(CLI::Range(1e-6f, 100.0f));
+      ->check(number_in(1e-6, 100.0));
   add_choice(cmd, "--edge-material", o.edge_material, kOnOff,
              "Visibility map: samples on different materials are an edge too (material boundaries on flat "
              "surfaces)");
@@ -130,7 +131,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
                 "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");
   cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
-  cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(CLI::Range(1e-6f, 1e6f));
+  cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(number_in(1e-6, 1e6));
   cmd->add_option("--max-depth", o.max_depth, "Reflection/refraction bounces (default: the scene's)")
       ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "accel/bvh.h"
+#include "app/option_checks.h"
 #include "app/render_options.h"
 #include "core/error.h"
 #include "scene/camera_select.h"
@@ -110,7 +111,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
                   "Scripted input, e.g. \"drag:100,100,200,120;wait;screenshot:a.png;quit\" "
                   "(drag/scroll/key/resize/wait/screenshot/quit)");
   cmd->add_option("--script-timeout", o->script_timeout, "Seconds a scripted 'wait' may take before failing")
-      ->check(CLI::Range(1e-3, 1e6));
+      ->check(number_in(1e-3, 1e6));
   cmd->callback([o, &exit_code] { exit_code = view(*o); });
 }
 

@@ -145,7 +145,11 @@ TEST(RenderOptions, BadValuesAreRejectedWhileParsing) {
            {"--tables", "nope"}, {"--geo-policy", "x"}, {"--filter", "gauss"}, {"--aa", "magic"},
            {"--pattern", "zigzag"}, {"--edges", "on"}, {"--max-depth", "17"}, {"--max-depth", "-1"},
            {"--highlights", "yes"}, {"--textures", "1"}, {"--curvature", "maybe"}, {"--footprint", "2"}, {"--edge-material", "yes"},
-           {"--hdr-zones", "1"}}) {
+           {"--hdr-zones", "1"},
+           // NaN passes CLI11's own range checks (both comparisons false): each number option refuses it.
+           {"--eps", "nan"}, {"--exposure", "nan"}, {"--edge-angle", "nan"}, {"--edge-depth", "nan"}, {"--time", "nan"},
+           {"--fps", "nan"}, {"--eps", "inf"}, {"--exposure", "-inf"}, {"--eps", "0.1x"},
+           {"--output", ""}, {"--stats", ""}}) {
     BatchOptions o;
     bad.insert(bad.begin(), "a.json");
     const std::string e = parse(bad, o);
