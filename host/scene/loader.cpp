@@ -352,6 +352,12 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   }
   require_triangles(scene, file);
   scene.finalize_materials();
+  // A rig gets no default lights (scenes/README.md): say so where nothing could light the image.
+  if (!options.quiet && scene.lights.empty() && !scene.effects().emission && scene.background == glm::vec3(0.0f))
+    std::fprintf(stderr,
+                 "warning: %s: no lights, no emissive material and a black background: the image will be black "
+                 "(add \"lights\" to the rig, see scenes/README.md)\n",
+                 file.c_str());
   return scene;
 }
 

@@ -88,6 +88,28 @@ TEST(JsonScene, ReplaceLightsModelCamerasAndDefaultCamera) {
   EXPECT_EQ(d.cameras[0].name, "model_cam");
 }
 
+// A rig gets no default lights: where nothing can light the image (no light, no emission,
+// a black background) it says so rather than writing a black image without a word.
+TEST(JsonScene, ARigThatCannotLightTheImageSaysSo) {
+  Rig r("dark");
+  const LoadOptions loud{{}, false};
+  auto warnings = [&](const std::string& json) {
+    testing::internal::CaptureStderr();
+    r.load(json, loud);
+    return testing::internal::GetCapturedStderr();
+  };
+  EXPECT_NE(warnings(R"({"model": "model.gltf", "replace_lights": true})").find("the image will be black"),
+            std::string::npos);
+  EXPECT_EQ(warnings(R"({"model": "model.gltf"})"), "");  // the model's own light
+  EXPECT_EQ(warnings(R"({"model": "model.gltf", "replace_lights": true, "background": 0.1})"), "");
+  EXPECT_EQ(warnings(R"({"model": "model.gltf", "replace_lights": true,
+                         "materials_override": {"paint": {"emissive": [1, 1, 1]}}})"),
+            "");
+  testing::internal::CaptureStderr();
+  r.load(R"({"model": "model.gltf", "replace_lights": true})", kQuiet);  // -q: no warning
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
 TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
   Rig r("unknown");
   EXPECT_NE(r.error(R"({"model": "model.gltf", "exposrue": 2})").find("'exposrue'"), std::string::npos);
