@@ -2,10 +2,16 @@
 
 #include <tiny_gltf.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <vector>
@@ -52,20 +58,59 @@ std::string_view glb_json(const std::vector<unsigned char>& bytes) {
   return {reinterpret_cast<const char*>(bytes.data() + 20), length};
 }
 
+// tinygltf's own callbacks take a file it cannot open for a missing one ("File not found"
+// for a .bin the user may not read): a file that exists is found, and reading it says why
+// it fails.
+bool file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  auto fail = [err](const std::string& why) {
+    if (err) *err += why + "\n";  // tinygltf names the file
+    return false;
+  };
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return fail(std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    return fail("not a regular file");
+  }
+  out->resize(size_t(st.st_size));
+  size_t done = 0;
+  while (done < out->size()) {
+    const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? std::strerror(errno) : "the file shrank while being read";
+      ::close(fd);
+      return fail(why);
+    }
+    done += size_t(n);
+  }
+  ::close(fd);
+  return true;
+}
+
 }  // namespace
 
 void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning) {
   const std::string file = path.string();
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw Error(file + ": is a directory, not a glTF file");
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(file + ": file not found");
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status))
+    throw Error(file + ": " + (ec && ec != std::errc::no_such_file_or_directory ? ec.message() : "file not found"));
+  if (!std::filesystem::is_regular_file(status)) throw Error(file + ": not a regular file");
   // One read of the whole file: a .glb holds its buffers, often hundreds of MB.
   const uintmax_t size = std::filesystem::file_size(path, ec);
   if (ec) throw Error(file + ": cannot read its size (" + ec.message() + ")");
   if (size == 0) throw Error(file + ": empty file");
   if (size > std::numeric_limits<unsigned>::max()) throw Error(file + ": larger than 4 GiB, which tinygltf cannot read");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(file + ": cannot open");
+  if (!in) throw Error(file + ": cannot open (" + std::strerror(errno) + ")");
   std::vector<unsigned char> bytes(static_cast<size_t>(size));
   if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
     throw Error(file + ": read error (" + std::to_string(in.gcount()) + " of " + std::to_string(size) + " bytes)");
@@ -80,6 +125,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keep_encoded, nullptr);
+  gltf.SetFsCallbacks({file_exists, tinygltf::ExpandFilePath, read_whole_file, tinygltf::WriteWholeFile, nullptr});
   std::string err;
   // Relative URIs resolve against the file's folder, as tinygltf's *FromFile calls do.
   const std::string base_dir = path.parent_path().string();

@@ -8,6 +8,8 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -213,10 +215,16 @@ fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
   throw Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + what);
 }
 
+constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
+
 json parse_rig_file(const fs::path& path) {
   const std::string file = path.string();
+  std::error_code ec;
+  // Not a device or a pipe (a rig linked to /dev/zero read until memory ran out).
+  if (!fs::is_regular_file(path, ec)) throw Error(file + ": not a regular file");
+  if (fs::file_size(path, ec) > kMaxRigBytes) throw Error(file + ": larger than a rig can be (64 MiB)");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(file + ": file not found");
+  if (!in) throw Error(file + ": cannot open (" + std::strerror(errno) + ")");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(file + ":1:1: invalid JSON: the file is empty");
@@ -412,7 +420,9 @@ Camera auto_camera(const Scene& scene, float yfov) {
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) throw Error(path.string() + ": is a directory, not a scene file");
-  if (!fs::exists(path, ec)) throw Error(path.string() + ": file not found");
+  const bool exists = fs::exists(path, ec);
+  if (ec) throw Error(path.string() + ": " + ec.message());  // e.g. a folder on the way not searchable
+  if (!exists) throw Error(path.string() + ": file not found");
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   if (ext == ".json") return load_json_scene(path, options);

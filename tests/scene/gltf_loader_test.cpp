@@ -210,6 +210,22 @@ TEST(GltfLoader, MissingAndTruncatedFilesAreErrorsNamingTheFile) {
   expect_error([&] { load_scene(path, kQuiet); }, "whole.gltf");
 }
 
+// A device or a folder where a file belongs is named as such, never read (a scene linked to
+// /dev/zero read until memory ran out; a buffer folder gave std::bad_alloc).
+TEST(GltfLoader, DevicesAndFoldersAreNotReadAsFiles) {
+  auto dir = test::temp_dir("device");
+  for (const char* name : {"zero.gltf", "zero.glb", "zero.json"}) {
+    std::filesystem::create_symlink("/dev/zero", dir / name);
+    expect_error([&] { load_scene(dir / name, kQuiet); }, std::string(name) + ": not a regular file");
+  }
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  const auto path = b.write(dir, "folder");
+  std::filesystem::remove(dir / "folder.bin");
+  std::filesystem::create_directory(dir / "folder.bin");
+  expect_error([&] { load_scene(path, kQuiet); }, "folder.bin : not a regular file");
+}
+
 TEST(GltfLoader, OutOfRangeReferencesAreErrors) {
   auto dir = test::temp_dir("range");
   auto broken = [&](auto edit, const std::string& needle) {
