@@ -94,6 +94,11 @@ TEST_F(Cli, GoodSceneRenders) {
   const robust::ChildResult r = render({path("good.json").string(), "-q"});
   EXPECT_TRUE(r.exited && r.exit_code == 0) << r.err;
   EXPECT_TRUE(fs::exists(path("good.png")));
+  // More threads than this machine's cores, as asked: without TBB's warning (it capped them).
+  const robust::ChildResult many = robust::run_child(
+      {kZigzag, "render", path("good.json").string(), "-q", "--threads", "9", "-o", path("many.png").string()});
+  EXPECT_TRUE(many.exited && many.exit_code == 0) << many.err;
+  EXPECT_EQ(many.err, "");
 }
 
 TEST_F(Cli, MissingAndMalformedSceneFiles) {
