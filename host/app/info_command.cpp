@@ -29,6 +29,7 @@ nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& 
   LoadOptions load;
   load.assets_dir = o.assets;
   load.quiet = true;
+  load.allow_missing_textures = true;  // describes the geometry whatever its textures
   load.fps = o.fps;
   const Scene scene = load_scene(path, load);
   nlohmann::json cameras = nlohmann::json::array(), sizes = nlohmann::json::array();

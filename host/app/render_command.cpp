@@ -79,6 +79,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
                 const std::function<VulkanContext*()>& device) {
   LoadOptions load;
   load.assets_dir = o.render.assets;
+  load.allow_missing_textures = o.render.allow_missing_textures;
   load.quiet = o.quiet;
   load.frame = o.frame;
   load.time = o.time;

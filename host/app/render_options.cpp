@@ -131,6 +131,9 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
                 "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");
   cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
+  cmd->add_flag("--allow-missing-textures", o.allow_missing_textures,
+                "Render a material whose texture image is missing or unreadable without that texture, with a "
+                "warning (default: an error naming the image)");
   cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(number_in(1e-6, 1e6));
   cmd->add_option("--max-depth", o.max_depth, "Reflection/refraction bounces (default: the scene's)")
       ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));

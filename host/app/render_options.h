@@ -99,6 +99,7 @@ struct RenderOptions {
   bool edges_serial = false;  // the map before level 1 instead of alongside it
   int threads = 0;
   std::string assets;
+  bool allow_missing_textures = false;  // LoadOptions::allow_missing_textures
   float exposure = 0.0f;  // 0 = the scene's
   int max_depth = -1;     // -1 = the scene's
 };

@@ -43,6 +43,7 @@ int view(const ViewOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   LoadOptions load;
   load.assets_dir = o.render.assets;
+  load.allow_missing_textures = o.render.allow_missing_textures;
   Scene scene = load_scene(o.scene, load);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   size_t camera = 0;

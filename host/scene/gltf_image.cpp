@@ -34,7 +34,7 @@ std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, 
     if (encoded.image.empty() || encoded.image.size() > size_t(INT32_MAX) ||
         !tinygltf::LoadImageData(&img, source, &err, &warning, 0, 0, encoded.image.data(),
                                  int(encoded.image.size()), nullptr)) {
-      *why = label + " could not be decoded, ignored";
+      *why = label + " could not be decoded";
       return std::nullopt;
     }
   } else {
@@ -46,7 +46,7 @@ std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, 
   if (w <= 0 || h <= 0 || comp < 1 || comp > 4 || bytes == 0 || w > 65536 || h > 65536 ||
       uint64_t(w) * uint64_t(h) > (uint64_t(1) << 25) ||
       img.image.size() < size_t(w) * size_t(h) * size_t(comp) * size_t(bytes)) {
-    *why = label + " is missing or has an unsupported layout, ignored";
+    *why = label + " is missing or has an unsupported layout";
     return std::nullopt;
   }
   Texture t;

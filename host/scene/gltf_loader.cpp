@@ -118,17 +118,25 @@ struct Loader {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
   }
 
+  // A texture the file names but the loader cannot use: an error, unless the options allow
+  // rendering without it.
+  void texture_problem(const std::string& why) const {
+    if (!options.allow_missing_textures)
+      throw Error(file + ": " + why + " (--allow-missing-textures renders without it)");
+    warn(why + ", rendered without it");
+  }
+
   // Scene texture for glTF texture `index` with its sampler, decoded once per colour
-  // space and sampler; -1 if unusable.
+  // space and sampler; -1 if unusable (with allow_missing_textures).
   int texture(int index, bool srgb) {
     if (index < 0 || size_t(index) >= model.textures.size()) {
-      if (index >= 0) warn("texture " + std::to_string(index) + " out of range, ignored");
+      if (index >= 0) texture_problem("texture " + std::to_string(index) + " out of range");
       return -1;
     }
     const tinygltf::Texture& g = model.textures[size_t(index)];
     const int source = g.source;
     if (source < 0 || size_t(source) >= model.images.size()) {
-      warn("texture " + std::to_string(index) + " has no usable image source, ignored");
+      texture_problem("texture " + std::to_string(index) + " has no usable image source");
       return -1;
     }
     SamplerState sampler;
@@ -217,7 +225,7 @@ struct Loader {
   std::optional<Texture> decode(int source, bool srgb) const {
     std::string why;
     std::optional<Texture> t = gltf::decode_image(model.images[size_t(source)], source, srgb, &why);
-    if (!t) warn(why);
+    if (!t) texture_problem(why);
     return t;
   }
 

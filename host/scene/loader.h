@@ -20,6 +20,9 @@ struct LoadOptions {
   // $ZIGZAG_ASSETS, else ../shared/scenes next to the project checkout.
   std::filesystem::path assets_dir;
   bool quiet = false;  // no warnings on stderr
+  // A texture whose image is missing, unreadable or out of range is an error naming it,
+  // unless allowed: then the material is rendered without it, with a warning.
+  bool allow_missing_textures = false;
   // When to load an animated scene: `time` seconds, else `frame` / fps, else the first
   // frame of the scene's range. fps: this if > 0, else the rig's "fps", else 24.
   std::optional<double> time;

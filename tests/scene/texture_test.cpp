@@ -1,11 +1,14 @@
 #include <gtest/gtest.h>
 
+#include <tuple>
+
 #include <OpenImageIO/imageio.h>
 
 #include <cmath>
 #include <limits>
 
 #include "gltf_fixture.h"
+#include "core/error.h"
 #include "scene/loader.h"
 #include "scene/texture.h"
 
@@ -201,16 +204,37 @@ TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
   EXPECT_EQ(t.texel(2), glm::vec4(1, 1, 1, 128 * (1.0f / 255.0f)));
 }
 
-TEST(Texture, MissingImageIsIgnoredNotFatal) {
+// A texture the file names but the loader cannot use (its image missing, or the texture
+// or its source out of range) is an error naming it, as a missing file is; allowed
+// (--allow-missing-textures), the material is rendered without it.
+TEST(Texture, AMissingImageIsAnErrorUnlessAllowed) {
   auto dir = test::temp_dir("noimg");
-  test::GltfBuilder b;
-  b.doc["images"] = {{{"uri", "absent.png"}}};
-  b.doc["textures"] = {{{"source", 0}}};
-  b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}}};
-  b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
-  Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
-  EXPECT_EQ(s.materials[0].base_color_texture.index, -1);
-  EXPECT_TRUE(s.textures.empty());
+  auto file = [&](int texture, int source) {
+    test::GltfBuilder b;
+    b.doc["images"] = {{{"uri", "absent.png"}}};
+    b.doc["textures"] = {{{"source", source}}};
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}}}}}}};
+    b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
+    return b.write(dir);
+  };
+  LoadOptions strict{{}, true}, allowed{{}, true};
+  allowed.allow_missing_textures = true;
+  for (const auto& [texture, source, mention] :
+       {std::tuple{0, 0, "absent.png"}, std::tuple{3, 0, "texture 3 out of range"},
+        std::tuple{0, 5, "texture 0 has no usable image source"}}) {
+    SCOPED_TRACE(mention);
+    const auto path = file(texture, source);
+    try {
+      load_scene(path, strict);
+      ADD_FAILURE() << "no error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(mention), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("--allow-missing-textures"), std::string::npos) << e.what();
+    }
+    const Scene s = load_scene(path, allowed);
+    EXPECT_EQ(s.materials[0].base_color_texture.index, -1);
+    EXPECT_TRUE(s.textures.empty());
+  }
 }
 
 }  // namespace
