@@ -143,6 +143,12 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);
   }
+  // glTF 1.0 (and a future 3.x) is another format that tinygltf parses without a word.
+  if (binary && le32(bytes, 4) != 2)
+    throw Error(file + ": GLB container version " + std::to_string(le32(bytes, 4)) + "; only glTF 2.0 is supported");
+  const std::string& version = model.asset.minVersion.empty() ? model.asset.version : model.asset.minVersion;
+  if (version.rfind("2.", 0) != 0)
+    throw Error(file + ": glTF version '" + version + "'; only glTF 2.0 is supported");
 }
 
 }  // namespace zz::gltf

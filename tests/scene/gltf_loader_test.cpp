@@ -210,6 +210,23 @@ TEST(GltfLoader, MissingAndTruncatedFilesAreErrorsNamingTheFile) {
   expect_error([&] { load_scene(path, kQuiet); }, "whole.gltf");
 }
 
+// glTF 1.0 (a different format) is refused, not read as 2.0 without a word: by its asset
+// version in a .gltf, by the container's version in a .glb.
+TEST(GltfLoader, OnlyGltf2IsRead) {
+  auto dir = test::temp_dir("version");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  b.doc["asset"]["version"] = "1.0";
+  expect_error([&] { load_scene(b.write(dir), kQuiet); }, "glTF version '1.0'; only glTF 2.0");
+  b.doc["asset"]["version"] = "2.0";
+  const auto glb = b.write_glb(dir);
+  EXPECT_EQ(load_scene(glb, kQuiet).triangle_count(), 1u);
+  std::string bytes = test::read_text(glb);
+  bytes[4] = 1;  // the container's version, little-endian
+  test::write_text(glb, bytes);
+  expect_error([&] { load_scene(glb, kQuiet); }, "GLB container version 1");
+}
+
 // A device or a folder where a file belongs is named as such, never read (a scene linked to
 // /dev/zero read until memory ran out; a buffer folder gave std::bad_alloc).
 TEST(GltfLoader, DevicesAndFoldersAreNotReadAsFiles) {
