@@ -6,13 +6,13 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
 #include "aa/corner_field.h"
 #include "core/film.h"
+#include "core/worker_arena.h"
 
 namespace zz {
 
@@ -26,7 +26,7 @@ AaStats render_frame_adaptive(const S& source, Film& frame, const GeoMap& geo, c
   const auto field = corner_field ? make_corner_field<S>(whole, frame.width, frame.height, settings) : nullptr;
   const std::vector<CornerRect> blocks = field ? corner_blocks(field->rect) : std::vector<CornerRect>();
   std::vector<AaStats> block_stats(blocks.size()), tile_stats(tiles.size());
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  WorkerArena arena(threads);
   auto for_each = [&](size_t count, auto&& body) {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& r) {

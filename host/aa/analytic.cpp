@@ -1,13 +1,13 @@
 #include "aa/analytic.h"
 
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 
 #include "core/error.h"
+#include "core/worker_arena.h"
 
 namespace zz {
 namespace {
@@ -33,7 +33,7 @@ bool star_white(double x, double y) { return std::sin(18.0 * std::atan2(y - 128.
 
 template <class F>
 void parallel_rows(int rows, int threads, F&& f) {
-  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  WorkerArena arena(threads);
   arena.execute([&] { tbb::parallel_for(0, rows, [&](int y) { f(y); }); });
 }
 

@@ -3,11 +3,11 @@
 #include <tbb/blocked_range.h>
 #include <tbb/combinable.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <algorithm>
 
 #include "core/fp_mode.h"
+#include "core/worker_arena.h"
 
 namespace zz {
 
@@ -23,7 +23,7 @@ PrimaryHits trace_primary_hits(const Shader& shader, const Camera& camera, int w
   hits.albedo.resize(pixels);
   const CameraRays camera_rays(camera, width, height);
   tbb::combinable<RayCounters> counters;
-  tbb::task_arena arena(threads > 0 ? threads : tbb::this_task_arena::max_concurrency());
+  WorkerArena arena(threads);
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<int>(0, hits.height), [&](const tbb::blocked_range<int>& rows) {
       const ScopedFlushDenormals flush_denormals;  // as the colour's tiles: MXCSR is per thread

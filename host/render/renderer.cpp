@@ -2,19 +2,17 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
-#include <tbb/global_control.h>
 #include <tbb/parallel_for.h>
-#include <tbb/task_arena.h>
 
 #include <chrono>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include "aa/adaptive_sampler.h"
 #include "aa/corner_field.h"
 #include "core/error.h"
 #include "core/fp_mode.h"
+#include "core/worker_arena.h"
 #include "render/scene_source.h"
 
 namespace zz {
@@ -82,13 +80,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   // The corner field's shape stays the one corner_field_plan gave for the settings.
   if (!shader.effects().textures) adaptive.footprint = adaptive.textures = false;
 
-  const int threads = settings.threads > 0 ? settings.threads : tbb::this_task_arena::max_concurrency();
-  // More threads than cores, when asked for: TBB's workers are capped at the cores unless
-  // raised (it printed a warning and ran fewer).
-  std::optional<tbb::global_control> allow_threads;
-  if (threads > int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)))
-    allow_threads.emplace(tbb::global_control::max_allowed_parallelism, size_t(threads));
-  tbb::task_arena arena(threads);
+  WorkerArena arena(settings.threads);
   auto for_tiles = [&](size_t count, auto&& body) {
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 1), [&](const tbb::blocked_range<size_t>& range) {
