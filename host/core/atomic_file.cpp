@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/interrupt.h"
 
 namespace zz {
 
@@ -118,15 +119,19 @@ void OutputSet::stage(const fs::path& target, const std::function<void(const fs:
 
 void OutputSet::commit() {
   std::vector<fs::path> dirs;
-  while (!staged_.empty()) {
-    const Staged& s = *staged_.front();
-    if (::rename(s.temporary.c_str(), s.target.c_str()) != 0)
-      throw Error("cannot write " + s.target.string() + ": " + errno_text());
-    if (std::find(dirs.begin(), dirs.end(), s.target.parent_path()) == dirs.end())
-      dirs.push_back(s.target.parent_path());
-    staged_.erase(staged_.begin());
+  {
+    const CancellableScope publishing;  // a first SIGINT / SIGTERM waits for every rename
+    while (!staged_.empty()) {
+      const Staged& s = *staged_.front();
+      if (::rename(s.temporary.c_str(), s.target.c_str()) != 0)
+        throw Error("cannot write " + s.target.string() + ": " + errno_text());
+      if (std::find(dirs.begin(), dirs.end(), s.target.parent_path()) == dirs.end())
+        dirs.push_back(s.target.parent_path());
+      staged_.erase(staged_.begin());
+    }
   }
   for (const fs::path& dir : dirs) sync_directory(dir);
+  throw_if_interrupted();  // every output published: now the signal ends the run
 }
 
 void write_atomically(const fs::path& target, const std::function<void(const fs::path&)>& write, OutputSet* set) {

@@ -31,7 +31,10 @@ void write_text_atomically(const std::filesystem::path& target, const std::strin
 // The outputs of one job, published together: each is written in full to its temporary
 // first, and only when every one was does commit() rename them over their targets. A job
 // that fails half-way (a full disk at its third file) so leaves all of its targets as
-// they were; the destructor removes the temporaries of a set never committed.
+// they were; the destructor removes the temporaries of a set never committed. A first
+// SIGINT / SIGTERM during the renames waits for them (core/interrupt.h); a rename that
+// fails (the target's folder changed since the outputs were checked) leaves the outputs
+// before it published.
 class OutputSet {
  public:
   OutputSet();
@@ -41,7 +44,8 @@ class OutputSet {
 
   void stage(const std::filesystem::path& target,
              const std::function<void(const std::filesystem::path& temporary)>& write);
-  // Renames every staged temporary over its target, in the order staged.
+  // Renames every staged temporary over its target, in the order staged; throws
+  // Interrupted afterwards if a signal arrived meanwhile.
   void commit();
 
  private:

@@ -31,6 +31,9 @@ class OpenOutput {
   OpenOutput(const std::filesystem::path& target, const std::filesystem::path& temporary)
       : target_(target), file_(temporary), out_(OIIO::ImageOutput::create(temporary.string())) {
     if (!out_) throw Error("cannot write " + target.string() + ": " + first_line(OIIO::geterror()));
+    if (const std::string why = file_.failure(); !why.empty()) throw Error("cannot write " + target.string() + ": " + why);
+    // Every format zigzag writes takes a proxy (PNG, JPEG, EXR, TIFF, BMP, HDR, TGA, WebP,
+    // GIF); one that did not would write by name, its write errors unchecked.
     if (out_->supports("ioproxy") && !out_->set_ioproxy(&file_)) fail();
   }
   OIIO::ImageOutput* operator->() const { return out_.get(); }
