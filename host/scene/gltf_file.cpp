@@ -66,32 +66,52 @@ bool file_exists(const std::string& path, void*) {
   return std::filesystem::exists(path, ec);
 }
 
+// A descriptor closed however its scope is left (resize may throw).
+struct FileDescriptor {
+  int fd;
+  explicit FileDescriptor(int f) : fd(f) {}
+  ~FileDescriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+  FileDescriptor(const FileDescriptor&) = delete;
+  FileDescriptor& operator=(const FileDescriptor&) = delete;
+};
+
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
   auto fail = [err](const std::string& why) {
     if (err) *err += why + "\n";  // tinygltf names the file
     return false;
   };
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return fail(std::strerror(errno));
+  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  if (file.fd < 0) return fail(std::strerror(errno));
   struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    return fail("not a regular file");
-  }
+  if (::fstat(file.fd, &st) != 0 || !S_ISREG(st.st_mode)) return fail("not a regular file");
+  // A buffer's byteLength is a uint32 in practice (tinygltf's own limit on a .glb).
+  if (uintmax_t(st.st_size) > std::numeric_limits<uint32_t>::max()) return fail("larger than 4 GiB");
   out->resize(size_t(st.st_size));
   size_t done = 0;
   while (done < out->size()) {
-    const ssize_t n = ::read(fd, out->data() + done, out->size() - done);
+    const ssize_t n = ::read(file.fd, out->data() + done, out->size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      const std::string why = n < 0 ? std::strerror(errno) : "the file shrank while being read";
-      ::close(fd);
-      return fail(why);
-    }
+    if (n <= 0) return fail(n < 0 ? std::strerror(errno) : "the file shrank while being read");
     done += size_t(n);
   }
-  ::close(fd);
   return true;
+}
+
+// glTF 1.0 (and a future 3.x) is another format: its .glb has container version 1, which
+// tinygltf reports as an invalid binary, and its .gltf parses without a word.
+void require_gltf2_container(const std::vector<unsigned char>& bytes, const std::string& file) {
+  if (bytes.size() >= 8 && std::memcmp(bytes.data(), "glTF", 4) == 0 && le32(bytes, 4) != 2)
+    throw Error(file + ": GLB container version " + std::to_string(le32(bytes, 4)) + "; only glTF 2.0 is supported");
+}
+
+void require_gltf2_asset(const tinygltf::Model& model, const std::string& file) {
+  // A 2.0 reader loads 2.x assets unless their minVersion asks for more than 2.0.
+  if (model.asset.version.rfind("2.", 0) != 0)
+    throw Error(file + ": glTF version '" + model.asset.version + "'; only glTF 2.0 is supported");
+  if (!model.asset.minVersion.empty() && model.asset.minVersion != "2.0")
+    throw Error(file + ": glTF minVersion '" + model.asset.minVersion + "'; only glTF 2.0 is supported");
 }
 
 }  // namespace
@@ -118,6 +138,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
   const bool binary = ext == ".glb";
+  if (binary) require_gltf2_container(bytes, file);
   const std::string_view json =
       binary ? glb_json(bytes) : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (json_nesting_depth(json) > kMaxJsonDepth)
@@ -143,12 +164,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);
   }
-  // glTF 1.0 (and a future 3.x) is another format that tinygltf parses without a word.
-  if (binary && le32(bytes, 4) != 2)
-    throw Error(file + ": GLB container version " + std::to_string(le32(bytes, 4)) + "; only glTF 2.0 is supported");
-  const std::string& version = model.asset.minVersion.empty() ? model.asset.version : model.asset.minVersion;
-  if (version.rfind("2.", 0) != 0)
-    throw Error(file + ": glTF version '" + version + "'; only glTF 2.0 is supported");
+  require_gltf2_asset(model, file);
 }
 
 }  // namespace zz::gltf

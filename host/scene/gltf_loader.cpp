@@ -1,14 +1,18 @@
 // glTF 2.0 -> Scene: flattens the default scene's node hierarchy into world-space
 // triangles, and reads materials, textures, KHR_lights_punctual lights and cameras.
 #include <tiny_gltf.h>
+#include <unistd.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <tuple>
@@ -224,8 +228,18 @@ struct Loader {
 
   std::optional<Texture> decode(int source, bool srgb) const {
     std::string why;
-    std::optional<Texture> t = gltf::decode_image(model.images[size_t(source)], source, srgb, &why);
-    if (!t) texture_problem(why);
+    const tinygltf::Image& image = model.images[size_t(source)];
+    std::optional<Texture> t = gltf::decode_image(image, source, srgb, &why);
+    if (!t) {
+      // An image file that could not be read: say why (tinygltf's own warning says only
+      // that it failed, and -q hides it). The URI resolves as tinygltf resolves it.
+      if (image.bufferView < 0 && !image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
+        const std::filesystem::path p = std::filesystem::path(file).parent_path() / image.uri;
+        if (::access(p.c_str(), R_OK) != 0)
+          why = "image " + std::to_string(source) + ": cannot read " + p.string() + " (" + std::strerror(errno) + ")";
+      }
+      texture_problem(why);
+    }
     return t;
   }
 
@@ -467,6 +481,12 @@ struct Loader {
     for (int child : node.children) visit(child, world, depth + 1);
   }
 
+  // A camera the scene cannot use is left out; those after it (--camera N, a rig's
+  // default_camera index) move up one index, which the warning says.
+  void ignore_camera(const std::string& name, const std::string& why) const {
+    warn("camera '" + name + "' " + why + ", ignored (the cameras after it move up one index)");
+  }
+
   void add_camera(const tinygltf::Node& node, const glm::mat4& world) {
     if (size_t(node.camera) >= model.cameras.size()) {
       warn("node '" + node.name + "' camera out of range, ignored");
@@ -474,7 +494,7 @@ struct Loader {
     }
     const tinygltf::Camera& g = model.cameras[size_t(node.camera)];
     if (g.type != "perspective") {
-      warn("camera '" + g.name + "' is " + g.type + ", only perspective cameras are used");
+      ignore_camera(g.name, "is " + g.type + ", and only perspective cameras are used");
       return;
     }
     // glTF cameras look down -Z with +Y up in their node's frame.
@@ -485,24 +505,24 @@ struct Loader {
     glm::vec3 f = m * glm::vec3(0.0f, 0.0f, -1.0f), u = m * glm::vec3(0.0f, 1.0f, 0.0f);
     glm::vec3 r = glm::cross(f, u);
     if (!(glm::length(f) > 0.0f) || !(glm::length(r) > 0.0f)) {
-      warn("camera '" + c.name + "' has a degenerate transform, ignored");
+      ignore_camera(c.name, "has a degenerate transform");
       return;
     }
     c.forward = glm::normalize(f);
     c.right = glm::normalize(glm::cross(c.forward, u));
     c.up = glm::cross(c.right, c.forward);
     if (!finite(c.position) || !finite(c.forward) || !finite(c.right) || !finite(c.up)) {
-      warn("camera '" + c.name + "' has a non-finite transform, ignored");
+      ignore_camera(c.name, "has a non-finite transform");
       return;
     }
     const auto& p = g.perspective;
     if (!valid_yfov_degrees(glm::degrees(p.yfov))) {
-      warn("camera '" + c.name + "' has yfov " + std::to_string(p.yfov) + " rad, outside (" +
-           std::to_string(kMinYfovDegrees) + ", " + std::to_string(kMaxYfovDegrees) + ") degrees, ignored");
+      ignore_camera(c.name, "has yfov " + std::to_string(p.yfov) + " rad, outside (" +
+                                std::to_string(kMinYfovDegrees) + ", " + std::to_string(kMaxYfovDegrees) + ") degrees");
       return;
     }
     if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {  // 0: not given
-      warn("camera '" + c.name + "' has aspectRatio " + std::to_string(p.aspectRatio) + " (not > 0), ignored");
+      ignore_camera(c.name, "has aspectRatio " + std::to_string(p.aspectRatio) + " (not > 0)");
       return;
     }
     c.yfov = float(p.yfov);

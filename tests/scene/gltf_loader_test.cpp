@@ -188,6 +188,44 @@ TEST(GltfLoader, AttributeComponentTypesFollowTheSpec) {
   expect_vec(s.positions[2] - s.positions[0], {0, 1, 0});
 }
 
+// The other attributes' rules, each on a float triangle: TEXCOORD takes normalized
+// unsigned integers in core glTF, any byte or short with quantization; NORMAL only signed
+// normalized ones, and only with quantization.
+TEST(GltfLoader, NormalAndTexcoordComponentTypesFollowTheSpec) {
+  struct Case {
+    const char* attribute;
+    int component_type;
+    bool normalized, quantized, allowed;
+  };
+  const auto dir = test::temp_dir("attributes");
+  for (const Case& c : {Case{"TEXCOORD_0", 5121, true, false, true}, Case{"TEXCOORD_0", 5121, false, false, false},
+                        Case{"TEXCOORD_0", 5121, false, true, true}, Case{"TEXCOORD_0", 5125, true, true, false},
+                        Case{"NORMAL", 5120, true, false, false}, Case{"NORMAL", 5120, true, true, true},
+                        Case{"NORMAL", 5120, false, true, false}, Case{"NORMAL", 5121, true, true, false}}) {
+    SCOPED_TRACE(std::string(c.attribute) + " " + std::to_string(c.component_type) + (c.normalized ? " n" : "") +
+                 (c.quantized ? " q" : ""));
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    const bool normal = std::string(c.attribute) == "NORMAL";
+    const int size = c.component_type == 5125 ? 4 : 1;  // unsigned int, else (unsigned) byte
+    std::vector<uint8_t> data(size_t(3 * (normal ? 3 : 2) * size), 0);
+    if (normal)
+      for (int v = 0; v < 3; ++v) data[size_t(3 * v + 2)] = 127;  // +z, normalized
+    const int bv = b.view(data.data(), data.size());
+    b.doc["accessors"].push_back({{"bufferView", bv}, {"componentType", c.component_type}, {"count", 3},
+                                  {"type", normal ? "VEC3" : "VEC2"}, {"normalized", c.normalized}});
+    b.doc["meshes"][0]["primitives"][0]["attributes"][c.attribute] = int(b.doc["accessors"].size()) - 1;
+    if (c.quantized) b.doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+    const auto path = b.write(dir);
+    if (c.allowed) {
+      const Scene s = load_scene(path, kQuiet);
+      if (normal) expect_vec(s.normals[0], {0, 0, 1});
+    } else {
+      expect_error([&] { load_scene(path, kQuiet); }, std::string("does not allow for ") + c.attribute);
+    }
+  }
+}
+
 TEST(GltfLoader, MissingAndTruncatedFilesAreErrorsNamingTheFile) {
   auto dir = test::temp_dir("trunc");
   expect_error([&] { load_scene(dir / "nope.gltf", kQuiet); }, "nope.gltf");
@@ -222,9 +260,14 @@ TEST(GltfLoader, OnlyGltf2IsRead) {
   const auto glb = b.write_glb(dir);
   EXPECT_EQ(load_scene(glb, kQuiet).triangle_count(), 1u);
   std::string bytes = test::read_text(glb);
-  bytes[4] = 1;  // the container's version, little-endian
+  bytes[4] = 1;  // glTF 1.0's binary header: version 1, then the content's length and format 0
+  bytes.replace(16, 4, std::string(4, '\0'));
   test::write_text(glb, bytes);
   expect_error([&] { load_scene(glb, kQuiet); }, "GLB container version 1");
+  b.doc["asset"] = {{"version", "2.1"}};  // a later 2.x minor version loads...
+  EXPECT_EQ(load_scene(b.write(dir), kQuiet).triangle_count(), 1u);
+  b.doc["asset"]["minVersion"] = "2.1";  // ...unless it requires more than 2.0
+  expect_error([&] { load_scene(b.write(dir), kQuiet); }, "minVersion '2.1'");
 }
 
 // A device or a folder where a file belongs is named as such, never read (a scene linked to

@@ -220,7 +220,7 @@ TEST(Texture, AMissingImageIsAnErrorUnlessAllowed) {
   LoadOptions strict{{}, true}, allowed{{}, true};
   allowed.allow_missing_textures = true;
   for (const auto& [texture, source, mention] :
-       {std::tuple{0, 0, "absent.png"}, std::tuple{3, 0, "texture 3 out of range"},
+       {std::tuple{0, 0, "absent.png (No such file or directory)"}, std::tuple{3, 0, "texture 3 out of range"},
         std::tuple{0, 5, "texture 0 has no usable image source"}}) {
     SCOPED_TRACE(mention);
     const auto path = file(texture, source);
