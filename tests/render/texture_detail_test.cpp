@@ -270,17 +270,21 @@ struct FoldScene {
     }
   }
   static constexpr FootprintView kView{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+  // The fold's triangles into `textured` (a scene with the material and texture), and the
+  // pixel's corners.
+  void onto(Scene& textured, FootprintCorners& k) const {
+    textured.positions = scene.positions;
+    textured.uvs = scene.uvs;
+    textured.material_of = scene.material_of;
+    corners(k);
+  }
 };
 
 TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
   // An emissive texture whose value is u (bilinear between texel centres).
   StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });
-  const FoldScene fold;
-  s.scene.positions = fold.scene.positions;
-  s.scene.uvs = fold.scene.uvs;
-  s.scene.material_of = fold.scene.material_of;
   FootprintCorners k;
-  fold.corners(k);
+  FoldScene().onto(s.scene, k);
   const float expected = FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; });
   const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
   const FootprintDelta interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
@@ -297,12 +301,8 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
 // barycentrics both count (with the first, u alone, one of them never did).
 TEST(TextureFootprint, SamplesTakeTheirOwnTrianglesBothCoordinatesAcrossAFold) {
   StrokeScene s([](int x, int y) { return (float(x) + 0.5f) / 64.0f + 3.0f * (float(y) + 0.5f) / 64.0f; });
-  const FoldScene fold;
-  s.scene.positions = fold.scene.positions;
-  s.scene.uvs = fold.scene.uvs;
-  s.scene.material_of = fold.scene.material_of;
   FootprintCorners k;
-  fold.corners(k);
+  FoldScene().onto(s.scene, k);
   const float expected = FoldScene::lattice_delta([](glm::vec3 p) {
     const glm::vec2 uv = FoldScene::uv_at(p);
     return uv.x + 3.0f * uv.y;
