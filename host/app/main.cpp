@@ -1,6 +1,7 @@
 // zigzag: adaptive antialiasing ray tracer (Vostryakov & Voloboy 2006, SSE 4-ray packets).
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include "app/commands.h"
 #include "core/error.h"
@@ -17,6 +18,21 @@ int main(int argc, char** argv) {
   zz::add_analytic_command(app);
   zz::add_merge_command(app);
   zz::add_info_command(app, exit_code);
+  // CLI11 answers an unknown command with "A subcommand is required": name it instead.
+  if (argc > 1 && argv[1][0] != '-') {
+    const std::string command = argv[1];
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      found = found || sub->check_name(command);
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!found) {
+      std::fprintf(stderr, "zigzag: error: unknown command '%s' (the commands: %s; zigzag --help)\n", command.c_str(),
+                   known.c_str());
+      return 1;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -245,6 +245,13 @@ TEST_F(Cli, BadOptions) {
   }
 }
 
+// A mistyped command is named, with the commands there are (CLI11 alone said "A
+// subcommand is required").
+TEST_F(Cli, AnUnknownCommandIsNamed) {
+  const robust::ChildResult r = robust::run_child({kZigzag, "rendr", path("good.json").string()});
+  expect_clean_failure(r, "", "unknown command 'rendr' (the commands: render, view");
+}
+
 TEST_F(Cli, OneBadSceneInABatchStillRendersTheOthers) {
   write("other.json", R"({"model": "default.gltf", "width": 16, "height": 12})");
   write("broken.json", R"({"model": )");
