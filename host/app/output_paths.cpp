@@ -53,6 +53,9 @@ std::string missing_placeholder(const std::string& pattern, const OutputKey& a, 
   return "";
 }
 
+// What OpenImageIO writes that zigzag's users ask for (any format it has a writer for works).
+constexpr const char* kFormats = " (use .png or .exr; .jpg, .tif, .bmp, .tga, .webp, .hdr also work)";
+
 std::string errno_text() { return std::strerror(errno); }
 
 }  // namespace
@@ -65,9 +68,9 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     throw Error(where + "is a directory; give a file name");
   if (image) {
     if (path.extension().empty())
-      throw Error(where + "no file extension to choose the format (use .png, .jpg or .exr)");
+      throw Error(where + "no file extension to choose the format" + kFormats);
     if (!can_write_image_format(path))
-      throw Error(where + "unknown image format '" + path.extension().string() + "' (use .png, .jpg or .exr)");
+      throw Error(where + "unknown image format '" + path.extension().string() + "'" + kFormats);
   }
   fs::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
