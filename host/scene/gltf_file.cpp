@@ -12,7 +12,6 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -124,16 +123,14 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
   if (!std::filesystem::exists(status))
     throw Error(file + ": " + (ec && ec != std::errc::no_such_file_or_directory ? ec.message() : "file not found"));
   if (!std::filesystem::is_regular_file(status)) throw Error(file + ": not a regular file");
-  // One read of the whole file: a .glb holds its buffers, often hundreds of MB.
-  const uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw Error(file + ": cannot read its size (" + ec.message() + ")");
-  if (size == 0) throw Error(file + ": empty file");
-  if (size > std::numeric_limits<unsigned>::max()) throw Error(file + ": larger than 4 GiB, which tinygltf cannot read");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(file + ": cannot open (" + std::strerror(errno) + ")");
-  std::vector<unsigned char> bytes(static_cast<size_t>(size));
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(size)))
-    throw Error(file + ": read error (" + std::to_string(in.gcount()) + " of " + std::to_string(size) + " bytes)");
+  // One read of the whole file, as of its buffers: a .glb holds them, often hundreds of MB.
+  std::vector<unsigned char> bytes;
+  std::string why;
+  if (!read_whole_file(&bytes, &why, file, nullptr)) {
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    throw Error(file + ": cannot read (" + why + ")");
+  }
+  if (bytes.empty()) throw Error(file + ": empty file");
 
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

@@ -116,6 +116,7 @@ struct Loader {
   // (image, srgb, wrap s, wrap t, filter) -> scene texture
   std::map<std::tuple<int, bool, TextureWrap, TextureWrap, TextureFilter>, int> texture_of_image;
   bool uses_texcoord1 = false;  // some texture slot reads TEXCOORD_1
+  bool quantized = false;       // KHR_mesh_quantization: integer vertex attributes allowed
   Animation animation;  // sampled at options.time for every animated node
 
   void warn(const std::string& msg) const {
@@ -329,8 +330,6 @@ struct Loader {
         warn(mesh_name + " primitive " + std::to_string(p) + " has no POSITION, skipped");
         continue;
       }
-      const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
-                                       "KHR_mesh_quantization") != model.extensionsUsed.end();
       gltf::check_attribute_type(model, attr("POSITION"), "POSITION", quantized, where + " POSITION");
       std::vector<float> pos = gltf::read_floats(model, attr("POSITION"), 3, where + " POSITION");
       const uint32_t material = material_index(prim.material);
@@ -593,7 +592,9 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   for (const std::string& e : model.extensionsRequired)
     if (std::find(kSupportedExtensions.begin(), kSupportedExtensions.end(), e) == kSupportedExtensions.end())
       throw Error(file + ": requires the glTF extension " + e + ", which zigzag does not support");
-  Loader loader{model, scene, options, file, 0, -1, {}, false, {}};
+  const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
+                                   "KHR_mesh_quantization") != model.extensionsUsed.end();
+  Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
   scene.animated = scene.animated || !loader.animation.empty();
