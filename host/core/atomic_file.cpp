@@ -11,6 +11,7 @@
 #include <cstring>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "core/interrupt.h"
 
 namespace zz {
@@ -147,16 +148,10 @@ void write_text_atomically(const fs::path& target, const std::string& text, Outp
       [&](const fs::path& temporary) {
         const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
         if (fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
-        size_t done = 0;
-        while (done < text.size()) {
-          const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-          if (n < 0 && errno == EINTR) continue;
-          if (n <= 0) {
-            const std::string why = n < 0 ? errno_text() : "nothing was written";
-            ::close(fd);
-            throw Error("cannot write " + target.string() + ": " + why);
-          }
-          done += size_t(n);
+        std::string why;
+        if (!pwrite_all(fd, text.data(), text.size(), 0, &why)) {
+          ::close(fd);
+          throw Error("cannot write " + target.string() + ": " + why);
         }
         if (::close(fd) != 0) throw Error("cannot write " + target.string() + ": " + errno_text());
       },

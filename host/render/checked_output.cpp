@@ -7,6 +7,8 @@
 #include <cerrno>
 #include <cstring>
 
+#include "core/file_io.h"
+
 namespace zz {
 
 CheckedFileOutput::CheckedFileOutput(const std::filesystem::path& path) : IOProxy(path.string(), Write) {
@@ -65,21 +67,9 @@ size_t CheckedFileOutput::pread(void* buf, size_t size, int64_t offset) {
 // Reports the whole buffer written, whatever happened: a writer that saw a short write
 // might exit the process (libjpeg) or carry on regardless (PNG); failure() tells.
 size_t CheckedFileOutput::pwrite(const void* buf, size_t size, int64_t offset) {
-  const char* p = static_cast<const char*>(buf);
-  size_t done = 0;
-  while (done < size) {
-    if (fd_ < 0) {
-      fail("the file is not open");
-      break;
-    }
-    const ssize_t n = ::pwrite(fd_, p + done, size - done, off_t(offset) + off_t(done));
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) {
-      fail(n < 0 ? std::strerror(errno) : "nothing was written");
-      break;
-    }
-    done += size_t(n);
-  }
+  std::string why;
+  if (fd_ < 0) fail("the file is not open");
+  else if (!pwrite_all(fd_, buf, size, offset, &why)) fail(why);
   return size;
 }
 

@@ -2,12 +2,7 @@
 
 #include <tiny_gltf.h>
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
@@ -16,6 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "scene/gltf_image.h"
 
 namespace zz::gltf {
@@ -65,37 +61,15 @@ bool file_exists(const std::string& path, void*) {
   return std::filesystem::exists(path, ec);
 }
 
-// A descriptor closed however its scope is left (resize may throw).
-struct FileDescriptor {
-  int fd;
-  explicit FileDescriptor(int f) : fd(f) {}
-  ~FileDescriptor() {
-    if (fd >= 0) ::close(fd);
-  }
-  FileDescriptor(const FileDescriptor&) = delete;
-  FileDescriptor& operator=(const FileDescriptor&) = delete;
-};
+// A buffer's byteLength is a uint32 in practice (tinygltf's own limit on a .glb).
+constexpr uintmax_t kMaxFileBytes = uintmax_t(1) << 32;
 
+// tinygltf's reader of the .bin files and images a glTF names.
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  auto fail = [err](const std::string& why) {
-    if (err) *err += why + "\n";  // tinygltf names the file
-    return false;
-  };
-  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  if (file.fd < 0) return fail(std::strerror(errno));
-  struct stat st {};
-  if (::fstat(file.fd, &st) != 0 || !S_ISREG(st.st_mode)) return fail("not a regular file");
-  // A buffer's byteLength is a uint32 in practice (tinygltf's own limit on a .glb).
-  if (uintmax_t(st.st_size) > std::numeric_limits<uint32_t>::max()) return fail("larger than 4 GiB");
-  out->resize(size_t(st.st_size));
-  size_t done = 0;
-  while (done < out->size()) {
-    const ssize_t n = ::read(file.fd, out->data() + done, out->size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return fail(n < 0 ? std::strerror(errno) : "the file shrank while being read");
-    done += size_t(n);
-  }
-  return true;
+  std::string why;
+  if (read_regular_file(path, kMaxFileBytes, out, &why)) return true;
+  if (err) *err += why + "\n";  // tinygltf names the file
+  return false;
 }
 
 // glTF 1.0 (and a future 3.x) is another format: its .glb has container version 1, which
@@ -124,12 +98,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     throw Error(file + ": " + (ec && ec != std::errc::no_such_file_or_directory ? ec.message() : "file not found"));
   if (!std::filesystem::is_regular_file(status)) throw Error(file + ": not a regular file");
   // One read of the whole file, as of its buffers: a .glb holds them, often hundreds of MB.
-  std::vector<unsigned char> bytes;
-  std::string why;
-  if (!read_whole_file(&bytes, &why, file, nullptr)) {
-    while (!why.empty() && why.back() == '\n') why.pop_back();
-    throw Error(file + ": cannot read (" + why + ")");
-  }
+  const std::vector<unsigned char> bytes = read_regular_file(file, kMaxFileBytes);
   if (bytes.empty()) throw Error(file + ": empty file");
 
   std::string ext = path.extension().string();

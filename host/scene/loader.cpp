@@ -13,15 +13,14 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
 #include <initializer_list>
-#include <iterator>
 #include <limits>
 #include <vector>
 #include <optional>
 #include <utility>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "scene/animation.h"
 
 namespace zz {
@@ -219,13 +218,9 @@ constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
 
 json parse_rig_file(const fs::path& path) {
   const std::string file = path.string();
-  std::error_code ec;
   // Not a device or a pipe (a rig linked to /dev/zero read until memory ran out).
-  if (!fs::is_regular_file(path, ec)) throw Error(file + ": not a regular file");
-  if (fs::file_size(path, ec) > kMaxRigBytes) throw Error(file + ": larger than a rig can be (64 MiB)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(file + ": cannot open (" + std::strerror(errno) + ")");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<unsigned char> bytes = read_regular_file(file, kMaxRigBytes);
+  const std::string text(bytes.begin(), bytes.end());
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(file + ":1:1: invalid JSON: the file is empty");
   try {

@@ -1,0 +1,70 @@
+#include "core/file_io.h"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "core/error.h"
+
+namespace zz {
+
+FileDescriptor::~FileDescriptor() {
+  if (fd >= 0) ::close(fd);
+}
+
+std::string byte_size_text(uintmax_t bytes) {
+  constexpr uintmax_t kMiB = uintmax_t(1) << 20, kGiB = uintmax_t(1) << 30;
+  if (bytes >= kGiB && bytes % kGiB == 0) return std::to_string(bytes / kGiB) + " GiB";
+  if (bytes >= kMiB && bytes % kMiB == 0) return std::to_string(bytes / kMiB) + " MiB";
+  return std::to_string(bytes) + " bytes";
+}
+
+bool read_regular_file(const std::string& path, uintmax_t max_bytes, std::vector<unsigned char>* out,
+                       std::string* why) {
+  auto fail = [why](const std::string& reason) {
+    *why = reason;
+    return false;
+  };
+  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  if (file.fd < 0) return fail("cannot open (" + std::string(std::strerror(errno)) + ")");
+  struct stat st {};
+  if (::fstat(file.fd, &st) != 0) return fail("cannot read (" + std::string(std::strerror(errno)) + ")");
+  if (!S_ISREG(st.st_mode)) return fail("not a regular file");
+  if (uintmax_t(st.st_size) > max_bytes) return fail("larger than " + byte_size_text(max_bytes));
+  out->resize(size_t(st.st_size));
+  size_t done = 0;
+  while (done < out->size()) {
+    const ssize_t n = ::read(file.fd, out->data() + done, out->size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return fail(n < 0 ? "cannot read (" + std::string(std::strerror(errno)) + ")" : "the file shrank while being read");
+    done += size_t(n);
+  }
+  return true;
+}
+
+std::vector<unsigned char> read_regular_file(const std::string& path, uintmax_t max_bytes) {
+  std::vector<unsigned char> bytes;
+  std::string why;
+  if (!read_regular_file(path, max_bytes, &bytes, &why)) throw Error(path + ": " + why);
+  return bytes;
+}
+
+bool pwrite_all(int fd, const void* data, size_t size, int64_t offset, std::string* why) {
+  const char* p = static_cast<const char*>(data);
+  size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::pwrite(fd, p + done, size - done, off_t(offset) + off_t(done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      *why = n < 0 ? std::strerror(errno) : "nothing was written";
+      return false;
+    }
+    done += size_t(n);
+  }
+  return true;
+}
+
+}  // namespace zz
