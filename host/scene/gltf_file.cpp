@@ -61,9 +61,6 @@ bool file_exists(const std::string& path, void*) {
   return std::filesystem::exists(path, ec);
 }
 
-// A buffer's byteLength is a uint32 in practice (tinygltf's own limit on a .glb).
-constexpr uintmax_t kMaxFileBytes = uintmax_t(1) << 32;
-
 // tinygltf's reader of the .bin files and images a glTF names.
 bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
   std::string why;

@@ -3,6 +3,7 @@
 // frame per level, so 20 000 nested arrays in 40 kB of text overflowed the stack.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -17,6 +18,10 @@ namespace zz::gltf {
 // long before the recursion could reach the end of a thread's stack (sanitized builds
 // included, whose frames are several times larger).
 inline constexpr int kMaxJsonDepth = 512;
+
+// Largest file a glTF, its buffers or images may be: a buffer's byteLength is a uint32 in
+// practice (tinygltf's own limit on a .glb).
+inline constexpr uintmax_t kMaxFileBytes = uintmax_t(1) << 32;
 
 // Largest number of open '[' / '{' in `text`, outside strings (JSON's escapes honoured).
 // Stops counting once past `limit`.

@@ -1,14 +1,12 @@
 // glTF 2.0 -> Scene: flattens the default scene's node hierarchy into world-space
 // triangles, and reads materials, textures, KHR_lights_punctual lights and cameras.
 #include <tiny_gltf.h>
-#include <unistd.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -18,6 +16,7 @@
 #include <tuple>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "scene/gltf_accessor.h"
 #include "scene/gltf_animation.h"
 #include "scene/gltf_file.h"
@@ -236,8 +235,10 @@ struct Loader {
       // that it failed, and -q hides it). The URI resolves as tinygltf resolves it.
       if (image.bufferView < 0 && !image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
         const std::filesystem::path p = std::filesystem::path(file).parent_path() / image.uri;
-        if (::access(p.c_str(), R_OK) != 0)
-          why = "image " + std::to_string(source) + ": cannot read " + p.string() + " (" + std::strerror(errno) + ")";
+        std::vector<unsigned char> bytes;
+        std::string reason;
+        if (!read_regular_file(p.string(), gltf::kMaxFileBytes, &bytes, &reason))
+          why = "image " + std::to_string(source) + ": " + p.string() + ": " + reason;
       }
       texture_problem(why);
     }

@@ -209,9 +209,10 @@ TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
 // (--allow-missing-textures), the material is rendered without it.
 TEST(Texture, AMissingImageIsAnErrorUnlessAllowed) {
   auto dir = test::temp_dir("noimg");
-  auto file = [&](int texture, int source) {
+  std::filesystem::create_directory(dir / "folder.png");
+  auto file = [&](int texture, int source, const char* uri) {
     test::GltfBuilder b;
-    b.doc["images"] = {{{"uri", "absent.png"}}};
+    b.doc["images"] = {{{"uri", uri}}};
     b.doc["textures"] = {{{"source", source}}};
     b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", texture}}}}}}};
     b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0)}});
@@ -219,11 +220,13 @@ TEST(Texture, AMissingImageIsAnErrorUnlessAllowed) {
   };
   LoadOptions strict{{}, true}, allowed{{}, true};
   allowed.allow_missing_textures = true;
-  for (const auto& [texture, source, mention] :
-       {std::tuple{0, 0, "absent.png (No such file or directory)"}, std::tuple{3, 0, "texture 3 out of range"},
-        std::tuple{0, 5, "texture 0 has no usable image source"}}) {
+  for (const auto& [texture, source, uri, mention] :
+       {std::tuple{0, 0, "absent.png", "absent.png: cannot open (No such file or directory)"},
+        std::tuple{0, 0, "folder.png", "folder.png: not a regular file"},
+        std::tuple{3, 0, "absent.png", "texture 3 out of range"},
+        std::tuple{0, 5, "absent.png", "texture 0 has no usable image source"}}) {
     SCOPED_TRACE(mention);
-    const auto path = file(texture, source);
+    const auto path = file(texture, source, uri);
     try {
       load_scene(path, strict);
       ADD_FAILURE() << "no error";
