@@ -517,8 +517,10 @@ struct Loader {
     }
     const auto& p = g.perspective;
     if (!valid_yfov_degrees(glm::degrees(p.yfov))) {
-      ignore_camera(c.name, "has yfov " + std::to_string(p.yfov) + " rad, outside (" +
-                                std::to_string(kMinYfovDegrees) + ", " + std::to_string(kMaxYfovDegrees) + ") degrees");
+      char why[128];
+      std::snprintf(why, sizeof why, "has yfov %g rad (%g degrees), outside (%g, %g) degrees", p.yfov,
+                    glm::degrees(p.yfov), double(kMinYfovDegrees), double(kMaxYfovDegrees));
+      ignore_camera(c.name, why);
       return;
     }
     if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {  // 0: not given
@@ -548,8 +550,15 @@ struct Loader {
       return;
     }
     l.position = glm::vec3(world[3]);
-    glm::vec3 d = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);  // lights point down -Z
-    if (glm::length(d) > 0.0f) l.direction = glm::normalize(d);
+    if (l.type != Light::Type::Point) {
+      // Lights point down the node's -Z, whatever its scale (KHR_lights_punctual).
+      const std::optional<glm::vec3> d = unit_direction(glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f));
+      if (!d) {
+        warn("light '" + l.name + "' has a degenerate transform (no direction), ignored");
+        return;
+      }
+      l.direction = *d;
+    }
     l.intensity = vec3_of(g.color, glm::vec3(1.0f)) * float(g.intensity);
     l.range = g.range > 0.0 ? float(g.range) : 0.0f;
     if (l.type == Light::Type::Spot) {
@@ -557,6 +566,8 @@ struct Loader {
       l.outer_cone = float(g.spot.outerConeAngle);
     }
     if (!finite(l.intensity) || !finite(l.position)) throw Error(file + ": light '" + l.name + "' is not finite");
+    if (const std::string problem = light_problem(l); !problem.empty())
+      throw Error(file + ": light '" + l.name + "': " + problem);
     scene.lights.push_back(l);
   }
 

@@ -45,7 +45,7 @@ struct Json {
   float number(const json& v, const std::string& what) const {
     if (!v.is_number()) fail(what + " must be a number");
     double d = v.get<double>();
-    if (!std::isfinite(d) || std::abs(d) > 1e30) fail(what + " must be finite");
+    if (!std::isfinite(d) || std::abs(d) > 1e30) fail(what + " must be a finite number within +-1e30");
     return float(d);
   }
   int integer(const json& v, const std::string& what, int lo, int hi) const {
@@ -130,9 +130,9 @@ Light parse_light(const Json& J, const json& l, const std::string& where) {
   }
   if (out.type != Light::Type::Point) {
     if (!l.contains("direction")) J.fail(where + " needs \"direction\"");
-    glm::vec3 d = J.vec3(l["direction"], where + ".direction");
-    if (glm::length(d) <= 0.0f) J.fail(where + ".direction must be non-zero");
-    out.direction = glm::normalize(d);
+    const std::optional<glm::vec3> d = unit_direction(J.vec3(l["direction"], where + ".direction"));
+    if (!d) J.fail(where + ".direction must be non-zero");
+    out.direction = *d;
   }
   out.name = l.contains("name") ? J.string(l["name"], where + ".name") : where;
   glm::vec3 color = l.contains("color") ? J.vec3_or_scalar(l["color"], where + ".color") : glm::vec3(1.0f);
@@ -143,6 +143,7 @@ Light parse_light(const Json& J, const json& l, const std::string& where) {
   if (l.contains("range")) out.range = J.number(l["range"], where + ".range");
   if (l.contains("inner_cone_deg")) out.inner_cone = glm::radians(J.number(l["inner_cone_deg"], where));
   if (l.contains("outer_cone_deg")) out.outer_cone = glm::radians(J.number(l["outer_cone_deg"], where));
+  if (const std::string problem = light_problem(out); !problem.empty()) J.fail(where + ": " + problem);
   return out;
 }
 
@@ -212,6 +213,19 @@ fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
     else ++column;
   }
   throw Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + what);
+}
+
+// Says so where nothing could light the image: no light that can reach anything (a rig
+// gets no default lights, scenes/README.md; a glTF's lights may all be black or closed
+// spots), no emissive material and a black background.
+void warn_if_nothing_lights(const Scene& scene, const std::string& file, const LoadOptions& options) {
+  if (options.quiet || std::any_of(scene.lights.begin(), scene.lights.end(), can_light) ||
+      scene.effects().emission || scene.background != glm::vec3(0.0f))
+    return;
+  std::fprintf(stderr, "warning: %s: %s, no emissive material and a black background: the image will be black%s\n",
+               file.c_str(),
+               scene.lights.empty() ? "no lights" : "no light with an intensity above 0 (and an open spot cone)",
+               scene.lights.empty() ? " (add \"lights\" to the rig, see scenes/README.md)" : "");
 }
 
 constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
@@ -355,12 +369,7 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   }
   require_triangles(scene, file);
   scene.finalize_materials();
-  // A rig gets no default lights (scenes/README.md): say so where nothing could light the image.
-  if (!options.quiet && scene.lights.empty() && !scene.effects().emission && scene.background == glm::vec3(0.0f))
-    std::fprintf(stderr,
-                 "warning: %s: no lights, no emissive material and a black background: the image will be black "
-                 "(add \"lights\" to the rig, see scenes/README.md)\n",
-                 file.c_str());
+  warn_if_nothing_lights(scene, file, options);
   return scene;
 }
 
@@ -439,6 +448,7 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) 
                    path.string().c_str());
   }
   scene.finalize_materials();
+  warn_if_nothing_lights(scene, path.string(), options);
   return scene;
 }
 

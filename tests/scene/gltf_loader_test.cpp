@@ -447,6 +447,46 @@ TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
   expect_vec(s.lights[2].direction, {0, 0, -1});
 }
 
+// A light node's direction is its -Z whatever its scale (KHR_lights_punctual): scaled by
+// 1e20 it used to overflow to no direction and render black; scaled to nothing it is
+// ignored with a warning, as a camera is. A light the extension forbids is an error.
+TEST(GltfLoader, LightDirectionsIgnoreScaleAndForbiddenLightsAreErrors) {
+  auto file = [](const nlohmann::json& light, double scale) {
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+    b.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {light}}}}};
+    b.node({{"scale", {scale, scale, scale}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+    return b.write(test::temp_dir("lightdir"));
+  };
+  const nlohmann::json spot = {{"type", "spot"}, {"name", "flat"}, {"spot", {{"outerConeAngle", 0.5}}}};
+  for (const nlohmann::json& light : {nlohmann::json{{"type", "directional"}}, spot})
+    for (const double scale : {1e20, 1e-23, 1.0}) {
+      SCOPED_TRACE(light.dump() + " " + std::to_string(scale));
+      const Scene s = load_scene(file(light, scale), kQuiet);
+      ASSERT_EQ(s.lights.size(), 1u);
+      EXPECT_EQ(s.lights[0].direction, glm::vec3(0, 0, -1));
+    }
+  testing::internal::CaptureStderr();
+  const Scene flat = load_scene(file(spot, 0.0), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find("light 'flat' has a degenerate transform"), std::string::npos) << warned;
+  ASSERT_EQ(flat.lights.size(), 2u);  // the default pair: the file's one light was ignored
+  EXPECT_EQ(flat.lights[0].name, "default headlight");
+  EXPECT_EQ(load_scene(file({{"type", "point"}}, 0.0), kQuiet).lights.size(), 1u);  // a point needs no direction
+
+  expect_error([&] { load_scene(file({{"type", "point"}, {"name", "neg"}, {"intensity", -50}}, 1.0), kQuiet); },
+               "light 'neg': negative colour or intensity");
+  expect_error([&] {
+    load_scene(file({{"type", "spot"}, {"name", "shut"}, {"spot", {{"innerConeAngle", 0}, {"outerConeAngle", 0}}}}, 1.0),
+               kQuiet);
+  }, "light 'shut': spot cone closed");
+  testing::internal::CaptureStderr();
+  load_scene(file({{"type", "point"}, {"intensity", 0}}, 1.0), LoadOptions{{}, false});
+  const std::string black = testing::internal::GetCapturedStderr();
+  EXPECT_NE(black.find("no light with an intensity above 0"), std::string::npos) << black;
+}
+
 // A field of view or aspect ratio the spec forbids is not replaced by a made-up one: the
 // camera is ignored, with a warning, and the automatic camera frames the scene.
 TEST(GltfLoader, ACameraWithAnImpossibleFieldOfViewIsIgnored) {

@@ -105,9 +105,48 @@ TEST(JsonScene, ARigThatCannotLightTheImageSaysSo) {
   EXPECT_EQ(warnings(R"({"model": "model.gltf", "replace_lights": true,
                          "materials_override": {"paint": {"emissive": [1, 1, 1]}}})"),
             "");
+  // Lights that cannot reach anything are no better than none.
+  for (const char* light : {R"({"position": [0, 1, 0], "intensity": 0})",
+                            R"({"type": "directional", "direction": [0, -1, 0], "color": 0})"}) {
+    SCOPED_TRACE(light);
+    const std::string w =
+        warnings(std::string(R"({"model": "model.gltf", "replace_lights": true, "lights": [)") + light + "]}");
+    EXPECT_NE(w.find("no light with an intensity above 0"), std::string::npos) << w;
+    EXPECT_NE(w.find("the image will be black"), std::string::npos) << w;
+  }
+  EXPECT_EQ(warnings(R"({"model": "model.gltf", "replace_lights": true,
+                         "lights": [{"position": [0, 1, 0], "intensity": 0}, {"position": [0, 1, 0]}]})"),
+            "");
   testing::internal::CaptureStderr();
   r.load(R"({"model": "model.gltf", "replace_lights": true})", kQuiet);  // -q: no warning
   EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+// A light that would darken or could light nothing by its own numbers is an error naming
+// it, not a black image; a direction of any finite length but zero is kept.
+TEST(JsonScene, ImpossibleLightsAreErrorsAndDirectionsKeepTheirWay) {
+  Rig r("badlight");
+  auto error = [&](const std::string& light) {
+    return r.error(R"({"model": "model.gltf", "lights": [)" + light + "]}");
+  };
+  EXPECT_NE(error(R"({"position": [0, 1, 0], "intensity": -20})").find("lights[0]: negative colour or intensity"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"position": [0, 1, 0], "color": [1, -1, 1]})").find("negative colour"), std::string::npos);
+  EXPECT_NE(error(R"({"position": [0, 1, 0], "range": -2})").find("negative range"), std::string::npos);
+  EXPECT_NE(error(R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "outer_cone_deg": 0})")
+                .find("spot cone closed"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "directional", "direction": [0, 0, 0]})").find("direction must be non-zero"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"position": [0, 1, 0], "intensity": 3e38})").find("within +-1e30"), std::string::npos);
+  for (const char* direction : {"[0, -1e20, -3e19]", "[0, -1e-23, -3e-24]"}) {
+    SCOPED_TRACE(direction);
+    const Scene s = r.load(std::string(R"({"model": "model.gltf", "replace_lights": true,
+                                           "lights": [{"type": "directional", "direction": )") + direction + "}]}");
+    ASSERT_EQ(s.lights.size(), 1u);
+    const glm::vec3 want = glm::normalize(glm::vec3(0, -10, -3));
+    EXPECT_NEAR(glm::length(s.lights[0].direction - want), 0.0f, 1e-6f);
+  }
 }
 
 TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {

@@ -1,0 +1,30 @@
+#include "scene/lights.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace zz {
+
+std::optional<glm::vec3> unit_direction(glm::vec3 v) {
+  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return std::nullopt;
+  const float largest = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(largest > 0.0f)) return std::nullopt;
+  const glm::vec3 scaled = v / largest;  // largest component +-1: its square neither overflows nor underflows
+  return scaled / std::sqrt(glm::dot(scaled, scaled));
+}
+
+std::string light_problem(const Light& light) {
+  if (light.intensity.x < 0.0f || light.intensity.y < 0.0f || light.intensity.z < 0.0f)
+    return "negative colour or intensity (KHR_lights_punctual: colour in [0, 1], intensity >= 0)";
+  if (light.range < 0.0f) return "negative range (> 0, or 0 for none)";
+  if (light.type == Light::Type::Spot && !(light.outer_cone > 0.0f))
+    return "spot cone closed (KHR_lights_punctual: outer cone angle > 0)";
+  return {};
+}
+
+bool can_light(const Light& light) {
+  const bool some = light.intensity.x > 0.0f || light.intensity.y > 0.0f || light.intensity.z > 0.0f;
+  return some && (light.type != Light::Type::Spot || light.outer_cone > 0.0f);
+}
+
+}  // namespace zz

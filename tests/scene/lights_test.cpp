@@ -1,0 +1,66 @@
+#include "scene/lights.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace zz {
+namespace {
+
+// A direction survives any finite length: glm::normalize squares it, which overflowed past
+// ~1e19 (a zero vector) and underflowed below ~1e-19 (the length test failed).
+TEST(Lights, UnitDirectionOfAnyFiniteLength) {
+  const glm::vec3 want = glm::normalize(glm::vec3(0.0f, -10.0f, -3.0f));
+  for (const float scale : {1.0f, 1e20f, 1e30f, 3e38f, 1e-23f, 1e-40f /* denormal */}) {
+    SCOPED_TRACE(scale);
+    const std::optional<glm::vec3> d = unit_direction(glm::vec3(0.0f, -10.0f, -3.0f) * (scale / 10.0f));
+    ASSERT_TRUE(d);
+    EXPECT_NEAR(d->x, want.x, 1e-6f);
+    EXPECT_NEAR(d->y, want.y, 1e-6f);
+    EXPECT_NEAR(d->z, want.z, 1e-6f);
+    EXPECT_NEAR(glm::length(*d), 1.0f, 1e-6f);
+  }
+  EXPECT_FALSE(unit_direction(glm::vec3(0.0f)));
+  EXPECT_FALSE(unit_direction(glm::vec3(-0.0f, 0.0f, -0.0f)));
+  EXPECT_FALSE(unit_direction(glm::vec3(1.0f, INFINITY, 0.0f)));
+  EXPECT_FALSE(unit_direction(glm::vec3(1.0f, NAN, 0.0f)));
+  EXPECT_EQ(*unit_direction(glm::vec3(0.0f, 0.0f, -2.0f)), glm::vec3(0.0f, 0.0f, -1.0f));  // exact on an axis
+}
+
+TEST(Lights, ProblemsAreWhatKhrLightsPunctualForbids) {
+  Light l;
+  EXPECT_EQ(light_problem(l), "");
+  l.intensity = glm::vec3(1.0f, -0.5f, 1.0f);
+  EXPECT_NE(light_problem(l).find("negative colour or intensity"), std::string::npos);
+  l.intensity = glm::vec3(0.0f);  // black is allowed: it lights nothing (can_light)
+  EXPECT_EQ(light_problem(l), "");
+  l.range = -1.0f;
+  EXPECT_NE(light_problem(l).find("negative range"), std::string::npos);
+  l = Light{};
+  l.type = Light::Type::Spot;
+  l.outer_cone = 0.0f;
+  EXPECT_NE(light_problem(l).find("spot cone closed"), std::string::npos);
+  l.outer_cone = 0.2f;
+  l.inner_cone = 0.3f;  // past the outer: a hard-edged cone, as exporters write it
+  EXPECT_EQ(light_problem(l), "");
+  l.type = Light::Type::Point;
+  l.outer_cone = 0.0f;  // cones are a spot's only
+  EXPECT_EQ(light_problem(l), "");
+}
+
+TEST(Lights, CanLightNeedsIntensityAndAnOpenCone) {
+  Light l;
+  EXPECT_TRUE(can_light(l));
+  l.intensity = glm::vec3(0.0f, 0.0f, 1e-3f);
+  EXPECT_TRUE(can_light(l));
+  l.intensity = glm::vec3(0.0f);
+  EXPECT_FALSE(can_light(l));
+  l = Light{};
+  l.type = Light::Type::Spot;
+  EXPECT_TRUE(can_light(l));
+  l.outer_cone = 0.0f;
+  EXPECT_FALSE(can_light(l));
+}
+
+}  // namespace
+}  // namespace zz
