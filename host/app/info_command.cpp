@@ -23,6 +23,7 @@ struct InfoOptions {
   bool json = false;
   double fps = 0.0;
   std::string assets;
+  int width = 0, height = 0;  // as `render --width/--height` would be given (0: the scene's)
 };
 
 nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& o) {
@@ -35,10 +36,10 @@ nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& 
   nlohmann::json cameras = nlohmann::json::array(), sizes = nlohmann::json::array();
   for (const Camera& c : scene.cameras) {
     cameras.push_back(c.name);
-    const FrameSize size = frame_size(scene, c);  // what `render --camera N` uses
+    const FrameSize size = frame_size(scene, c, o.width, o.height);  // what `render --camera N` uses
     sizes.push_back({size.width, size.height});
   }
-  const FrameSize size = frame_size(scene, scene.cameras.front());
+  const FrameSize size = frame_size(scene, scene.cameras.front(), o.width, o.height);
   return {{"path", path.string()},
           {"scene", path.stem().string()},  // what {scene} expands to in output patterns
           {"name", scene.name},
@@ -53,7 +54,8 @@ nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& 
           {"frames", {scene.first_frame, scene.last_frame}},
           {"frame_count", scene.last_frame - scene.first_frame + 1},
           {"triangles", scene.triangle_count()},
-          {"lights", scene.lights.size()}};
+          {"lights", scene.lights.size()},
+          {"files", scene.source_files}};
 }
 
 void print_human(const nlohmann::json& j) {
@@ -80,6 +82,10 @@ void add_info_command(CLI::App& app, int& exit_code) {
   cmd->add_flag("--json", o->json, "A JSON array, one object per scene (failed scenes have \"error\")");
   cmd->add_option("--fps", o->fps, "Frames per second for the frame range (default: the rig's, else 24)")
       ->check(number_in(1e-3, 1000.0));
+  cmd->add_option("--width", o->width, "Image width the sizes are for, as render --width (default: the scene's)")
+      ->check(CLI::Range(1, 16384));
+  cmd->add_option("--height", o->height, "Image height the sizes are for, as render --height (default: the scene's)")
+      ->check(CLI::Range(1, 16384));
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->callback([o, &exit_code] {
     nlohmann::json all = nlohmann::json::array();

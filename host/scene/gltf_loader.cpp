@@ -606,6 +606,12 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
       throw Error(file + ": requires the glTF extension " + e + ", which zigzag does not support");
   const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
                                    "KHR_mesh_quantization") != model.extensionsUsed.end();
+  scene.source_files.push_back(file);
+  auto external = [&](const std::string& uri) {  // resolved as tinygltf resolves it
+    if (!uri.empty() && uri.rfind("data:", 0) != 0) scene.source_files.push_back((path.parent_path() / uri).string());
+  };
+  for (const tinygltf::Buffer& b : model.buffers) external(b.uri);
+  for (const tinygltf::Image& i : model.images) external(i.uri);
   Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });

@@ -298,6 +298,7 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   const FrameClock clock(options, rig_fps, rig_frames);
 
   Scene scene;
+  scene.source_files.push_back(file);
   scene.name = j.contains("name") ? J.string(j["name"], "name") : path.stem().string();
   const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   const std::string model = J.string(j["model"], "model");

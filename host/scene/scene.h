@@ -76,6 +76,9 @@ struct Scene {
 
   // Load-time bookkeeping, reported in stats.
   size_t dropped_degenerate = 0;
+  // Every file the scene was read from: the rig, the glTF, its external buffers and images
+  // (`zigzag info` lists them, so a farm knows when a finished frame is stale).
+  std::vector<std::string> source_files;
 
   size_t triangle_count() const { return material_of.size(); }
   // Fill `whitted` from `materials`; call after editing materials.
