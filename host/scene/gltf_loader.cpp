@@ -407,6 +407,7 @@ struct Loader {
             glm::vec3 tn = normal_matrix * glm::vec3(q[0], q[1], q[2]);
             float len = glm::length(tn);
             if (len > 1e-20f && std::isfinite(len)) n = tn / len;
+            else if (const std::optional<glm::vec3> u = unit_direction(tn)) n = *u;  // |tn|^2 over- or underflowed
           }
           scene.normals.push_back(n);
           auto uv_at = [&](const std::vector<float>& set) {
@@ -617,7 +618,10 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
   scene.animated = scene.animated || !loader.animation.empty();
   scene.animation_end = std::max(scene.animation_end, loader.animation.end_time());
+  const size_t dropped_before = scene.dropped_degenerate;
   loader.load_nodes(transform);
+  if (const size_t dropped = scene.dropped_degenerate - dropped_before; dropped > 0)
+    loader.warn(std::to_string(dropped) + " degenerate triangle(s) dropped (zero area, or vertices not finite once placed)");
 }
 
 }  // namespace zz

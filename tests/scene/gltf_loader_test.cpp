@@ -135,9 +135,26 @@ TEST(GltfLoader, DegenerateTrianglesAreDroppedAndCounted) {
   GltfBuilder b;
   // Second triangle repeats a vertex, third is collinear.
   b.node({{"mesh", b.mesh("mixed", {0, 0, 0, 1, 0, 0, 0, 1, 0,  0, 0, 0, 1, 0, 0, 1, 0, 0,  0, 0, 0, 1, 1, 1, 2, 2, 2})}});
-  Scene s = load_scene(b.write(test::temp_dir("degen")), kQuiet);
+  testing::internal::CaptureStderr();
+  Scene s = load_scene(b.write(test::temp_dir("degen")), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
   EXPECT_EQ(s.triangle_count(), 1u);
   EXPECT_EQ(s.dropped_degenerate, 2u);
+  EXPECT_NE(warned.find("2 degenerate triangle(s) dropped"), std::string::npos) << warned;  // not in --stats alone
+}
+
+// A shading normal of any finite length but zero is the direction it gives: 1e30 or 1e-25
+// long, its square overflowed or underflowed, and the flat normal replaced it.
+TEST(GltfLoader, ShadingNormalsOfAnyLengthKeepTheirDirection) {
+  for (const float length : {1e30f, 1e-25f, 2.0f}) {
+    SCOPED_TRACE(length);
+    const float c = 0.6f * length, d = 0.8f * length;
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos, {0, c, d, 0, c, d, 0, c, d})}});
+    const Scene s = load_scene(b.write(test::temp_dir("nlen")), kQuiet);
+    ASSERT_EQ(s.normals.size(), 3u);
+    for (const glm::vec3& n : s.normals) expect_vec(n, {0.0f, 0.6f, 0.8f}, 1e-6f);
+  }
 }
 
 TEST(GltfLoader, NanVertexIsAnErrorNamingTheMesh) {
