@@ -122,6 +122,12 @@ struct Loader {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
   }
 
+  void warn_out_of_range(const Material& m) const {
+    std::string all;
+    for (const std::string& f : out_of_range_factors(m)) all += (all.empty() ? "" : "; ") + f;
+    if (!all.empty()) warn("material '" + m.name + "': " + all);
+  }
+
   // A texture the file names but the loader cannot use: an error, unless the options allow
   // rendering without it.
   void texture_problem(const std::string& why) const {
@@ -287,6 +293,7 @@ struct Loader {
           !std::isfinite(m.roughness) || !std::isfinite(m.transmission) || !std::isfinite(m.base_alpha) ||
           !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale))
         throw Error(file + ": material '" + g.name + "' has non-finite parameters");
+      warn_out_of_range(m);
       scene.materials.push_back(std::move(m));
     }
   }

@@ -359,6 +359,11 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
     const json& o = j["materials_override"];
     if (!o.is_object()) J.fail("materials_override must be an object keyed by material name");
     for (auto it = o.begin(); it != o.end(); ++it) {
+      // The override's own values on a default material: out of glTF's ranges, an error.
+      Material probe;
+      apply_material_override(J, probe, it.value(), "materials_override." + it.key());
+      if (const std::vector<std::string> bad = out_of_range_factors(probe); !bad.empty())
+        J.fail("materials_override." + it.key() + ": " + bad.front().substr(0, bad.front().rfind(',')));
       bool found = false;
       for (Material& m : scene.materials)
         if (m.name == it.key()) {

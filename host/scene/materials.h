@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace zz {
 
@@ -112,5 +113,9 @@ void whitted_surface(WhittedMaterial& w, const PbrSample& p);
 
 // The whole Whitted material from the glTF factors alone.
 WhittedMaterial whitted_from_gltf(const Material& m);
+
+// The factors of `m` outside the ranges glTF gives them, each as "metallic -0.5 outside
+// [0, 1], clamped": the loaders warn with these (whitted_from_gltf clamps or replaces them).
+std::vector<std::string> out_of_range_factors(const Material& m);
 
 }  // namespace zz

@@ -464,6 +464,17 @@ TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
   expect_vec(s.lights[2].direction, {0, 0, -1});
 }
 
+TEST(GltfLoader, MaterialFactorsOutOfRangeAreClampedWithAWarning) {
+  GltfBuilder b;
+  b.doc["materials"] = {{{"name", "odd"}, {"pbrMetallicRoughness", {{"metallicFactor", -0.5}, {"roughnessFactor", 0.5}}}}};
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm, {}, 4, 0)}});
+  testing::internal::CaptureStderr();
+  const Scene s = load_scene(b.write(test::temp_dir("matrange")), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find("material 'odd': metallic -0.5 outside [0, 1], clamped"), std::string::npos) << warned;
+  EXPECT_EQ(s.whitted[0].mirror, whitted_from_gltf(s.materials[0]).mirror);  // rendered as clamped
+}
+
 // A light node's direction is its -Z whatever its scale (KHR_lights_punctual): scaled by
 // 1e20 it used to overflow to no direction and render black; scaled to nothing it is
 // ignored with a warning, as a camera is. A light the extension forbids is an error.

@@ -149,6 +149,17 @@ TEST(JsonScene, ImpossibleLightsAreErrorsAndDirectionsKeepTheirWay) {
   }
 }
 
+// A material override outside glTF's ranges is an error naming it (our format, so no
+// reason to guess); the same value in a glTF file is clamped with a warning.
+TEST(JsonScene, MaterialOverridesOutOfRangeAreErrors) {
+  Rig r("matrange");
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"metallic": 2}}})"),
+            (r.dir / "rig.json").string() + ": materials_override.paint: metallic 2 outside [0, 1]");
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"ior": 0.9}}})").find("ior 0.9 below 1"),
+            std::string::npos);
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"metallic": 1, "ior": 2.4}}})"), "");
+}
+
 TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
   Rig r("unknown");
   EXPECT_NE(r.error(R"({"model": "model.gltf", "exposrue": 2})").find("'exposrue'"), std::string::npos);

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "scene/materials.h"
 
@@ -111,6 +113,28 @@ TEST(WhittedFromGltf, EmissionIsNonNegativeAndOutOfRangeInputsClamp) {
   WhittedMaterial w = whitted_from_gltf(m);
   expect_vec(w.emission, glm::vec3(1.0f, 0.0f, 0.0f));
   expect_vec(w.mirror, glm::vec3(1.0f, 0.0f, 0.5f));  // metallic 1, roughness 0 after clamping
+}
+
+// What whitted_from_gltf clamps or replaces is named, so the loaders can say so.
+TEST(OutOfRangeFactors, NameEachFactorGltfForbids) {
+  EXPECT_TRUE(out_of_range_factors(Material{}).empty());
+  EXPECT_TRUE(out_of_range_factors(make(glm::vec3(0.0f), 1.0f, 0.0f, 1.0f)).empty());  // the bounds are allowed
+  Material m = make(glm::vec3(2.0f, -1.0f, 0.5f), 3.0f, -1.0f, 1.5f);
+  m.base_alpha = -0.5f;
+  m.emissive = glm::vec3(1.0f, -2.0f, 0.0f);
+  m.ior = 0.5f;
+  m.attenuation_distance = 0.0f;
+  m.attenuation_color = glm::vec3(1.5f, 0.5f, 0.5f);
+  const std::vector<std::string> want = {"base colour (2, -1, 0.5) outside [0, 1], clamped",
+                                         "alpha -0.5 outside [0, 1], clamped",
+                                         "metallic 3 outside [0, 1], clamped",
+                                         "roughness -1 outside [0, 1], clamped",
+                                         "transmission 1.5 outside [0, 1], clamped",
+                                         "attenuation colour (1.5, 0.5, 0.5) outside [0, 1], clamped",
+                                         "emissive (1, -2, 0) below 0, clamped",
+                                         "ior 0.5 below 1, 1.5 used",
+                                         "attenuation distance 0 not > 0, no absorption"};
+  EXPECT_EQ(out_of_range_factors(m), want);
 }
 
 }  // namespace
