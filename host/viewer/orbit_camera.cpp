@@ -1,5 +1,7 @@
 #include "viewer/orbit_camera.h"
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include <algorithm>
 #include <cmath>
 
@@ -7,11 +9,14 @@ namespace zz {
 
 namespace {
 
-constexpr float kPitchLimit = 1.55f;  // just short of straight up/down: look_at needs a non-parallel up
+constexpr float kPi = 3.14159265f;
+// How close to straight up or down an orbit may turn the view (|forward.y| <= sin 1.55):
+// past a pole the turntable would flip the image. A start beyond it (a camera looking
+// straight down) may turn away from the pole, never towards it.
+const float kPoleLimit = std::sin(1.55f);
 
-glm::vec3 direction(float yaw, float pitch) {
-  // forward for yaw 0, pitch 0 is -Z; positive pitch looks down.
-  return {-std::sin(yaw) * std::cos(pitch), -std::sin(pitch), -std::cos(yaw) * std::cos(pitch)};
+glm::vec3 turned_about_y(glm::vec3 v, float yaw) {
+  return glm::vec3(glm::rotate(glm::mat4(1.0f), yaw, glm::vec3(0.0f, 1.0f, 0.0f)) * glm::vec4(v, 0.0f));
 }
 
 }  // namespace
@@ -19,17 +24,37 @@ glm::vec3 direction(float yaw, float pitch) {
 OrbitCamera::OrbitCamera(const Camera& start, float focus) : start_(start) {
   distance_ = std::max(focus, 1e-4f);
   target_ = start.position + start.forward * distance_;
-  const glm::vec3 f = glm::normalize(start.forward);
-  pitch_ = std::clamp(std::asin(std::clamp(-f.y, -1.0f, 1.0f)), -kPitchLimit, kPitchLimit);
-  yaw_ = std::atan2(-f.x, -f.z);
+}
+
+// Pitch turns the start's forward towards its -up: forward(p) = f0 cos p - u0 sin p.
+glm::vec3 OrbitCamera::forward_at(float pitch) const {
+  return start_.forward * std::cos(pitch) - start_.up * std::sin(pitch);
 }
 
 void OrbitCamera::orbit(float dx, float dy, int viewport_height) {
   // A drag across the whole viewport height turns by ~pi; the scene follows the mouse
   // (drag right: the camera swings left around the target).
-  const float k = 3.14159265f / float(std::max(viewport_height, 1));
+  const float k = kPi / float(std::max(viewport_height, 1));
   yaw_ -= dx * k;
-  pitch_ = std::clamp(pitch_ + dy * k, -kPitchLimit, kPitchLimit);
+  const float wanted = pitch_ + dy * k;
+  // forward(p).y = A cos(p - phi) (yaw keeps y): the poles are at p = phi + m pi, and the
+  // view may come no closer to one than the limit, nor cross it.
+  const float f0 = start_.forward.y, u0 = start_.up.y;
+  const float a = std::sqrt(f0 * f0 + u0 * u0);
+  if (!(a > kPoleLimit)) {
+    pitch_ = wanted;
+    return;
+  }
+  const float phi = std::atan2(-u0, f0), margin = std::acos(kPoleLimit / a);
+  float at = (pitch_ - phi) / kPi;  // in units of pi from the first pole
+  if (std::abs(at - std::round(at)) < 1e-4f) at = std::round(at);  // on a pole: either way leaves it
+  if (wanted > pitch_) {
+    const float next_pole = std::floor(at) + 1.0f;  // the first pole strictly ahead
+    pitch_ = std::min(wanted, std::max(phi + next_pole * kPi - margin, pitch_));
+  } else if (wanted < pitch_) {
+    const float last_pole = std::ceil(at) - 1.0f;  // the first pole strictly behind
+    pitch_ = std::max(wanted, std::min(phi + last_pole * kPi + margin, pitch_));
+  }
 }
 
 void OrbitCamera::pan(float dx, float dy, int viewport_height) {
@@ -45,12 +70,11 @@ void OrbitCamera::zoom(float wheel_steps) {
 }
 
 Camera OrbitCamera::camera() const {
-  const glm::vec3 eye = target_ - direction(yaw_, pitch_) * distance_;
-  Camera c = Camera::look_at(eye, target_, glm::vec3(0.0f, 1.0f, 0.0f), start_.yfov);
-  c.name = start_.name;
-  c.aspect = start_.aspect;
-  c.znear = start_.znear;
-  c.zfar = start_.zfar;
+  Camera c = start_;
+  c.forward = glm::normalize(turned_about_y(forward_at(pitch_), yaw_));
+  c.up = glm::normalize(turned_about_y(start_.up * std::cos(pitch_) + start_.forward * std::sin(pitch_), yaw_));
+  c.right = glm::normalize(turned_about_y(start_.right, yaw_));
+  c.position = target_ - c.forward * distance_;
   return c;
 }
 

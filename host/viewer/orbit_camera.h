@@ -1,6 +1,6 @@
-// Orbit / pan / zoom around a target point, the usual model-viewer camera. The scene's
-// own camera is the starting pose; the orbit parameters are derived from it so the first
-// interaction continues smoothly from what the scene shows.
+// Orbit / pan / zoom around a target point, the usual model-viewer (turntable) camera. The
+// scene's own camera is the starting pose, kept whole: its roll, and a view straight down,
+// continue smoothly from what the scene shows instead of snapping to an upright camera.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -12,7 +12,7 @@ namespace zz {
 class OrbitCamera {
  public:
   OrbitCamera() = default;
-  // Orbits around the point `focus_distance` in front of `start` (world up = +Y).
+  // Orbits around the point `focus_distance` in front of `start`.
   OrbitCamera(const Camera& start, float focus_distance);
 
   // Mouse motion in pixels over a viewport `viewport_height` pixels tall.
@@ -25,11 +25,15 @@ class OrbitCamera {
   float distance() const { return distance_; }
 
  private:
+  glm::vec3 forward_at(float pitch) const;
+
   Camera start_;
   glm::vec3 target_{0.0f};
   float distance_ = 1.0f;
-  float yaw_ = 0.0f;    // around +Y; 0 looks down -Z
-  float pitch_ = 0.0f;  // radians above the horizon the eye is looking down from
+  // The start's frame turned by pitch about its right axis (positive looks further down),
+  // then by yaw about world +Y.
+  float yaw_ = 0.0f;
+  float pitch_ = 0.0f;
 };
 
 // The focus distance for a camera: how far along its view the scene's centre lies
