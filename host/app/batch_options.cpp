@@ -64,13 +64,6 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   cmd->add_option("--region", o.region,
                   "Render only pixels X0,Y0,X1,Y1 (half-open): an EXR keeps the frame as display window, a PNG "
                   "is region-sized; parts merge with `zigzag merge`");
-  CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
-                                                           "first frame of the scene's range)")
-                           ->check(CLI::Range(0, 100000000));
-  CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
-  frame->excludes(time);
-  cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
-      ->check(number_in(1e-3, 1000.0));
   cmd->add_flag("-q,--quiet", o.quiet, "No progress or summary on stderr");
 }
 

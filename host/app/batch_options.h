@@ -35,10 +35,7 @@ struct BatchOptions {
   std::vector<AovRequest> aovs;
   bool quiet = false;
   RenderOptions render;
-  std::string region;         // "X0,Y0,X1,Y1"; empty = the whole frame
-  std::optional<int> frame;   // --frame N (time = N / fps)
-  std::optional<double> time; // --time T seconds
-  double fps = 0.0;           // --fps; 0 = the rig's, else 24
+  std::string region;  // "X0,Y0,X1,Y1"; empty = the whole frame
 
   bool all_cameras() const { return camera == "all"; }
   // The AOVs that go into the -o EXR as channels (each once).

@@ -83,9 +83,9 @@ void add_info_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--fps", o->fps, "Frames per second for the frame range (default: the rig's, else 24)")
       ->check(number_in(1e-3, 1000.0));
   cmd->add_option("--width", o->width, "Image width the sizes are for, as render --width (default: the scene's)")
-      ->check(CLI::Range(1, 16384));
+      ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--height", o->height, "Image height the sizes are for, as render --height (default: the scene's)")
-      ->check(CLI::Range(1, 16384));
+      ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->callback([o, &exit_code] {
     nlohmann::json all = nlohmann::json::array();

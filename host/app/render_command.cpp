@@ -33,7 +33,6 @@
 #include "render/memory_budget.h"
 #include "render/primary_hits.h"
 #include "render/renderer.h"
-#include "render/texture_range.h"
 #include "scene/loader.h"
 
 namespace zz {
@@ -77,13 +76,7 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
                 const std::function<VulkanContext*()>& device) {
-  LoadOptions load;
-  load.assets_dir = o.render.assets;
-  load.allow_missing_textures = o.render.allow_missing_textures;
-  load.quiet = o.quiet;
-  load.frame = o.frame;
-  load.time = o.time;
-  load.fps = o.fps;
+  const LoadOptions load = load_options(o.render, o.quiet);
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
@@ -112,14 +105,9 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     // The film's own memory (region-sized; display image, scratch), the visibility raster
     // and readback (full-frame tiles, a full-size map) and the level-1 corner field on top
     // of what the process holds now (libraries, Vulkan, scene, BVH).
-    const CornerFieldPlan corner_plan = corner_field_plan(settings);
     uint64_t frame_need =
-        frame_bytes(region.width(), region.height(),
-                    settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency())) +
-        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0) +
-        corner_plan.bytes;
-    // The highlight flag's spreads of the scene's normal maps (render/texture_range.h).
-    if (settings.aa == AaMode::Adaptive && settings.adaptive.highlights) frame_need += normal_map_spread_bytes(scene);
+        render_bytes(settings, region, scene) +
+        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
     // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
     // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
     size_t layer_count = 0;
@@ -161,7 +149,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
     Film film;
     RenderStats stats;
     // Steps: the level-1 blocks traced before the tiles, then the tiles.
-    Progress progress(int(corner_plan.blocks + make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
+    Progress progress(int(corner_field_plan(settings).blocks + make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
                       !o.quiet && isatty(STDERR_FILENO));
     RenderCallbacks callbacks;
     callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.step_done(rays.total()); };

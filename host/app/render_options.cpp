@@ -109,8 +109,8 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
 }
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
-  cmd->add_option("--width", o.width, "Image width (default: the scene's)")->check(CLI::Range(1, 16384));
-  cmd->add_option("--height", o.height, "Image height (default: the scene's)")->check(CLI::Range(1, 16384));
+  cmd->add_option("--width", o.width, "Image width (default: the scene's)")->check(CLI::Range(1, kMaxImageSide));
+  cmd->add_option("--height", o.height, "Image height (default: the scene's)")->check(CLI::Range(1, kMaxImageSide));
   add_choice(cmd, "--aa", o.aa, kAaModes, "Antialiasing");
   add_adaptive_options(cmd, o.adaptive);
   cmd->add_option("--spp", o.spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
@@ -137,6 +137,24 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(number_in(1e-6, 1e6));
   cmd->add_option("--max-depth", o.max_depth, "Reflection/refraction bounces (default: the scene's)")
       ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));
+  CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
+                                                           "first frame of the scene's range)")
+                           ->check(CLI::Range(0, 100000000));
+  CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
+  frame->excludes(time);
+  cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
+      ->check(number_in(1e-3, 1000.0));
+}
+
+LoadOptions load_options(const RenderOptions& o, bool quiet) {
+  LoadOptions load;
+  load.assets_dir = o.assets;
+  load.allow_missing_textures = o.allow_missing_textures;
+  load.quiet = quiet;
+  load.frame = o.frame;
+  load.time = o.time;
+  load.fps = o.fps;
+  return load;
 }
 
 void validate(const RenderOptions& o) {
@@ -157,9 +175,9 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
   const FrameSize size = frame_size(scene, camera, o.width, o.height);
   s.width = size.width;
   s.height = size.height;
-  if (s.width < 1 || s.height < 1 || s.width > 16384 || s.height > 16384)
+  if (s.width < 1 || s.height < 1 || s.width > kMaxImageSide || s.height > kMaxImageSide)
     throw Error("resolution " + std::to_string(s.width) + "x" + std::to_string(s.height) +
-                " is out of range (1..16384 per side)");
+                " is out of range (1.." + std::to_string(kMaxImageSide) + " per side)");
   s.threads = o.threads;
   s.tonemap.exposure = o.exposure > 0.0f ? o.exposure : scene.exposure;
   s.aa = o.aa;

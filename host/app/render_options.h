@@ -10,6 +10,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 #include "aa/adaptive_settings.h"
@@ -18,6 +19,7 @@
 #include "app/option_choices.h"
 #include "gpu/visibility.h"
 #include "render/renderer.h"
+#include "scene/loader.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -102,6 +104,9 @@ struct RenderOptions {
   bool allow_missing_textures = false;  // LoadOptions::allow_missing_textures
   float exposure = 0.0f;  // 0 = the scene's
   int max_depth = -1;     // -1 = the scene's
+  std::optional<int> frame;    // --frame N (time = N / fps)
+  std::optional<double> time;  // --time T seconds
+  double fps = 0.0;            // --fps; 0 = the rig's, else 24
 };
 
 // Registers --eps --eps-specular --tables --geo-policy --filter --signature --highlights --textures --curvature
@@ -113,6 +118,9 @@ void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s);
 
 // Registers the shared flags on a subcommand.
 void add_render_options(CLI::App* cmd, RenderOptions& o);
+
+// How to load the scene: assets, textures, the animation time (`quiet`: no warnings).
+LoadOptions load_options(const RenderOptions& o, bool quiet);
 
 // Checks the combinations single flags cannot (e.g. --pattern lattice without --spp 25,
 // a non-square --spp); throws zz::Error. Call before loading anything.

@@ -3,6 +3,8 @@
 // and a `render` with the same arguments give the same PNG bytes.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -11,12 +13,15 @@
 
 #include "accel/bvh.h"
 #include "app/option_checks.h"
+#include "app/output_paths.h"
 #include "app/render_options.h"
 #include "core/error.h"
 #include "scene/camera_select.h"
 #include "gpu/visibility.h"
+#include "render/memory_budget.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
+#include "viewer/script.h"
 #include "viewer/viewer.h"
 
 namespace zz {
@@ -35,16 +40,27 @@ struct ViewOptions {
   double script_timeout = 600;
 };
 
+// A screenshot is the 8-bit display image, as the window shows it: checked before anything
+// loads, as render checks -o (a float format would hold display values, not radiance).
+void check_screenshot(const std::string& option, const std::string& path) {
+  preflight_output(option, path, true);
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".exr" || ext == ".hdr")
+    throw Error(option + " " + path + ": a screenshot is the 8-bit display image (.png, .jpg, .tif, ...); for "
+                "linear radiance use `zigzag render -o FILE" + ext + "`");
+}
+
 int view(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
   validate(o.render);
+  if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot);
+  for (const ScriptEvent& e : parse_script(o.script))
+    if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text);
   // Fail fast, before loading anything, when no window can be opened.
   require_display();
   const auto t0 = std::chrono::steady_clock::now();
-  LoadOptions load;
-  load.assets_dir = o.render.assets;
-  load.allow_missing_textures = o.render.allow_missing_textures;
-  Scene scene = load_scene(o.scene, load);
+  Scene scene = load_scene(o.scene, load_options(o.render, false));
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
   size_t camera = 0;
   try {
@@ -70,6 +86,12 @@ int view(const ViewOptions& o) {
     v.scene_radius = 0.5f * glm::length(hi - lo);
   }
   v.settings = make_render_settings(o.render, scene, scene.cameras[camera]);
+  // The first frame's memory, as render checks it (the window may grow later; its size
+  // is bounded by kMaxImageSide).
+  check_memory(render_bytes(v.settings, TileRect{0, 0, v.settings.width, v.settings.height}, scene) +
+                   uint64_t(v.settings.width) * uint64_t(v.settings.height) * 16,  // display and preview images
+               ("a " + std::to_string(v.settings.width) + "x" + std::to_string(v.settings.height) + " frame").c_str());
+  v.tweaks.adaptive = o.render.aa == AaMode::Adaptive;
   v.tweaks.eps = v.settings.adaptive.eps;
   v.tweaks.mitchell = v.settings.adaptive.filter == Filter::Mitchell;
   v.tweaks.edges = o.render.edges == EdgeMode::Vulkan;
@@ -106,8 +128,10 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--preview-scale", o->preview_scale, "Coarse preview at 1/N size before each frame (1 = off)")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where the S key saves screenshots");
-  cmd->add_flag("--exit-after-frame", o->exit_after_frame, "Quit after the first full frame (after --script)");
-  cmd->add_option("--screenshot", o->screenshot, "With --exit-after-frame: save the final view to this PNG");
+  CLI::Option* exit_after =
+      cmd->add_flag("--exit-after-frame", o->exit_after_frame, "Quit after the first full frame (after --script)");
+  cmd->add_option("--screenshot", o->screenshot, "With --exit-after-frame: save the final view to this PNG")
+      ->needs(exit_after);
   cmd->add_option("--script", o->script,
                   "Scripted input, e.g. \"drag:100,100,200,120;wait;screenshot:a.png;quit\" "
                   "(drag/scroll/key/resize/wait/screenshot/quit)");

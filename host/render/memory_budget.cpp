@@ -8,8 +8,11 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <thread>
 
 #include "core/error.h"
+#include "render/renderer.h"
+#include "render/texture_range.h"
 
 namespace zz {
 
@@ -20,6 +23,13 @@ uint64_t frame_bytes(int width, int height, int threads) {
   const uint64_t display = pixels * 3;           // 8-bit image handed to the writer
   const uint64_t scratch = uint64_t(std::max(threads, 1)) * (4u << 20);  // region buffers per worker
   return film + geo + display + scratch;
+}
+
+uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, const Scene& scene) {
+  const int threads = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
+  uint64_t need = frame_bytes(region.width(), region.height(), threads) + corner_field_plan(settings).bytes;
+  if (settings.aa == AaMode::Adaptive && settings.adaptive.highlights) need += normal_map_spread_bytes(scene);
+  return need;
 }
 
 uint64_t resident_bytes() {

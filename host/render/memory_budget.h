@@ -6,9 +6,18 @@
 
 namespace zz {
 
+struct RenderSettings;
+struct Scene;
+struct TileRect;
+
 // Bytes a frame of w x h needs at peak: film (radiance + AOVs), visibility map,
 // display image for writing, per-thread sampler scratch.
 uint64_t frame_bytes(int width, int height, int threads);
+
+// What rendering `region` of a frame needs beyond the process's memory now: the film's
+// (frame_bytes), the level-1 corner field's and the highlight flag's normal-map spreads.
+// The Vulkan map's raster and any output layers come on top (the callers know them).
+uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, const Scene& scene);
 
 // The process's resident memory now (/proc/self/statm); 0 if unknown.
 uint64_t resident_bytes();

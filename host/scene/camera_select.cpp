@@ -27,7 +27,7 @@ FrameSize frame_size(const Scene& scene, const Camera& camera, int width, int he
   if (height <= 0 && scene.height_given) height = scene.default_height;
   const float aspect = camera.aspect;
   const bool known = std::isfinite(aspect) && aspect > 0.0f;
-  auto side = [](double v) { return int(std::clamp(std::lround(v), 1L, 16384L)); };
+  auto side = [](double v) { return int(std::clamp(std::lround(v), 1L, long(kMaxImageSide))); };
   if (width > 0 && height > 0) return {width, height};
   if (width > 0) return {width, known ? side(width / aspect) : scene.default_height};
   if (height > 0) return {known ? side(height * aspect) : scene.default_width, height};

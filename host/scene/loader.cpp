@@ -352,8 +352,8 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
     if (!(scene.exposure > 0.0f)) J.fail("exposure must be positive");
   }
   if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", kMinTraceDepth, kMaxTraceDepth);
-  if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, 16384), scene.width_given = true;
-  if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, 16384), scene.height_given = true;
+  if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, kMaxImageSide), scene.width_given = true;
+  if (j.contains("height")) scene.default_height = J.integer(j["height"], "height", 1, kMaxImageSide), scene.height_given = true;
 
   if (j.contains("materials_override")) {
     const json& o = j["materials_override"];

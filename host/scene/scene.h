@@ -38,6 +38,9 @@ struct EffectSet {
 inline constexpr int kMinTraceDepth = 0;
 inline constexpr int kMaxTraceDepth = 16;
 
+// The longest image side a frame may have (rig, command line, viewer window), in pixels.
+inline constexpr int kMaxImageSide = 16384;
+
 struct Scene {
   std::string name;
 

@@ -3,6 +3,7 @@
 #include <cstdlib>
 
 #include "core/error.h"
+#include "scene/scene.h"
 
 namespace zz {
 
@@ -74,7 +75,9 @@ std::vector<ScriptEvent> parse_script(std::string_view script) {
       e.kind = ScriptEvent::Kind::Resize;
       e.x0 = number(a[0], command);
       e.y0 = number(a[1], command);
-      if (e.x0 < 1 || e.y0 < 1) throw Error("--script: '" + std::string(command) + "': size must be positive");
+      if (!(e.x0 >= 1 && e.y0 >= 1 && e.x0 <= kMaxImageSide && e.y0 <= kMaxImageSide))
+        throw Error("--script: '" + std::string(command) + "': size must be 1.." + std::to_string(kMaxImageSide) +
+                    " per side");
     } else if (name == "wait" && arg.empty()) {
       e.kind = ScriptEvent::Kind::Wait;
     } else if (name == "screenshot") {

@@ -22,6 +22,11 @@ namespace zz {
 
 namespace {
 
+constexpr const char* kNoPresentation =
+    "no Vulkan driver that can present to this display; install one with `apt-get install "
+    "mesa-vulkan-drivers` (lavapipe, CPU), or use `zigzag render`";
+
+
 using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -93,9 +98,6 @@ Viewer* self(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPoint
 Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
     : shader_(shader), options_(options), camera_(options.camera), settings_(options.settings), tweaks_(options.tweaks) {
   require_display();
-  if (!glfwVulkanSupported())
-    throw Error("the Vulkan loader cannot present to this display (glfwVulkanSupported is false); "
-                "install mesa-vulkan-drivers or use `zigzag render`");
   for (const ScriptEvent& e : parse_script(options.script)) script_.push_back(e);
 
   glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
@@ -104,15 +106,14 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
                                  nullptr, nullptr));
   if (!window_) throw Error("cannot open a window (glfwCreateWindow failed); use `zigzag render`");
   glfwSetWindowUserPointer(window_.get(), this);
+  glfwSetWindowSizeLimits(window_.get(), 1, 1, kMaxImageSide, kMaxImageSide);  // the renderer's frame limit
 
   VulkanOptions vk;
   vk.validate = options.validate;
   vk.device_index = options.vk_device;
   uint32_t count = 0;
   const char** extensions = glfwGetRequiredInstanceExtensions(&count);
-  if (!extensions)
-    throw Error("no Vulkan device with window-system support found (no Vulkan surface extensions); install "
-                "mesa-vulkan-drivers or use `zigzag render`");
+  if (!extensions) throw Error(kNoPresentation);
   vk.instance_extensions.assign(extensions, extensions + count);
   vk.device_extensions = {VK_KHR_SWAPCHAIN_EXTENSION_NAME};
   GLFWwindow* window = window_.get();
@@ -129,7 +130,9 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
   renderer_ = std::make_unique<ProgressiveRenderer>(shader_, display_, std::move(geo));
 
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
-    if (action == GLFW_PRESS || action == GLFW_REPEAT) self(w)->on_key(key);
+    // Held down, only eps steps repeat: a held S wrote 22 screenshots in 1.5 s.
+    const bool steps = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET;
+    if (action == GLFW_PRESS || (action == GLFW_REPEAT && steps)) self(w)->on_key(key);
   });
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
     double x, y;
@@ -186,17 +189,31 @@ void Viewer::on_key(int key) {
       orbit_ = OrbitCamera(camera_, focus_distance(camera_, options_.scene_centre, options_.scene_radius));
       restart();
       break;
-    case GLFW_KEY_LEFT_BRACKET: tweaks_.eps_down(); restart(); break;
-    case GLFW_KEY_RIGHT_BRACKET: tweaks_.eps_up(); restart(); break;
-    case GLFW_KEY_F: tweaks_.mitchell = !tweaks_.mitchell; restart(); break;
-    case GLFW_KEY_E: tweaks_.edges = !tweaks_.edges; restart(); break;
+    case GLFW_KEY_LEFT_BRACKET:
+      if (tweaks_.adaptive) tweaks_.eps_down(), restart();
+      break;
+    case GLFW_KEY_RIGHT_BRACKET:
+      if (tweaks_.adaptive) tweaks_.eps_up(), restart();
+      break;
+    case GLFW_KEY_F:
+      if (tweaks_.adaptive) tweaks_.mitchell = !tweaks_.mitchell, restart();
+      break;
+    case GLFW_KEY_E:
+      if (tweaks_.adaptive) tweaks_.edges = !tweaks_.edges, restart();
+      break;
     case GLFW_KEY_S: {
-      char name[64];
-      std::snprintf(name, sizeof name, "zigzag_%s_%03d.png", to_string(mode_), ++screenshots_);
-      std::string file = options_.name + "_" + name;
-      for (char& c : file)
-        if (c == '/') c = '_';
-      save_screenshot(options_.screenshot_dir / file);
+      // The next number no file has yet: an earlier session's screenshots stay.
+      std::filesystem::path path;
+      std::error_code ec;
+      do {
+        char name[64];
+        std::snprintf(name, sizeof name, "zigzag_%s_%03d.png", to_string(mode_), ++screenshots_);
+        std::string file = options_.name + "_" + name;
+        for (char& c : file)
+          if (c == '/') c = '_';
+        path = options_.screenshot_dir / file;
+      } while (std::filesystem::exists(path, ec) && screenshots_ < 1000000);
+      save_screenshot(path);
       break;
     }
     default: break;
@@ -232,6 +249,8 @@ void Viewer::on_scroll(double steps) {
 
 void Viewer::on_framebuffer(int width, int height) {
   if (width <= 0 || height <= 0) return;  // minimised: keep the frame, present nothing
+  width = std::min(width, kMaxImageSide);     // a high-DPI framebuffer may exceed the window's limit
+  height = std::min(height, kMaxImageSide);
   if (width == pending_width_ && height == pending_height_) pending_width_ = pending_height_ = 0;
   if (width == render_width_ && height == render_height_) return;
   render_width_ = width;
@@ -247,7 +266,12 @@ void Viewer::save_screenshot(const std::filesystem::path& path) {
   try {
     if (path.has_parent_path()) std::filesystem::create_directories(path.parent_path());
     write_rgb8(path, width, height, rgb);
-    std::fprintf(stderr, "zigzag view: saved %s\n", path.string().c_str());
+    const ProgressStatus s = renderer_->status();
+    if (frame_done())
+      std::fprintf(stderr, "zigzag view: saved %s\n", path.string().c_str());
+    else  // what the window shows: a preview or finished tiles over it
+      std::fprintf(stderr, "zigzag view: saved %s (frame not finished: %d of %d tiles)\n", path.string().c_str(),
+                   s.tiles_done, s.tiles_total);
   } catch (const std::exception& e) {
     // Called from GLFW's C callbacks: report, never throw through them.
     std::fprintf(stderr, "zigzag view: error: screenshot %s: %s\n", path.string().c_str(), e.what());
@@ -327,12 +351,18 @@ void Viewer::update_title(bool force) {
   if (s.completed == request_ && request_ != 0) state = "done";
   else if (s.preview && s.request == request_) state = "preview";
   else state = std::to_string(s.tiles_done) + "/" + std::to_string(s.tiles_total) + " tiles";
-  std::snprintf(text, sizeof text,
-                "zigzag view - %s - %dx%d - %s%s - %.2f rays/px - last full frame %.2f s - %s - eps %.3g %s edges %s",
+  char knobs[96];
+  if (tweaks_.adaptive)
+    std::snprintf(knobs, sizeof knobs, "eps %.3g %s edges %s", tweaks_.eps, tweaks_.mitchell ? "mitchell" : "box",
+                  tweaks_.edges ? "on" : "off");
+  else if (settings_.aa == AaMode::Uniform)
+    std::snprintf(knobs, sizeof knobs, "uniform %d spp", settings_.uniform.spp);
+  else
+    std::snprintf(knobs, sizeof knobs, "no antialiasing");
+  std::snprintf(text, sizeof text, "zigzag view - %s - %dx%d - %s%s - %.2f rays/px - last full frame %.2f s - %s - %s",
                 options_.name.c_str(), render_width_, render_height_, to_string(mode_),
                 mode_ == ViewMode::Geo && !display_.has_geo() ? " (not available)" : "", s.rays_per_pixel,
-                s.last_full_seconds, state.c_str(), tweaks_.eps, tweaks_.mitchell ? "mitchell" : "box",
-                tweaks_.edges ? "on" : "off");
+                s.last_full_seconds, state.c_str(), knobs);
   if (title_ != text) {
     title_ = text;
     glfwSetWindowTitle(window_.get(), text);
@@ -407,6 +437,9 @@ void require_display() {
     throw Error(std::string("no display") + (why ? " (" + std::string(why) + ")" : "") + "; use `zigzag render`");
   }
   std::atexit(glfwTerminate);
+  // Before the scene loads: without a Vulkan driver the window could never show it.
+  uint32_t extensions = 0;
+  if (!glfwVulkanSupported() || !glfwGetRequiredInstanceExtensions(&extensions)) throw Error(kNoPresentation);
   ready = true;
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -50,13 +51,13 @@ class Window : public ::testing::Test {
   }
 
   // `zigzag view` with validation on, bounded by `timeout` so a hang fails instead of blocking.
-  test::CommandResult view(const std::string& args, int timeout = 180) {
+  test::CommandResult view(const std::string& args, int timeout = 180, const std::string& scene = scene_path()) {
     const std::string cmd = "cd " + dir_.string() + " && DISPLAY=" + xvfb_->display() + " timeout -k 5 " +
-                            std::to_string(timeout) + " " + test::zigzag_binary() + " view " + scene_path() +
+                            std::to_string(timeout) + " " + test::zigzag_binary() + " view " + scene +
                             " --vk-validate " + args;
     test::CommandResult r = run_command(cmd);
     if (r.output.find("no Vulkan device") != std::string::npos ||
-        r.output.find("cannot present to this display") != std::string::npos)
+        r.output.find("can present to this display") != std::string::npos)
       skip_reason_ = "no Vulkan device that can present: " + r.output;
     return r;
   }
@@ -182,12 +183,69 @@ TEST_F(Window, KeysChangeFilterEdgesAndEpsLikeTheRenderOptions) {
   }
 }
 
+// --frame/--time/--fps are the render options they are: any frame of an animation is viewed
+// (the viewer used to refuse them and show the first frame only).
+TEST_F(Window, AnimationFrameEqualsRenderOfThatFrame) {
+  const std::string animated = std::string(ZZ_SOURCE_DIR) + "/scenes/animated.json";
+  const std::string size = " --width 96 --height 72 --threads 2";
+  const test::CommandResult v =
+      view("--frame 12 --exit-after-frame --screenshot " + file("view12.png") + size, 180, animated);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  for (const char* frame : {"12", "0"}) {
+    const test::CommandResult r = run_command(test::zigzag_binary() + " render " + animated + " -q --frame " + frame +
+                                              " -o " + file(std::string("render") + frame + ".png") + size);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+  }
+  int w, h;
+  const std::vector<float> viewed = read_png(file("view12.png"), w, h);
+  EXPECT_EQ(viewed, read_png(file("render12.png"), w, h));
+  EXPECT_NE(viewed, read_png(file("render0.png"), w, h)) << "frame 12 looks like frame 0";
+}
+
+// S saves the next number no file has (a second session kept overwriting the first's
+// _001), and says when the frame it saved was not finished.
+TEST_F(Window, ScreenshotKeyNeverOverwritesAnEarlierOne) {
+  const std::filesystem::path first = dir_ / "default_zigzag_image_001.png";
+  std::ofstream(first) << "an earlier session's screenshot";
+  const test::CommandResult v = view("--width 64 --height 48 --threads 2 --script \"wait;key:S;quit\"");
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  std::string kept;
+  std::getline(std::ifstream(first), kept);
+  EXPECT_EQ(kept, "an earlier session's screenshot");
+  int w, h;
+  EXPECT_EQ(read_png(dir_ / "default_zigzag_image_002.png", w, h).size(), size_t(64 * 48 * 3));
+  EXPECT_NE(v.output.find("default_zigzag_image_002.png\n"), std::string::npos)  // a finished frame: no note
+      << v.output;
+}
+
 TEST_F(Window, ClosingMidRenderExitsCleanly) {
   // A frame that takes far longer than the test allows; Esc arrives during the first tiles.
   const test::CommandResult v = view("--width 1024 --height 768 --aa uniform --spp 256 --script \"key:ESC\"", 60);
   SKIP_IF_NO_VULKAN();
   expect_clean(v);  // exit 0, not the timeout's 124
   EXPECT_EQ(v.output.find("first full frame"), std::string::npos) << "the frame finished: not a mid-render close";
+}
+
+// A screenshot path is checked as render checks -o, before a window or a scene: it needs
+// --exit-after-frame (it was silently never written without), an 8-bit display format
+// (an .exr held display values) and a folder that can be written.
+TEST(NoDisplay, ScreenshotsAreCheckedBeforeAnythingLoads) {
+  const std::string view = "env -u DISPLAY -u WAYLAND_DISPLAY timeout -k 5 60 " + test::zigzag_binary() + " view " +
+                           scene_path() + " ";
+  const std::pair<std::string, std::string> cases[] = {
+      {"--screenshot x.png", "--exit-after-frame"},
+      {"--exit-after-frame --screenshot x.exr", "a screenshot is the 8-bit display image"},
+      {"--script \"wait;screenshot:y.hdr;quit\"", "a screenshot is the 8-bit display image"},
+      {"--exit-after-frame --screenshot /proc/nope/a.png", "/proc/nope/a.png"},
+      {"--script \"resize:100000,100;quit\"", "size must be 1..16384 per side"}};
+  for (const auto& [args, message] : cases) {
+    const test::CommandResult r = run_command(view + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find("no display"), std::string::npos) << args << ": checked after the display";
+  }
 }
 
 TEST(NoDisplay, FailsWithAClearMessage) {
