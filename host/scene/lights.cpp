@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace zz {
 
@@ -9,6 +10,10 @@ std::optional<glm::vec3> unit_direction(glm::vec3 v) {
   if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return std::nullopt;
   const float largest = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
   if (!(largest > 0.0f)) return std::nullopt;
+  // Where |v|^2 neither overflows nor loses precision to denormals, glm's own normalize:
+  // the directions scenes have always had keep their bits (and their images).
+  const float length2 = glm::dot(v, v);
+  if (length2 >= std::numeric_limits<float>::min() && std::isfinite(length2)) return glm::normalize(v);
   const glm::vec3 scaled = v / largest;  // largest component +-1: its square neither overflows nor underflows
   return scaled / std::sqrt(glm::dot(scaled, scaled));
 }
