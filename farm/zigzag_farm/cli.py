@@ -2,25 +2,26 @@
 from __future__ import annotations
 
 import argparse
-import hashlib
+import dataclasses
 import json
 import os
 import shutil
 import signal
 import sys
+import tempfile
 
-from . import cluster
+from . import cluster, fingerprint
+from .fingerprint import HashCache
+from .job import temporary_name
 from .manifest import Manifest, ManifestBusy
 from .plan import parse_frames, plan_batch
+from .pass_through import UsageError, render_options
 from .progress import summary
 from .runner import Failure, RunSettings, Runner, indent
 from .scene_info import SceneError, scene_infos
 
 USAGE_ERROR = 2
-
-
-class UsageError(Exception):
-    """Bad options or setup: a one-line error and exit code 2."""
+LAST_FRAME = 100_000_000  # zigzag render --frame's range
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -75,13 +76,63 @@ def output_root(pattern: str) -> str:
     return os.path.dirname(static) if "{" in pattern else os.path.dirname(pattern)
 
 
-def _pass_through_value(args: list[str], name: str) -> int | None:
-    for i, a in enumerate(args):
-        if a == name and i + 1 < len(args):
-            return int(args[i + 1])
-        if a.startswith(name + "="):
-            return int(a.split("=", 1)[1])
-    return None
+# -- checks before anything runs ---------------------------------------------------------
+
+def _check_numbers(o) -> None:
+    if o.workers is None:
+        o.workers = 1
+    for name, value, least in (("--workers", o.workers, 1), ("--slurm", o.slurm, 1),
+                               ("--width", o.width, 1), ("--height", o.height, 1),
+                               ("--regions", o.regions, 1), ("--retries", o.retries, 0),
+                               ("--allowed-failures", o.allowed_failures, 0),
+                               ("--slurm-cores", o.slurm_cores, 1)):
+        if value is not None and value < least:
+            raise UsageError(f"{name} {value}: must be at least {least}")
+    for name, value in (("--timeout", o.timeout), ("--wait", o.wait)):
+        if value is not None and not value > 0:
+            raise UsageError(f"{name} {value:g}: must be more than 0")
+    if o.camera != "all" and not o.camera.isdigit():
+        raise UsageError(f"--camera {o.camera}: expected an index or all")
+
+
+def _frames(o) -> list[int] | None:
+    if not o.frames:
+        return None
+    try:
+        frames = parse_frames(o.frames)
+    except ValueError as e:
+        raise UsageError(f"{e}") from None
+    if frames[0] < 0 or frames[-1] > LAST_FRAME:
+        raise UsageError(f"--frames {o.frames}: the renderer's frames are 0 to {LAST_FRAME}")
+    return frames
+
+
+def _check_can_write(path: str, what: str) -> None:
+    """Fail now, not after the batch: path's folder exists or can be made, and can be written
+    to (probed in its nearest existing folder, so that a refused batch creates nothing)."""
+    existing = os.path.dirname(os.path.abspath(path))
+    while not os.path.exists(existing):
+        existing = os.path.dirname(existing)
+    if not os.path.isdir(existing):
+        raise UsageError(f"cannot write {what} {path}: {existing} is a file, not a folder")
+    if os.path.isdir(path):
+        raise UsageError(f"cannot write {what} {path}: it is a folder")
+    try:
+        fd, probe = tempfile.mkstemp(prefix=".zigzag-farm-probe-", dir=existing)
+        os.close(fd)
+        os.remove(probe)
+    except OSError as e:
+        raise UsageError(f"cannot write {what} {path}: {e.strerror or e} in {existing}") from None
+
+
+def _check_outputs_writable(plan, extra: dict[str, str]) -> None:
+    """One probe per folder the batch writes into (images, stats, parts, summary, manifest)."""
+    seen = set()
+    for path, what in [*plan.claims.items(), *extra.items()]:
+        folder = os.path.dirname(path)
+        if folder not in seen:
+            seen.add(folder)
+            _check_can_write(path, what)
 
 
 def _find_zigzag(given: str | None) -> str:
@@ -92,104 +143,110 @@ def _find_zigzag(given: str | None) -> str:
     return os.path.abspath(candidate)
 
 
-def _fingerprint(zigzag: str, scenes: list[str]) -> str:
-    """What else decides the output bytes: the renderer binary and the scene files."""
-    h = hashlib.sha256()
-    for path in [zigzag, *scenes]:
-        try:
-            with open(path, "rb") as f:
-                h.update(hashlib.sha256(f.read()).digest())
-        except OSError:
-            h.update(path.encode())
-    return h.hexdigest()[:16]
-
-
-def _client(o, render_args: list[str]):
+def _client(o):
     if o.scheduler:
         return cluster.existing_scheduler(o.scheduler, o.wait)
     if o.slurm is not None:
         return cluster.slurm_cluster(o.slurm, o.wait, queue=o.slurm_queue, account=o.slurm_account,
                                      walltime=o.slurm_walltime, memory=o.slurm_memory,
                                      cores=o.slurm_cores, interface=o.interface)
-    return cluster.local_cluster(o.workers or 1, o.allowed_failures)
+    return cluster.local_cluster(o.workers, o.allowed_failures)
 
 
 def _sigterm(signum, frame):
     raise KeyboardInterrupt
 
 
-def render(o) -> int:
-    split = o.pass_through
-    zigzag = _find_zigzag(o.zigzag)
-    if o.regions < 1:
-        raise UsageError("--regions must be at least 1")
-    if o.camera != "all" and not o.camera.isdigit():
-        raise UsageError(f"--camera {o.camera}: expected an index or all")
-    try:
-        frames = parse_frames(o.frames) if o.frames else None
-    except ValueError as e:
-        raise UsageError(f"{e}")
-    width = o.width or _pass_through_value(split, "--width")
-    height = o.height or _pass_through_value(split, "--height")
-    render_args = list(split)
-    if o.width and "--width" not in split:
-        render_args += ["--width", str(o.width)]
-    if o.height and "--height" not in split:
-        render_args += ["--height", str(o.height)]
-    local_workers = o.workers or 1
-    if o.scheduler is None and o.slurm is None and "--threads" not in split:
-        # Workers of a LocalCluster share this machine's cores.
-        render_args += ["--threads", str(max(1, (os.cpu_count() or 1) // local_workers))]
-
-    root = output_root(o.output)
-    manifest_path = o.manifest or os.path.join(root, ".zigzag-farm-manifest.jsonl")
-    work_dir = os.path.abspath(o.work_dir or os.path.join(root, ".zigzag-farm-parts"))
-
+def _scenes(zigzag: str, paths: list[str], info_args: list[str], hashes: HashCache):
+    """-> (SceneInfo with its files' content digest for each scene that loads, failures)."""
     failures: list[Failure] = []
     infos = []
-    for path, info in scene_infos(zigzag, o.scenes, width, height):
+    for path, info in scene_infos(zigzag, paths, info_args):
         if isinstance(info, SceneError):
             failures.append(Failure(path, "scene", str(info)))
             print(f"zigzag-farm: FAILED {path}: {info}", file=sys.stderr)
         else:
-            infos.append(info)
+            infos.append(dataclasses.replace(info, content=fingerprint.digest(list(info.files), hashes)))
+    return infos, failures
+
+
+def render(o) -> int:
+    _check_numbers(o)
+    frames = _frames(o)
+    opts = render_options(o, o.pass_through)
+    zigzag = _find_zigzag(o.zigzag)
+
+    root = output_root(o.output)
+    manifest_path = os.path.abspath(o.manifest or os.path.join(root, ".zigzag-farm-manifest.jsonl"))
+    work_dir = os.path.abspath(o.work_dir or os.path.join(root, ".zigzag-farm-parts"))
+    hashes = HashCache(os.path.join(os.path.dirname(manifest_path), fingerprint.CACHE_NAME))
+
+    infos, scene_failures = _scenes(zigzag, o.scenes, opts.info_args, hashes)
     try:
         plan = plan_batch(infos, o.output, frames=frames, camera=o.camera, regions=o.regions,
-                          work_dir=work_dir, stats=o.stats, args=tuple(render_args),
-                          fingerprint=_fingerprint(zigzag, [i.path for i in infos]))
+                          work_dir=work_dir, stats=o.stats, args=tuple(opts.key_args),
+                          fingerprint=fingerprint.digest([zigzag], hashes))
+        extra = {manifest_path: "the manifest", hashes.path: "the hash cache"}
+        if o.summary:
+            extra[os.path.abspath(o.summary)] = "the summary"
+        for path, what in extra.items():
+            plan.claim(path, what)
     except ValueError as e:
-        raise UsageError(f"{e}")
+        raise UsageError(f"{e}") from None
+    _check_outputs_writable(plan, {})
 
     try:
         manifest = Manifest(manifest_path)
     except ManifestBusy as e:
-        raise UsageError(f"{e}")
+        raise UsageError(f"{e}") from None
+    except OSError as e:
+        raise UsageError(f"cannot open the manifest {manifest_path}: {e.strerror or e}") from None
+    hashes.save()
     with manifest:
         runner = Runner(plan, manifest, RunSettings(zigzag=zigzag, timeout=o.timeout,
-                                                    retries=o.retries), live=False if o.quiet else None)
+                                                    retries=o.retries, keep_parts=o.keep_parts,
+                                                    runtime_args=tuple(opts.runtime_args)),
+                        live=False if o.quiet else None)
         if o.quiet:
             runner.progress_stream = open(os.devnull, "w")
-        todo = runner.pending_frames()
-        if todo:
+        if runner.pending_frames():
             try:
-                with _client(o, render_args) as client:
+                with _client(o) as client:
                     outcome = runner.run(client)
             except cluster.ClusterError as e:
-                raise UsageError(f"{e}")
+                raise UsageError(f"{e}") from None
         else:
             outcome = runner.outcome
-    outcome.failures[:0] = failures
-    outcome.failed_frames += len(failures)
+    outcome.failures[:0] = scene_failures
+    outcome.failed_scenes = len(scene_failures)
     print(summary(frames=outcome.frames, skipped=outcome.skipped, rendered=outcome.rendered,
-                  failed=outcome.failed_frames, jobs_run=len(outcome.jobs_run),
-                  job_seconds=outcome.job_seconds, wall_s=outcome.wall_s), file=sys.stderr)
+                  failed=outcome.failed_frames, failed_scenes=outcome.failed_scenes,
+                  jobs_run=len(outcome.jobs_run), job_seconds=outcome.job_seconds,
+                  wall_s=outcome.wall_s), file=sys.stderr)
     for f in outcome.failures:
         print(f"zigzag-farm: failed: {f.what}: {indent(f.message)}", file=sys.stderr)
-    if o.summary:
-        os.makedirs(os.path.dirname(os.path.abspath(o.summary)), exist_ok=True)
-        with open(o.summary, "w") as fh:
-            json.dump(outcome.as_json(), fh, indent=2)
+    if o.summary and not _write_summary(o.summary, outcome):
+        return 1
     return 1 if outcome.failures else 0
+
+
+def _write_summary(path: str, outcome) -> bool:
+    """Written whole to a temporary and renamed: a failed write keeps an earlier summary."""
+    tmp = temporary_name(os.path.abspath(path))
+    try:
+        os.makedirs(os.path.dirname(tmp), exist_ok=True)
+        with open(tmp, "w") as fh:
+            json.dump(outcome.as_json(), fh, indent=2)
+        os.replace(tmp, path)
+        return True
+    except OSError as e:  # checked before the run; the disk can still fill up since
+        try:
+            os.remove(tmp)
+        except OSError:
+            pass
+        print(f"zigzag-farm: error: cannot write the summary {path}: {e.strerror or e}",
+              file=sys.stderr)
+        return False
 
 
 def main(argv: list[str] | None = None) -> int:

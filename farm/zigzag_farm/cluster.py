@@ -25,11 +25,16 @@ def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = Tru
     simulated clusters of many workers that only wait on subprocesses) gives each worker
     that many threads and render slots; processes=False runs the workers in this process."""
     from distributed import Client, LocalCluster
+    # Worker processes share the driver's process group, so a terminal's Ctrl-C reaches them
+    # too: they ignore it (each would print a KeyboardInterrupt traceback) and the driver,
+    # interrupted, shuts them down. In-process workers would make the driver ignore it.
+    quiet = {"preload": ["zigzag_farm.worker_setup"]} if processes else {}
     with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
         cluster = LocalCluster(n_workers=workers, threads_per_worker=jobs_per_worker, processes=processes,
                                protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                worker_dashboard_address="127.0.0.1:0",
-                               resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL)
+                               resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL,
+                               **quiet)
         try:
             with Client(cluster) as client:
                 yield client
@@ -42,7 +47,7 @@ def existing_scheduler(address: str, wait_s: float):
     from distributed import Client
     try:
         client = Client(address, timeout=wait_s)
-    except (OSError, TimeoutError) as e:
+    except (OSError, TimeoutError, ValueError) as e:  # ValueError: not an address
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
     with client:
         _wait_for_render_workers(client, wait_s,

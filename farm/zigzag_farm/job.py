@@ -24,6 +24,9 @@ import time
 import uuid
 
 STDERR_TAIL = 4000  # bytes of a failed child's stderr kept for the report
+# zigzag's usage errors (CLI11 parse errors: an unknown option, a value out of range, a
+# missing argument) exit with 100-127. Run again they fail the same way: never retried.
+USAGE_EXIT_CODES = range(100, 128)
 KILL_GRACE_S = 3.0
 
 try:
@@ -35,6 +38,10 @@ _PR_SET_PDEATHSIG = 1
 
 class JobError(RuntimeError):
     """A child exited non-zero, timed out or was cancelled; the message carries its stderr."""
+
+
+class UsageFailure(JobError):
+    """The renderer refused its options: a retry would fail the same way."""
 
 
 def _child_setup() -> None:
@@ -89,7 +96,14 @@ def temporary_name(final: str) -> str:
     from it) and starts with a dot (never mistaken for an output)."""
     folder, name = os.path.split(final)
     stem, ext = os.path.splitext(name)
-    return os.path.join(folder, f".{stem}.{socket.gethostname()}-{os.getpid()}-{uuid.uuid4().hex[:8]}.tmp{ext}")
+    return os.path.join(folder, f".{stem}.{temporary_tag()}.tmp{ext}")
+
+
+def temporary_tag() -> str:
+    """HOST-PID-UUID8 with no dot in it (a host name's dots become _), so that a temporary's
+    name tells exactly which output it belongs to (runner.remove_stale_temporaries)."""
+    host = socket.gethostname().replace(".", "_") or "host"
+    return f"{host}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
 
 
 def sha256_of(path: str) -> str:
@@ -123,6 +137,8 @@ def _remove(*paths: str) -> None:
 
 def _fail(code: int, stderr: str) -> JobError:
     reason = f"killed by signal {-code}" if code < 0 else f"exit code {code}"
+    if code in USAGE_EXIT_CODES:
+        return UsageFailure(f"zigzag refused its options ({reason}; not retried)\n{stderr.strip()}".strip())
     return JobError(f"zigzag {reason}\n{stderr.strip()}".strip())
 
 

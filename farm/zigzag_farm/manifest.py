@@ -4,7 +4,8 @@ An append-only JSON-lines file, one record per finished render job or frame, flu
 fsynced as each arrives; a record torn by a crash mid-write is ignored on reading. A record
 alone proves nothing: a job counts as done only while its output still exists with the
 recorded size and SHA-256 (an output deleted, truncated or re-rendered with other settings
-since is rendered again).
+since is rendered again), and so do the other files recorded with it ("also": a frame's
+stats file).
 """
 from __future__ import annotations
 
@@ -19,9 +20,12 @@ class ManifestBusy(RuntimeError):
     pass
 
 
-def verified(record: dict | None) -> bool:
-    """The record's output is on disk, complete, and the same bytes as when recorded."""
+def verified(record: dict | None, image_only: bool = False) -> bool:
+    """The record's output (and, unless image_only, each file in its "also") is on disk,
+    complete, and the same bytes as when recorded."""
     if not record:
+        return False
+    if not image_only and not all(verified(other) for other in record.get("also", ())):
         return False
     path = record.get("output")
     try:
@@ -42,7 +46,11 @@ class Manifest:
             fcntl.flock(self._file, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             self._file.close()
-            raise ManifestBusy(f"{path}: another zigzag-farm is running this batch") from None
+            # One manifest per output folder: the other run may be this batch or another
+            # one writing into the same folder.
+            raise ManifestBusy(f"{path}: another zigzag-farm run is using this manifest (the same "
+                               "batch, or another batch writing into the same output folder; give "
+                               "one of them its own --manifest FILE or output folder)") from None
         self._file.seek(0)
         text = self._file.read()
         # A tail torn by a crash ends without a newline: the next record starts a fresh line.
@@ -55,8 +63,8 @@ class Manifest:
             if isinstance(record, dict) and "key" in record:
                 self.records[record["key"]] = record
 
-    def done(self, key: str) -> bool:
-        return verified(self.records.get(key))
+    def done(self, key: str, image_only: bool = False) -> bool:
+        return verified(self.records.get(key), image_only)
 
     def get(self, key: str) -> dict | None:
         return self.records.get(key)

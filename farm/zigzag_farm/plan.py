@@ -16,6 +16,9 @@ from dataclasses import dataclass, field
 from .regions import Region, split_frame
 
 _FRAMES = re.compile(r"^\s*(-?\d+)\s*(?:-\s*(-?\d+)\s*(?:x\s*(\d+)\s*)?)?$")
+# More jobs than this is a typo (--frames 0-99999999), not a batch: refuse it before the plan
+# (a few hundred bytes per job) takes gigabytes.
+MAX_JOBS = 1_000_000
 
 
 def parse_frames(text: str) -> list[int]:
@@ -30,6 +33,9 @@ def parse_frames(text: str) -> list[int]:
         raise ValueError(f"--frames {text!r}: the step must be at least 1")
     if last < first:
         raise ValueError(f"--frames {text!r}: the last frame comes before the first")
+    count = (last - first) // step + 1
+    if count > MAX_JOBS:
+        raise ValueError(f"--frames {text!r}: {count} frames, more than a batch may have ({MAX_JOBS})")
     return list(range(first, last + 1, step))
 
 
@@ -45,6 +51,16 @@ class SceneInfo:
     animated: bool = False
     fps: float = 24.0
     frame_range: tuple[int, int] | None = None
+    # Each camera's (width, height) as `zigzag render` sizes its frame with the batch's
+    # --width/--height (a side left out follows the camera's aspect); empty: (width, height).
+    camera_sizes: tuple[tuple[int, int], ...] = ()
+    files: tuple[str, ...] = ()  # every file the scene is read from (rig, glTF, buffers, images)
+    content: str = ""  # a digest of those files' contents: an edit to any of them re-renders
+
+    def size(self, camera: int) -> tuple[int, int]:
+        if camera < len(self.camera_sizes):
+            return self.camera_sizes[camera]
+        return self.width, self.height
 
 
 @dataclass(frozen=True)
@@ -78,23 +94,40 @@ class FrameJob:
 @dataclass
 class Plan:
     frames: list[FrameJob] = field(default_factory=list)
+    # Every file the batch writes -> what it is ("the image of room camera 0 f3"): no two
+    # outputs of any kind (images, stats, region parts, summary, manifest) may share a path.
+    claims: dict[str, str] = field(default_factory=dict)
 
     @property
     def render_jobs(self) -> list[RenderJob]:
         return [p for f in self.frames for p in f.parts]
 
+    def claim(self, path: str, what: str, hint: str = "") -> None:
+        """Reserve path for one output; a second claim is a usage error naming both."""
+        if path in self.claims:
+            raise ValueError(f"{path} would be written as both {self.claims[path]} and {what}"
+                             + (f": {hint}" if hint else ""))
+        self.claims[path] = what
+
 
 def pattern_fields(pattern: str) -> set[str]:
-    return {name for _, name, _, _ in string.Formatter().parse(pattern) if name}
+    return {name for _, name, _, _ in string.Formatter().parse(pattern) if name is not None}
 
 
 def expand(pattern: str, scene: str, camera: int, frame: int | None) -> str:
     """Replace {scene}, {camera}, {frame} and {frame:04}-style widths in an output pattern."""
-    unknown = pattern_fields(pattern) - {"scene", "camera", "frame"}
+    try:
+        unknown = pattern_fields(pattern) - {"scene", "camera", "frame"}
+    except ValueError as e:  # an unmatched brace
+        raise ValueError(f"output pattern {pattern!r}: {e}") from None
     if unknown:
         raise ValueError(f"output pattern {pattern!r}: unknown field(s) {sorted(unknown)}; "
                          "use {scene}, {camera}, {frame} or {frame:04}")
-    return pattern.format(scene=scene, camera=camera, frame=frame if frame is not None else 0)
+    try:
+        return pattern.format(scene=scene, camera=camera, frame=frame if frame is not None else 0)
+    except (ValueError, TypeError, KeyError, IndexError, AttributeError) as e:
+        raise ValueError(f"output pattern {pattern!r}: {e}; "
+                         "use {scene}, {camera}, {frame} or {frame:04}") from None
 
 
 def _digest(payload: dict) -> str:
@@ -106,6 +139,64 @@ def _frame_tag(frame: int | None) -> str:
     return "still" if frame is None else f"f{frame}"
 
 
+@dataclass(frozen=True)
+class _Image:
+    """Which image of the batch an output belongs to (for collision messages)."""
+
+    scene: SceneInfo
+    camera: int
+    frame: int | None
+
+    def __str__(self) -> str:
+        return f"{self.scene.name} camera {self.camera} {_frame_tag(self.frame)}"
+
+
+def _tell_apart(a: _Image, b: _Image, option: str) -> str:
+    """What the pattern of `option` lacks to give images a and b different paths."""
+    if a.scene.name == b.scene.name and a.scene.path != b.scene.path:
+        return (f"the scenes {a.scene.path} and {b.scene.path} are both named "
+                f"{a.scene.name!r}, so {{scene}} cannot tell them apart: render them in separate "
+                f"runs with different {option} folders, or rename one")
+    missing = [f"{{{name}}}" for name, differs in (("scene", a.scene.name != b.scene.name),
+                                                  ("camera", a.camera != b.camera),
+                                                  ("frame", a.frame != b.frame)) if differs]
+    return f"add {' or '.join(missing)} to {option}"
+
+
+def _scene_frames(info: SceneInfo, frames: list[int] | None) -> list[int | None]:
+    if frames is not None:
+        return list(frames)
+    if info.animated and info.frame_range is not None:
+        return list(range(info.frame_range[0], info.frame_range[1] + 1))
+    return [None]
+
+
+def _scene_cameras(info: SceneInfo, camera: str) -> list[int]:
+    if camera == "all":
+        return list(range(info.cameras))
+    index = int(camera)
+    if not 0 <= index < info.cameras:
+        raise ValueError(f"{info.path}: --camera {camera} does not exist "
+                         f"(the scene has {info.cameras} camera(s))")
+    return [index]
+
+
+def _check_job_count(scenes: list[SceneInfo], frames, camera: str, regions: int) -> None:
+    total = 0
+    for info in scenes:
+        if frames is not None:
+            n_frames = len(frames)
+        elif info.animated and info.frame_range is not None:
+            n_frames = info.frame_range[1] - info.frame_range[0] + 1
+        else:
+            n_frames = 1
+        n_cameras = info.cameras if camera == "all" else 1
+        total += n_frames * n_cameras * (regions + (regions > 1))  # + the merge
+    if total > MAX_JOBS:
+        raise ValueError(f"the batch would have {total} jobs, more than a batch may have "
+                         f"({MAX_JOBS}): fewer frames, cameras or regions")
+
+
 def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None, camera: str,
                regions: int, work_dir: str, stats: str | None = None,
                args: tuple[str, ...] = (), fingerprint: str = "") -> Plan:
@@ -113,56 +204,60 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
 
     frames=None: each animated scene's own frame range, a still for the others.
     camera: an index or "all". regions > 1 splits each image into parts merged afterwards.
-    fingerprint: whatever else decides the bytes (the renderer binary, scene contents).
+    args: the render options that decide the bytes (not --threads: any thread count renders
+    the same bits, so it stays out of the keys). fingerprint: the renderer binary; each
+    scene's own files are in its SceneInfo.content.
     """
+    _check_job_count(scenes, frames, camera, regions)
     plan = Plan()
-    seen: dict[str, str] = {}
+    first_image: dict[str, tuple] = {}  # output path -> (the image, the option) that claimed it
     for info in scenes:
-        if camera == "all":
-            cameras = list(range(info.cameras))
-        else:
-            index = int(camera)
-            if not 0 <= index < info.cameras:
-                raise ValueError(f"{info.path}: --camera {camera} does not exist "
-                                 f"(the scene has {info.cameras} camera(s))")
-            cameras = [index]
-        if frames is not None:
-            scene_frames: list[int | None] = list(frames)
-        elif info.animated and info.frame_range is not None:
-            scene_frames = list(range(info.frame_range[0], info.frame_range[1] + 1))
-        else:
-            scene_frames = [None]
-        for frame in scene_frames:
+        cameras = _scene_cameras(info, camera)
+        for frame in _scene_frames(info, frames):
             for cam in cameras:
+                image = _Image(info, cam, frame)
                 out = os.path.abspath(expand(output, info.name, cam, frame))
-                what = f"{info.name} camera {cam} {_frame_tag(frame)}"
-                if out in seen:
-                    raise ValueError(f"output pattern {output!r} writes {out} for both {seen[out]} "
-                                     f"and {what}: add {{scene}}, {{camera}} or {{frame}}")
-                seen[out] = what
                 stats_out = os.path.abspath(expand(stats, info.name, cam, frame)) if stats else None
-                identity = {"scene": os.path.abspath(info.path), "frame": frame, "camera": cam,
-                            "args": list(args), "fingerprint": fingerprint,
-                            "size": [info.width, info.height]}
-                frame_key = f"zz-frame-{info.name}-{_frame_tag(frame)}-c{cam}-{_digest({**identity, 'output': out})}"
-                parts = []
-                split = split_frame(info.width, info.height, regions) if regions > 1 else [None]
-                for i, region in enumerate(split):
-                    if region is None:
-                        part_out = out
-                        tag = "full"
+                for path, kind, option in ((out, "the image", "-o"), (stats_out, "the stats", "--stats")):
+                    if path is None:
+                        continue
+                    other = first_image.get(path)
+                    if other is None:
+                        hint = ""
+                    elif other[1] != option:
+                        hint = "-o and --stats must name different files"
                     else:
-                        tag = f"r{i}of{len(split)}"
-                        part_out = os.path.join(
-                            work_dir, f"{info.name}-{_frame_tag(frame)}-c{cam}-{tag}-"
-                                      f"{_digest({**identity, 'region': region.bounds})}.exr")
-                    payload = {**identity, "output": part_out,
-                               "region": region.bounds if region else None}
-                    parts.append(RenderJob(
-                        key=f"zz-render-{info.name}-{_frame_tag(frame)}-c{cam}-{tag}-{_digest(payload)}",
-                        scene=os.path.abspath(info.path), scene_name=info.name, frame=frame,
-                        camera=cam, region=region, output=part_out, args=tuple(args)))
-                plan.frames.append(FrameJob(key=frame_key, output=out, stats=stats_out,
-                                            scene_name=info.name, frame=frame, camera=cam,
-                                            parts=tuple(parts), merged=regions > 1))
+                        hint = _tell_apart(other[0], image, option)
+                    plan.claim(path, f"{kind} of {image}", hint)
+                    first_image[path] = (image, option)
+                plan.frames.append(_frame_job(info, cam, frame, out, stats_out, regions, work_dir,
+                                              args, fingerprint, plan))
     return plan
+
+
+def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out: str | None,
+               regions: int, work_dir: str, args: tuple[str, ...], fingerprint: str,
+               plan: Plan) -> FrameJob:
+    width, height = info.size(cam)
+    identity = {"scene": os.path.abspath(info.path), "frame": frame, "camera": cam,
+                "args": list(args), "fingerprint": fingerprint, "content": info.content,
+                "size": [width, height]}
+    tag_base = f"{info.name}-{_frame_tag(frame)}-c{cam}"
+    frame_key = f"zz-frame-{tag_base}-{_digest({**identity, 'output': out})}"
+    parts = []
+    split = split_frame(width, height, regions) if regions > 1 else [None]
+    for i, region in enumerate(split):
+        if region is None:
+            part_out, tag = out, "full"
+        else:
+            tag = f"r{i}of{len(split)}"
+            part_out = os.path.join(work_dir, f"{tag_base}-{tag}-"
+                                              f"{_digest({**identity, 'region': region.bounds})}.exr")
+            plan.claim(part_out, f"region part {i} of {info.name} camera {cam} {_frame_tag(frame)}")
+        payload = {**identity, "output": part_out, "region": region.bounds if region else None}
+        parts.append(RenderJob(key=f"zz-render-{tag_base}-{tag}-{_digest(payload)}",
+                               scene=os.path.abspath(info.path), scene_name=info.name,
+                               frame=frame, camera=cam, region=region, output=part_out,
+                               args=tuple(args)))
+    return FrameJob(key=frame_key, output=out, stats=stats_out, scene_name=info.name, frame=frame,
+                    camera=cam, parts=tuple(parts), merged=regions > 1)

@@ -69,9 +69,11 @@ class Progress:
 
 
 def summary(*, frames: int, skipped: int, rendered: int, failed: int, jobs_run: int,
-            job_seconds: list[float], wall_s: float) -> str:
+            job_seconds: list[float], wall_s: float, failed_scenes: int = 0) -> str:
+    # A scene that does not load has no images in the plan: it is counted apart.
+    scenes = f"; {failed_scenes} scene(s) failed to load" if failed_scenes else ""
     lines = [f"zigzag-farm: {frames} image(s): {rendered} rendered, {skipped} already complete, "
-             f"{failed} failed; {jobs_run} job(s) run in {_clock(wall_s)} ({wall_s:.1f} s)"]
+             f"{failed} failed{scenes}; {jobs_run} job(s) run in {_clock(wall_s)} ({wall_s:.1f} s)"]
     if job_seconds:
         lines.append(f"zigzag-farm: job time mean {statistics.fmean(job_seconds):.2f} s, median "
                      f"{statistics.median(job_seconds):.2f} s, max {max(job_seconds):.2f} s, "

@@ -32,18 +32,28 @@ class Region:
         return f"{self.x0},{self.y0},{self.x1},{self.y1}"
 
 
+def _factor_pairs(n: int):
+    """(a, n // a) and (n // a, a) for every divisor a <= sqrt(n): O(sqrt(n)), not O(n)."""
+    a = 1
+    while a * a <= n:
+        if n % a == 0:
+            yield a, n // a
+            yield n // a, a
+        a += 1
+
+
 def grid_shape(width: int, height: int, n: int) -> tuple[int, int]:
     """(columns, rows) with columns*rows == n whose cells are closest to square."""
+    if n > width * height:  # checked first: a huge n must fail at once, not after a search
+        raise ValueError(f"cannot split a {width}x{height} frame into {n} regions "
+                         f"(it has {width * height} pixels)")
     best = None
-    for cols in range(1, n + 1):
-        if n % cols:
-            continue
-        rows = n // cols
+    for cols, rows in _factor_pairs(n):
         if cols > width or rows > height:
             continue
         aspect = (width / cols) / (height / rows)
         score = max(aspect, 1 / aspect)
-        if best is None or score < best[0]:
+        if best is None or (score, cols) < (best[0], best[1]):
             best = (score, cols, rows)
     if best is None:
         raise ValueError(f"cannot split a {width}x{height} frame into {n} regions")

@@ -3,9 +3,10 @@ futures, record each finished job, assemble frames, report failures while the re
 """
 from __future__ import annotations
 
-import glob
+import hashlib
 import json
 import os
+import re
 import time
 from dataclasses import dataclass, field
 
@@ -28,6 +29,9 @@ class RunSettings:
     timeout: float | None = None
     retries: int = 2
     keep_parts: bool = False
+    # Options for every render that do not change its bytes and so stay out of the job keys
+    # (--threads: the renderer's images are bit-identical for any thread count).
+    runtime_args: tuple[str, ...] = ()
 
 
 @dataclass
@@ -43,14 +47,16 @@ class Outcome:
     skipped: int = 0
     rendered: int = 0
     failures: list[Failure] = field(default_factory=list)
-    failed_frames: int = 0
+    failed_frames: int = 0  # images of the plan that failed
+    failed_scenes: int = 0  # scenes that did not load (no images planned for them)
     jobs_run: list[str] = field(default_factory=list)
     job_seconds: list[float] = field(default_factory=list)
     wall_s: float = 0.0
 
     def as_json(self) -> dict:
         return {"frames": self.frames, "skipped": self.skipped, "rendered": self.rendered,
-                "failed_frames": self.failed_frames, "jobs_run": len(self.jobs_run),
+                "failed_frames": self.failed_frames, "failed_scenes": self.failed_scenes,
+                "jobs_run": len(self.jobs_run),
                 "job_keys": self.jobs_run, "job_seconds": self.job_seconds,
                 "wall_s": self.wall_s,
                 "failures": [{"what": f.what, "key": f.key, "message": f.message}
@@ -67,7 +73,7 @@ def render_spec(j: RenderJob, s: RunSettings) -> dict:
     return {"key": j.key, "what": describe(j), "zigzag": s.zigzag, "scene": j.scene,
             "frame": j.frame, "camera": j.camera,
             "region": list(j.region.bounds) if j.region else None,
-            "output": j.output, "args": list(j.args), "timeout": s.timeout}
+            "output": j.output, "args": [*j.args, *s.runtime_args], "timeout": s.timeout}
 
 
 def merge_key(f: FrameJob) -> str:
@@ -81,29 +87,47 @@ def merge_spec(f: FrameJob, s: RunSettings) -> dict:
             "timeout": s.timeout}
 
 
+def _temporaries_of(path: str) -> re.Pattern:
+    """The names of exactly this output's temporaries (never another output's: `shot.png`
+    must not match `.shot.v2.*.tmp.png`, the temporary of shot.v2.png):
+    - the job's own, job.temporary_name: ".STEM.TAG.tmp.EXT" (TAG = HOST-PID-UUID8, no dots),
+      and its stats ".STEM.TAG.tmp.EXT.stats.json";
+    - zigzag's temporaries of those (core/atomic_file: "." + stem + ".zz-PID-N" + ext):
+      "..STEM.TAG.tmp.zz-PID-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-N.json"."""
+    stem, ext = os.path.splitext(os.path.basename(path))
+    ours = rf"{re.escape(stem)}\.[^./]+-\d+-[0-9a-f]{{8}}\.tmp"
+    zz, ext = r"\.zz-\d+-\d+", re.escape(ext)
+    return re.compile(rf"\.{ours}{ext}(\.stats\.json)?|\.\.{ours}({zz}{ext}|{ext}\.stats{zz}\.json)")
+
+
 def remove_stale_temporaries(f: FrameJob) -> None:
-    """Temporary files left by a run or an attempt that was killed (this batch's names only)."""
-    for path in [f.output] + [p.output for p in f.parts]:
-        folder, name = os.path.split(path)
-        stem, ext = os.path.splitext(name)
-        # The job's temporaries (job.temporary_name), and zigzag's own temporaries of those
-        # (core/atomic_file: "." + stem + ".zz-PID-N" + ext), one more dot in front.
-        ours = f".{glob.escape(stem)}.*.tmp{glob.escape(ext)}*"
-        for tmp in glob.glob(os.path.join(glob.escape(folder), ours)) + \
-                glob.glob(os.path.join(glob.escape(folder), "." + ours)):
-            try:
-                os.remove(tmp)
-            except OSError:
-                pass
+    """Temporary files left by a run or an attempt that was killed (this frame's names only)."""
+    for path in [f.output, f.stats, *(p.output for p in f.parts)]:
+        if path is None:
+            continue
+        folder = os.path.dirname(path)
+        try:
+            names = os.listdir(folder)
+        except OSError:
+            continue
+        pattern = _temporaries_of(path)
+        for name in names:
+            if pattern.fullmatch(name):
+                try:
+                    os.remove(os.path.join(folder, name))
+                except OSError:
+                    pass
 
 
-def _write_json_atomically(path: str, data: dict) -> None:
+def _write_json_atomically(path: str, data: dict) -> dict:
+    """-> the file as the manifest records it (output, size, sha256)."""
     os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
     tmp = job.temporary_name(path)
-    with open(tmp, "w") as fh:
-        json.dump(data, fh, indent=2)
-        fh.write("\n")
+    blob = (json.dumps(data, indent=2) + "\n").encode()
+    with open(tmp, "wb") as fh:
+        fh.write(blob)
     os.replace(tmp, path)
+    return {"output": path, "size": len(blob), "sha256": hashlib.sha256(blob).hexdigest()}
 
 
 def _failure_message(exc: BaseException) -> str:
@@ -133,23 +157,45 @@ class Runner:
 
     # -- what is left ---------------------------------------------------------------
     def pending_frames(self) -> list[FrameJob]:
-        todo = [f for f in self.plan.frames if not self.manifest.done(f.key)]
+        """The frames to render: not every requested output of theirs is on disk as recorded."""
+        todo = [f for f in self.plan.frames
+                if not self._complete(f) and not self._complete_stats_only(f)]
         self.outcome.skipped = len(self.plan.frames) - len(todo)
         return todo
 
+    def _complete(self, f: FrameJob) -> bool:
+        """The image and (when asked for) the stats file exist and match the manifest."""
+        if not self.manifest.done(f.key):  # checks the image and the stats it recorded
+            return False
+        return f.stats is None or self.manifest.get(f.key).get("stats_file") == f.stats
+
+    def _complete_stats_only(self, f: FrameJob) -> bool:
+        """A frame whose image is complete but whose stats file is missing, changed or newly
+        asked for: write it from the recorded jobs' stats, without rendering again."""
+        if not self.manifest.done(f.key, image_only=True):
+            return False
+        records = [self.manifest.get(p.key) for p in f.parts]
+        if not all(r and r.get("stats") for r in records):
+            return False
+        try:
+            self._finish_frame(f, self.manifest.get(f.key), rendered=False)
+        except OSError:
+            return False  # rendered again: the failure to write is reported then
+        return True
+
     # -- frames assembled on the driver ---------------------------------------------
-    def _finish_frame(self, f: FrameJob, merge_result: dict | None) -> None:
+    def _finish_frame(self, f: FrameJob, merge_result: dict | None, rendered: bool = True) -> None:
         records = [self.manifest.get(p.key) or {} for p in f.parts]
         pixels = [p.region.pixels if p.region else 1 for p in f.parts]
         stats = merge_stats([r.get("stats") for r in records], pixels, output=f.output,
                             frame=f.frame, job_seconds=[r.get("seconds") for r in records],
                             workers=[r.get("worker") for r in records],
                             regions=[list(p.region.bounds) for p in f.parts] if f.merged else None)
-        if f.stats:
-            _write_json_atomically(f.stats, stats)
+        stats_record = _write_json_atomically(f.stats, stats) if f.stats else None
         image = merge_result if merge_result is not None else records[0]
-        self.manifest.record(f.key, "frame", image, stats_file=f.stats)
-        self.outcome.rendered += 1
+        self.manifest.record(f.key, "frame", image, stats_file=f.stats,
+                             also=[stats_record] if stats_record else [])
+        self.outcome.rendered += rendered
         # An attempt lost with its worker (SIGKILL, node gone) cannot clean up after itself;
         # once the frame is recorded, whatever temporary it left is an orphan.
         remove_stale_temporaries(f)
@@ -186,6 +232,7 @@ class Runner:
         self.outcome.jobs_run = list(futures)
         progress = Progress(len(futures), self.progress_stream, self.live)
         failed_frames: set[str] = set()
+        failed_jobs: set[str] = set()  # parts come before their merge in `pending`
         done = failed = 0
         pending = dict(futures)
         try:
@@ -201,9 +248,9 @@ class Runner:
                         done += 1
                         continue
                     failed += 1
+                    failed_jobs.add(key)
                     failed_frames.add(f.key)
-                    if kind == "merge" and any(futures[q.key][0].status == "error"
-                                               for q in f.parts if q.key in futures):
+                    if kind == "merge" and any(q.key in failed_jobs for q in f.parts):
                         continue  # the failed part is the one to report
                     what = describe(p) if p else merge_spec(f, self.s)["what"]
                     self.outcome.failures.append(Failure(what, key, _failure_message(error)))
@@ -224,6 +271,7 @@ class Runner:
         finally:
             progress.update(done=done, failed=failed, running=0, force=True)
             progress.finish()
+        self._remove_empty_work_folders()
         self.outcome.failed_frames = len(failed_frames)
         self.outcome.wall_s = time.monotonic() - start
         return self.outcome
@@ -233,6 +281,8 @@ class Runner:
         """Record a finished job (and its frame when that is complete) -> None, or the error."""
         if fut.status != "finished":
             return fut.exception() if fut.status == "error" else RuntimeError(f"job {fut.status}")
+        if result.get("error"):  # a failure the task returned so that Dask does not retry it
+            return job.JobError(result["error"])
         self.outcome.job_seconds.append(result["seconds"])
         try:
             if kind == "render":
@@ -246,12 +296,29 @@ class Runner:
             return e
         return None
 
+    def _remove_empty_work_folders(self) -> None:
+        """The region parts' folders once their parts are merged and removed (a folder still
+        holding anything, another batch's parts or kept parts, stays)."""
+        if self.s.keep_parts:
+            return
+        for folder in {os.path.dirname(p.output) for f in self.plan.frames if f.merged for p in f.parts}:
+            try:
+                os.rmdir(folder)
+            except OSError:
+                pass
+
     @staticmethod
     def _running(client, pending) -> int:
-        # With resources={"render": 1} a worker is handed one job at a time, so the jobs the
-        # scheduler has "processing" are the ones running.
+        """Jobs rendering now. The scheduler's "processing" also holds the jobs a worker was
+        handed but keeps waiting for its render slot, so each worker counts at most as many
+        as it has slots (resources={"render": 1}: one)."""
         try:
             processing = client.processing()
+            workers = client.scheduler_info()["workers"]
         except Exception:
             return 0
-        return sum(1 for keys in processing.values() for k in keys if k in pending)
+        running = 0
+        for address, keys in processing.items():
+            slots = workers.get(address, {}).get("resources", {}).get("render", 1)
+            running += min(int(slots), sum(1 for k in keys if k in pending))
+        return running

@@ -25,22 +25,36 @@ def _frame_range(d: dict) -> tuple[int, int] | None:
     return None
 
 
-def parse_info(path: str, d: dict, width: int | None = None, height: int | None = None) -> SceneInfo:
-    cameras = d.get("cameras", 1)
+def _camera_sizes(d: dict, cameras: int) -> tuple[tuple[int, int], ...]:
+    sizes = d.get("camera_sizes")
+    if not isinstance(sizes, list):
+        return ()
+    if len(sizes) != cameras:
+        raise ValueError(f"{len(sizes)} camera_sizes for {cameras} camera(s)")
+    return tuple((int(w), int(h)) for w, h in sizes)
+
+
+def parse_info(path: str, d: dict) -> SceneInfo:
+    """A scene's info as `zigzag info --json` gives it, asked with the batch's --width/--height
+    (so its sizes are the ones `zigzag render` will use)."""
+    cameras = d.get("camera_count", d.get("cameras", 1))
     if isinstance(cameras, list):
         cameras = len(cameras)
+    # Relative paths in "files" are relative to where info ran: this process's folder.
+    files = tuple(os.path.abspath(f) for f in d.get("files", ()) or ())
     return SceneInfo(path=path, name=os.path.splitext(os.path.basename(path))[0],
-                     width=int(width or d["width"]), height=int(height or d["height"]),
-                     cameras=int(cameras), animated=bool(d.get("animated", False)),
-                     fps=float(d.get("fps") or 24.0), frame_range=_frame_range(d))
+                     width=int(d["width"]), height=int(d["height"]), cameras=int(cameras),
+                     animated=bool(d.get("animated", False)), fps=float(d.get("fps") or 24.0),
+                     frame_range=_frame_range(d), camera_sizes=_camera_sizes(d, int(cameras)),
+                     files=files or (os.path.abspath(path),))
 
 
-def scene_info(zigzag: str, path: str, width: int | None = None, height: int | None = None,
-               timeout: float = 300.0) -> SceneInfo:
-    """One scene's info; width/height override the scene's (the render's --width/--height)."""
+def scene_info(zigzag: str, path: str, info_args: list[str] = (), timeout: float = 300.0) -> SceneInfo:
+    """One scene's info. info_args: the render options `zigzag info` takes too (--width,
+    --height, --fps, --assets), so the sizes and files are those of the render."""
     try:
-        p = subprocess.run([zigzag, "info", path, "--json"], capture_output=True, text=True,
-                           timeout=timeout, stdin=subprocess.DEVNULL)
+        p = subprocess.run([zigzag, "info", path, "--json", *info_args], capture_output=True,
+                           text=True, timeout=timeout, stdin=subprocess.DEVNULL)
     except (OSError, subprocess.TimeoutExpired) as e:
         raise SceneError(f"{path}: zigzag info failed: {e}") from None
     if p.returncode != 0:
@@ -50,16 +64,18 @@ def scene_info(zigzag: str, path: str, width: int | None = None, height: int | N
         d = json.loads(p.stdout)
         if isinstance(d, list):
             d = d[0]
-        return parse_info(path, d, width, height)
+        if isinstance(d, dict) and d.get("error"):
+            raise SceneError(f"{path}: {d['error']}")
+        return parse_info(path, d)
     except (ValueError, KeyError, IndexError, TypeError) as e:
         raise SceneError(f"{path}: cannot read zigzag info --json output ({e})") from None
 
 
-def scene_infos(zigzag: str, paths: list[str], width=None, height=None):
+def scene_infos(zigzag: str, paths: list[str], info_args: list[str] = ()):
     """[(path, SceneInfo or SceneError)] in order, asked in parallel."""
     def one(path):
         try:
-            return path, scene_info(zigzag, path, width, height)
+            return path, scene_info(zigzag, path, info_args)
         except SceneError as e:
             return path, e
     with ThreadPoolExecutor(max_workers=min(8, max(1, len(paths)))) as pool:

@@ -1,26 +1,52 @@
 """Merging the `--stats` JSON of a frame's region jobs into one JSON for the frame.
 
-Counts (rays, zones, margin rays) and times are summed (the parts' rays exceed a whole
-frame's by the level-1 corners along their seams, which each part traces for itself);
-per-pixel values and fractions are
-averaged weighted by each region's pixel count; everything else (scene, camera, settings,
-triangle and light counts, BVH shape) is the same in every part and taken from the first.
+Every numeric field of `zigzag render --stats` (host/app/render_stats_json.cpp) has one rule,
+by dotted path (a rule on a dict covers everything under it):
+- summed: counts (pixels, rays, zones, margin rays) and times. The parts' rays exceed a whole
+  frame's by the level-1 corners along their seams, which each part traces for itself.
+- pixel-weighted: per-pixel values and fractions, averaged weighted by each region's pixels.
+- maximum: memory_estimate_bytes. Each region's estimate is for its own process, and the
+  regions need not run at the same time, so the frame's honest figure is the largest one
+  (a sum would claim memory no process needed; a full-frame render needs more than either).
+- recomputed here: mrays_per_s (rays / render time), region (the union), output.
+Everything else (scene, camera, frame, size, settings, triangle and light counts, BVH shape,
+threads) is the same in every part and taken from the first; a value that differs between
+parts is listed under farm.differing rather than hidden.
 The result also says how the frame was made (`farm`: regions, job times, workers).
 """
 from __future__ import annotations
 
-SUMMED = {"rays", "time_s", "zones_traced", "zones_interpolated", "margin_rays"}
-PIXEL_WEIGHTED = {"rays_per_pixel", "by_level", "level2_fraction", "level3_fraction",
-                  "vertical_fraction", "geo_fraction"}
+SUMMED = {"pixels", "rays", "time_s", "bvh.build_s", "adaptive.zones_traced",
+          "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s",
+          "aov.primary_hit_rays", "aov.primary_hit_s"}
+PIXEL_WEIGHTED = {"rays_per_pixel", "geo_fraction", "adaptive.by_level", "adaptive.padded",
+                  "adaptive.level2_fraction", "adaptive.level3_fraction",
+                  "adaptive.vertical_fraction", "adaptive.geo_fraction",
+                  "adaptive.hidden_fraction", "adaptive.specular_fraction",
+                  "adaptive.gap_fraction"}
+MAXIMUM = {"memory_estimate_bytes"}
+RECOMPUTED = {"mrays_per_s", "region", "output"}
+# The numbers that are the same in every region of a frame (tests/farm/test_stats.py checks
+# that each numeric field of a real stats JSON is in exactly one of these sets).
+SAME = {"camera", "width", "height", "frame", "scene_time_s", "fps", "threads", "spp",
+        "triangles", "dropped_degenerate_triangles", "lights", "max_depth", "adaptive.eps",
+        "adaptive.eps_specular", "bvh.nodes", "bvh.leaves", "bvh.max_depth", "bvh.sah_cost",
+        "edge_settings"}
 
 
-def _add(a, b):
+def _number(v) -> bool:
+    return isinstance(v, (int, float)) and not isinstance(v, bool)
+
+
+def _combine(a, b, op):
+    """a op b through nested dicts and equal-length lists; anything else keeps a."""
     if isinstance(a, dict) and isinstance(b, dict):
-        return {k: _add(a[k], b[k]) if k in a and k in b else a.get(k, b.get(k)) for k in {**a, **b}}
+        return {k: _combine(a[k], b[k], op) if k in a and k in b else a.get(k, b.get(k))
+                for k in {**a, **b}}
     if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
-        return [_add(x, y) for x, y in zip(a, b)]
-    if isinstance(a, (int, float)) and isinstance(b, (int, float)) and not isinstance(a, bool):
-        return a + b
+        return [_combine(x, y, op) for x, y in zip(a, b)]
+    if _number(a) and _number(b):
+        return op(a, b)
     return a
 
 
@@ -29,30 +55,51 @@ def _scale(v, s):
         return {k: _scale(x, s) for k, x in v.items()}
     if isinstance(v, list):
         return [_scale(x, s) for x in v]
-    if isinstance(v, (int, float)) and not isinstance(v, bool):
-        return v * s
-    return v
+    return v * s if _number(v) else v
 
 
-def _merge_level(parts: list[dict], weights: list[float]) -> dict:
-    total_w = sum(weights) or 1.0
+def _rule(path: str) -> str | None:
+    parts = path.split(".")
+    for n in range(len(parts), 0, -1):
+        prefix = ".".join(parts[:n])
+        for rule, paths in (("sum", SUMMED), ("pixels", PIXEL_WEIGHTED), ("max", MAXIMUM)):
+            if prefix in paths:
+                return rule
+    return None
+
+
+def _merge_value(path: str, values: list, weights: list[float], differing: list[str]):
+    rule = _rule(path)
+    if rule == "sum":
+        acc = values[0]
+        for v in values[1:]:
+            acc = _combine(acc, v, lambda a, b: a + b)
+        return acc
+    if rule == "pixels":
+        total = sum(weights) or 1.0
+        acc = _scale(values[0], weights[0] / total)
+        for v, w in zip(values[1:], weights[1:]):
+            acc = _combine(acc, _scale(v, w / total), lambda a, b: a + b)
+        return acc
+    if rule == "max":
+        acc = values[0]
+        for v in values[1:]:
+            acc = _combine(acc, v, max)
+        return acc
+    if all(isinstance(v, dict) for v in values):
+        return _merge_level(values, weights, path + ".", differing)
+    if path not in RECOMPUTED and any(v != values[0] for v in values[1:]):
+        differing.append(path)
+    return values[0]
+
+
+def _merge_level(parts: list[dict], weights: list[float], prefix: str, differing: list[str]) -> dict:
     out: dict = {}
-    for key in parts[0]:
-        values = [p[key] for p in parts if key in p]
-        if key in SUMMED:
-            acc = values[0]
-            for v in values[1:]:
-                acc = _add(acc, v)
-            out[key] = acc
-        elif key in PIXEL_WEIGHTED:
-            acc = _scale(values[0], weights[0] / total_w)
-            for v, w in zip(values[1:], weights[1:]):
-                acc = _add(acc, _scale(v, w / total_w))
-            out[key] = acc
-        elif all(isinstance(v, dict) for v in values) and len(values) == len(parts):
-            out[key] = _merge_level(values, weights)
-        else:
-            out[key] = values[0]
+    keys = list(dict.fromkeys(k for p in parts for k in p))
+    for key in keys:
+        present = [(p[key], w) for p, w in zip(parts, weights) if key in p]
+        out[key] = _merge_value(prefix + key, [v for v, _ in present], [w for _, w in present],
+                                differing)
     return out
 
 
@@ -60,8 +107,10 @@ def merge_stats(parts: list[dict], pixels: list[int], *, output: str, frame: int
                 job_seconds: list[float], workers: list[str], regions: list | None) -> dict:
     """One frame's stats from its jobs' stats (one job: that job's stats, annotated)."""
     present = [(p, w) for p, w in zip(parts, pixels) if p]
+    differing: list[str] = []
     if present:
-        merged = _merge_level([p for p, _ in present], [float(w) for _, w in present])
+        merged = _merge_level([p for p, _ in present], [float(w) for _, w in present], "",
+                              differing)
     else:
         merged = {}
     rays = merged.get("rays", {}).get("total")
@@ -77,4 +126,6 @@ def merge_stats(parts: list[dict], pixels: list[int], *, output: str, frame: int
         merged["frame"] = frame
     merged["farm"] = {"jobs": len(parts), "regions": regions, "job_seconds": job_seconds,
                       "workers": workers}
+    if differing:
+        merged["farm"]["differing"] = differing
     return merged

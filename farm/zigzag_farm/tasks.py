@@ -23,10 +23,24 @@ def _task_cancelled():
     return cancelled
 
 
+def _refused(e: job.UsageFailure) -> dict:
+    # Returned, not raised: Dask retries every task that raises, and a renderer that refused
+    # its options refuses them again. The driver reports the "error" as the job's failure.
+    return {"key": None, "error": str(e), "usage": True}
+
+
 def render_task(spec: dict) -> dict:
-    return job.render(spec, cancelled=_task_cancelled())
+    try:
+        return job.render(spec, cancelled=_task_cancelled())
+    except job.UsageFailure as e:
+        return _refused(e)
 
 
 def merge_task(spec: dict, *parts_done) -> dict:
-    # parts_done: the part jobs' results, passed only so Dask runs the merge after them.
-    return job.merge(spec, cancelled=_task_cancelled())
+    # parts_done: the part jobs' results, passed so Dask runs the merge after them.
+    if any(isinstance(p, dict) and p.get("error") for p in parts_done):
+        return {"key": spec["key"], "error": "a region part failed", "part_failed": True}
+    try:
+        return job.merge(spec, cancelled=_task_cancelled())
+    except job.UsageFailure as e:
+        return _refused(e)

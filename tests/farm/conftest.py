@@ -26,10 +26,10 @@ def farm_cmd(*args):
     return [sys.executable, "-m", "zigzag_farm", "render", "-q", *args]
 
 
-def run_farm(*args, timeout=180):
-    """The driver as a user runs it -> CompletedProcess (text)."""
-    return subprocess.run(farm_cmd(*args), env=farm_env(), capture_output=True, text=True,
-                          timeout=timeout, stdin=subprocess.DEVNULL)
+def run_farm(*args, timeout=180, env=None):
+    """The driver as a user runs it -> CompletedProcess (text). env: more variables."""
+    return subprocess.run(farm_cmd(*args), env={**farm_env(), **(env or {})}, capture_output=True,
+                          text=True, timeout=timeout, stdin=subprocess.DEVNULL)
 
 
 def start_farm(*args):

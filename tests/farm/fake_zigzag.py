@@ -2,10 +2,15 @@
 """A stand-in for the zigzag binary that obeys its farm-facing CLI, for the driver's tests.
 
 Scenes are JSON files: {"width", "height", "cameras", "animated", "frame_range", "fps",
-"sleep" (seconds per render), "fail" (a render error message)}. An "image" is a header line
-`FAKE X0 Y0 X1 Y1 W H` and one byte per pixel derived from (scene, frame, camera, x, y), so
-a merge of any split is byte-identical to the full render, and the output is written slowly
-in two halves (a reader that does not wait for the rename sees a torn file).
+"sleep" (seconds per render), "fail" (a render error message), "camera_aspects" (width /
+height per camera: a side not given by --width/--height follows it, as zigzag's cameras do),
+"files" (more files the scene reads, relative to it: their bytes go into the image),
+"needs_assets" (a file that must be in --assets DIR)}. An "image" is a header line
+`FAKE X0 Y0 X1 Y1 W H` and one byte per pixel derived from (scene, its files, frame, camera,
+x, y), so a merge of any split is byte-identical to the full render, and the output is
+written slowly in two halves (a reader that does not wait for the rename sees a torn file).
+Options take `--x v` or `--x=v`; one given twice or out of range is a usage error, exit code
+105/114 as zigzag's CLI11. $FAKE_ZIGZAG_LOG: a file each render appends its arguments to.
 """
 import hashlib
 import json
@@ -14,9 +19,9 @@ import sys
 import time
 
 
-def die(msg):
+def die(msg, code=1):
     print(f"zigzag: error: {msg}", file=sys.stderr)
-    sys.exit(1)
+    sys.exit(code)
 
 
 def load(path):
@@ -27,21 +32,77 @@ def load(path):
         die(f"{path}: {e}")
 
 
+VALUED = {"-o", "--stats", "--width", "--height", "--region", "--frame", "--camera", "--fps",
+          "--assets", "--threads", "--eps"}
+
+
 def opt(args, name, default=None):
-    if name in args:
-        i = args.index(name)
-        return args[i + 1]
-    return default
+    values = [args[i + 1] for i, a in enumerate(args[:-1]) if a == name]
+    values += [a.split("=", 1)[1] for a in args if a.startswith(name + "=")]
+    if len(values) > 1:
+        die(f"{name}: At Most 1 required but received {len(values)}", 114)
+    return values[0] if values else default
+
+
+def int_opt(args, name, default, least=1):
+    text = opt(args, name)
+    if text is None:
+        return default
+    if not text.isdigit() or int(text) < least:
+        die(f"{name}: Value {text} not in range {least} to 16384", 105)
+    return int(text)
+
+
+def positionals(args):
+    out, skip = [], False
+    for a in args:
+        if skip:
+            skip = False
+        elif a in VALUED:
+            skip = True
+        elif not a.startswith("-"):
+            out.append(a)
+    return out
+
+
+def extra_files(path, s):
+    folder = os.path.dirname(path)
+    return [os.path.join(folder, f) for f in s.get("files", [])]
+
+
+def check_assets(path, s, args):
+    need = s.get("needs_assets")
+    if need and not os.path.exists(os.path.join(opt(args, "--assets", "/nonexistent"), need)):
+        die(f"{path}: {need} not found (no --assets DIR with it)")
+
+
+def camera_size(s, camera, args):
+    """zigzag's rule: --width/--height as given, a side left out follows the camera's aspect."""
+    w, h = int_opt(args, "--width", None), int_opt(args, "--height", None)
+    aspects = s.get("camera_aspects")
+    if aspects is None:
+        return w or s["width"], h or s["height"]
+    aspect = aspects[camera]
+    if w and h:
+        return w, h
+    if h:
+        return max(1, round(h * aspect)), h
+    w = w or s["width"]
+    return w, max(1, round(w / aspect))
 
 
 def info(args):
     out = []
-    for path in [a for a in args if not a.startswith("-")]:
+    for path in positionals(args):
         s = load(path)
-        out.append({"name": os.path.splitext(os.path.basename(path))[0], "width": s["width"],
-                    "height": s["height"], "cameras": s.get("cameras", 1), "fps": s.get("fps", 24),
+        check_assets(path, s, args)
+        cameras = s.get("cameras", 1)
+        sizes = [camera_size(s, c, args) for c in range(cameras)]
+        fps = float(opt(args, "--fps", s.get("fps", 24)))
+        out.append({"name": os.path.splitext(os.path.basename(path))[0], "width": sizes[0][0],
+                    "height": sizes[0][1], "camera_sizes": sizes, "cameras": cameras, "fps": fps,
                     "frame_range": s.get("frame_range"), "animated": s.get("animated", False),
-                    "triangles": 12, "lights": 1})
+                    "files": [path] + extra_files(path, s), "triangles": 12, "lights": 1})
     print(json.dumps(out if len(out) > 1 else out[0]))
 
 
@@ -50,14 +111,30 @@ def pixel(seed, x, y):
 
 
 def render(args):
+    log = os.environ.get("FAKE_ZIGZAG_LOG")
+    if log:
+        with open(log, "a") as f:
+            f.write(json.dumps(args) + "\n")
     scene = args[0]
+    eps = opt(args, "--eps")
+    if eps is not None and not 0 <= float(eps) <= 1:
+        die(f"--eps: Value {eps} not in range 0 to 1", 105)
+    int_opt(args, "--threads", 0, least=0)
     s = load(scene)
     if s.get("fail"):
         die(f"{scene}: {s['fail']}")
-    w = int(opt(args, "--width", s["width"]))
-    h = int(opt(args, "--height", s["height"]))
+    check_assets(scene, s, args)
+    camera = int(opt(args, "--camera", "0"))
+    w, h = camera_size(s, camera, args)
     x0, y0, x1, y1 = map(int, opt(args, "--region", f"0,0,{w},{h}").split(","))
-    seed = f"{json.dumps(s, sort_keys=True)}:{opt(args, '--frame')}:{opt(args, '--camera', '0')}"
+    contents = []
+    for path in extra_files(scene, s):
+        try:
+            with open(path, "rb") as f:
+                contents.append(hashlib.sha256(f.read()).hexdigest())
+        except OSError as e:
+            die(f"{path}: {e}")
+    seed = f"{json.dumps(s, sort_keys=True)}:{contents}:{opt(args, '--frame')}:{camera}"
     out = opt(args, "-o")
     body = b"".join(pixel(seed, x, y) for y in range(y0, y1) for x in range(x0, x1))
     data = f"FAKE {x0} {y0} {x1} {y1} {w} {h}\n".encode() + body
@@ -71,8 +148,8 @@ def render(args):
         px = (x1 - x0) * (y1 - y0)
         with open(stats, "w") as f:
             json.dump({"scene": os.path.splitext(os.path.basename(scene))[0], "width": w, "height": h,
-                       "rays": {"primary": px, "total": 2 * px}, "rays_per_pixel": 1.0 + x0 / w,
-                       "time_s": {"render": 0.01, "total": 0.02}}, f)
+                       "pixels": px, "rays": {"primary": px, "total": 2 * px},
+                       "rays_per_pixel": 1.0 + x0 / w, "time_s": {"render": 0.01, "total": 0.02}}, f)
 
 
 def merge(args):

@@ -10,9 +10,9 @@ import sys
 import psutil
 import pytest
 
-from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, descendants, frame_records,
-                      listening_sockets, read, real_renderer_supports_farm, renderer_children,
-                      run_farm, start_farm, wait_for, write_scene)
+from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, descendants, fake_render, farm_cmd,
+                      farm_env, frame_records, listening_sockets, read, real_renderer_supports_farm,
+                      renderer_children, run_farm, start_farm, wait_for, write_scene)
 
 
 class Fake:
@@ -126,7 +126,7 @@ def test_regions_merge_bit_identical_on_three_workers_all_on_loopback(renderer, 
         assert all(parts[kind] >= full[kind] for kind in full), (parts, full)
     assert stats["farm"]["jobs"] == 4 and len(stats["farm"]["regions"]) == 4
     assert len(set(stats["farm"]["workers"])) >= 2  # the parts really were spread
-    assert os.listdir(os.path.join(out, ".zigzag-farm-parts")) == []  # parts removed after merging
+    assert not os.path.exists(os.path.join(out, ".zigzag-farm-parts"))  # parts and folder removed
     assert visible_files(out) == ["room.json", "room.png"]
     assert len({s.pid for s in socks}) >= 4
 
@@ -220,6 +220,10 @@ def test_a_bad_scene_is_reported_and_the_others_complete(renderer, workdir):
     if renderer.failing():
         assert "failing" in failed and "material 3 has no texture" in p.stderr
     assert summary["rendered"] == 1
+    # A scene that does not load is no failed image: it has none in the plan.
+    assert summary["failed_scenes"] == 1
+    assert summary["failed_frames"] == (1 if renderer.failing() else 0)
+    assert "1 scene(s) failed to load" in p.stderr
 
 
 def test_an_existing_scheduler_on_loopback(workdir):
@@ -254,3 +258,144 @@ def test_an_existing_scheduler_on_loopback(workdir):
                 proc.wait(20)
             except subprocess.TimeoutExpired:
                 proc.kill()
+
+
+# -- the fake renderer only: options, keys, outputs and signals (fast, one small cluster each) --
+
+def fake_farm(*args):
+    return [*args, "--zigzag", FAKE_ZIGZAG]
+
+
+def summary_of(workdir):
+    return json.load(open(f"{workdir}/summary.json"))
+
+
+def logged_renders(log):
+    return [json.loads(line) for line in open(log)] if os.path.exists(log) else []
+
+
+def test_fake_keep_parts_keeps_the_parts(workdir):
+    scene = write_scene(workdir, "still", width=40, height=30)
+    out = os.path.join(workdir, "out")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--regions", "3", "--keep-parts"))
+    assert p.returncode == 0, p.stderr
+    parts = os.listdir(os.path.join(out, ".zigzag-farm-parts"))
+    assert len(parts) == 3 and all(n.endswith(".exr") for n in parts)
+
+
+def test_fake_regions_split_each_cameras_own_size(workdir):
+    """Two cameras of other aspects and only --width: each camera's frame follows its aspect."""
+    scene = write_scene(workdir, "two", cameras=2, camera_aspects=[2.0, 0.5])
+    out = os.path.join(workdir, "out")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/c{{camera}}.png", "--camera", "all", "--regions", "4",
+                            "--width", "40", "--stats", f"{out}/c{{camera}}.json"))
+    assert p.returncode == 0, p.stderr
+    for camera, size in ((0, (40, 20)), (1, (40, 80))):
+        ref = fake_render(scene, f"{workdir}/ref.png", "--camera", str(camera), "--width", "40")
+        assert read(f"{out}/c{camera}.png") == ref
+        stats = json.load(open(f"{out}/c{camera}.json"))
+        assert stats["region"] == [0, 0, *size] and stats["pixels"] == size[0] * size[1]
+
+
+def test_fake_options_after_dashes_reach_info_and_render_in_either_form(workdir):
+    """--assets for a scene that needs them (info too), and --width=/--threads= given once."""
+    assets = os.path.join(workdir, "assets")
+    os.makedirs(assets)
+    open(os.path.join(assets, "car.glb"), "w").close()
+    scene = write_scene(workdir, "car", needs_assets="car.glb")
+    out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
+    env = {"FAKE_ZIGZAG_LOG": log}
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--regions", "2"), "--",
+                 f"--assets={assets}", "--width=40", "--threads=1", env=env)
+    assert p.returncode == 0, p.stderr
+    assert read(f"{out}/car.png") == fake_render(scene, f"{workdir}/ref.png", "--assets", assets,
+                                                 "--width", "40")
+    for args in logged_renders(log):
+        assert sum(a.startswith("--width") for a in args) == 1
+        assert sum(a.startswith("--threads") for a in args) == 1
+
+
+def test_fake_other_worker_counts_and_threads_render_nothing_again(workdir):
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 3])
+    out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
+    common = fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--summary", f"{workdir}/summary.json")
+    p = run_farm(*common, "--workers", "1", env={"FAKE_ZIGZAG_LOG": log})
+    assert p.returncode == 0, p.stderr
+    assert all("--threads" in args for args in logged_renders(log))  # derived: cores / workers
+    for again in (["--workers", "2"], ["--workers", "1", "--", "--threads=1"], ["--", "--threads", "2"]):
+        p = run_farm(*common, *again, env={"FAKE_ZIGZAG_LOG": log})
+        assert p.returncode == 0, p.stderr
+        assert summary_of(workdir)["jobs_run"] == 0, again
+    assert len(logged_renders(log)) == 3
+
+
+def test_fake_edits_to_any_file_of_a_scene_render_it_again(workdir):
+    texture = os.path.join(workdir, "wood.png")
+    with open(texture, "w") as f:
+        f.write("grain 1")
+    scene = write_scene(workdir, "room", files=["wood.png"])
+    other = write_scene(workdir, "other")
+    out = os.path.join(workdir, "out")
+    args = fake_farm(scene, other, "-o", f"{out}/{{scene}}.png", "--summary", f"{workdir}/summary.json")
+    assert run_farm(*args).returncode == 0
+    os.utime(texture)  # touched, the same bytes: nothing to do
+    assert run_farm(*args).returncode == 0 and summary_of(workdir)["jobs_run"] == 0
+    with open(texture, "w") as f:
+        f.write("grain 2")  # the same size, other bytes
+    p = run_farm(*args)
+    assert p.returncode == 0, p.stderr
+    assert summary_of(workdir)["jobs_run"] == 1 and summary_of(workdir)["skipped"] == 1
+    assert read(f"{out}/room.png") == fake_render(scene, f"{workdir}/ref.png")
+
+
+@pytest.mark.parametrize("regions", ["1", "2"])
+def test_fake_stats_of_complete_frames_are_written_without_rendering(workdir, regions):
+    scene = write_scene(workdir, "still")
+    out = os.path.join(workdir, "out")
+    args = fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--regions", regions,
+                     "--summary", f"{workdir}/summary.json")
+    assert run_farm(*args).returncode == 0
+    image = read(f"{out}/still.png")
+    for step in ("asked for later", "deleted"):
+        p = run_farm(*args, "--stats", f"{out}/{{scene}}.json")
+        assert p.returncode == 0, p.stderr
+        assert summary_of(workdir)["jobs_run"] == 0, step
+        stats = json.load(open(f"{out}/still.json"))
+        assert stats["pixels"] == 48 * 32 and stats["farm"]["jobs"] == int(regions)
+        os.remove(f"{out}/still.json")
+    assert read(f"{out}/still.png") == image
+
+
+def test_fake_a_usage_error_of_the_renderer_is_not_retried(workdir):
+    scene = write_scene(workdir, "still")
+    out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--retries", "3"), "--", "--eps", "5",
+                 env={"FAKE_ZIGZAG_LOG": log})
+    assert p.returncode == 1
+    assert "refused its options (exit code 105; not retried)" in p.stderr
+    assert "--eps: Value 5 not in range" in p.stderr
+    assert len(logged_renders(log)) == 1
+
+
+def test_fake_ctrl_c_stops_everything_quietly(workdir):
+    """A terminal's Ctrl-C: SIGINT to the driver's whole process group (its workers too)."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 8], sleep=2.0)
+    out = os.path.join(workdir, "out")
+    driver = subprocess.Popen(farm_cmd(*fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--workers", "2")),
+                              env=farm_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                              stdin=subprocess.DEVNULL, start_new_session=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    try:
+        wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
+                 "two renderers to start")
+        tree = descendants(driver.pid)
+        os.killpg(driver.pid, signal.SIGINT)
+        _, err = driver.communicate(timeout=60)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert "interrupted" in err
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the workers and renderers to exit")

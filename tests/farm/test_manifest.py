@@ -63,6 +63,19 @@ def test_a_torn_last_line_is_ignored_and_the_next_record_starts_fresh(workdir):
 def test_one_driver_per_manifest(workdir):
     m_path = os.path.join(workdir, "m.jsonl")
     with Manifest(m_path):
-        with pytest.raises(ManifestBusy):
+        # Not necessarily the same batch: any run writing into the same output folder.
+        with pytest.raises(ManifestBusy, match="the same batch, or another batch writing into the "
+                                               "same output folder"):
             Manifest(m_path)
     Manifest(m_path).close()  # free again once the first is closed
+
+
+def test_a_record_counts_only_with_its_other_files(workdir):
+    m_path = os.path.join(workdir, "m.jsonl")
+    image = output(workdir, "a.png", b"image")
+    stats = output(workdir, "a.json", b"{}")
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", image, also=[stats])
+    os.remove(stats["output"])
+    with Manifest(m_path) as m:
+        assert not m.done("ka") and m.done("ka", image_only=True)

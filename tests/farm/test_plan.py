@@ -1,4 +1,8 @@
 """Job planning: frame ranges, output patterns, jobs and their keys."""
+import dataclasses
+import re
+import time
+
 import pytest
 
 from zigzag_farm.plan import SceneInfo, expand, parse_frames, plan_batch
@@ -74,8 +78,73 @@ def test_regions_become_parts_in_the_work_folder():
 
 
 def test_colliding_outputs_are_refused():
-    with pytest.raises(ValueError, match="add {scene}, {camera} or {frame}"):
+    with pytest.raises(ValueError, match="anim_0.png would be written as both the image of anim "
+                                         "camera 0 f1 and the image of anim camera 0 f2: add {frame} to -o"):
         plan(output="/o/{scene}_{camera}.png")
+    with pytest.raises(ValueError, match="add {scene} to -o"):
+        plan(output="/o/{camera}_{frame}.png", frames=[1])
+
+
+@pytest.mark.parametrize("stats,message", [
+    ("/o/{scene}_{camera}_{frame:03}.png", "both the image of anim camera 0 f1 and the stats of anim camera 0 f1"),
+    ("/o/{scene}_{camera}.json", "both the stats of anim camera 0 f1 and the stats of anim camera 0 f2: add {frame} to --stats"),
+    ("/o/anim_1_{frame:03}.png", "both the stats of anim camera 0 f1 and the image of anim camera 1 f1: "
+                                 "-o and --stats must name different files"),
+])
+def test_stats_that_collide_with_an_image_or_other_stats_are_refused(stats, message):
+    with pytest.raises(ValueError, match=re.escape(message)):
+        plan(stats=stats)
+
+
+def test_every_output_kind_is_claimed_once():
+    p = plan(regions=4, scenes=[STILL], output="/o/{scene}.exr", stats="/o/{scene}.json")
+    (f,) = p.frames
+    assert set(p.claims) == {"/o/still.exr", "/o/still.json", *(q.output for q in f.parts)}
+    with pytest.raises(ValueError, match="both the stats of still camera 0 still and the summary"):
+        p.claim("/o/still.json", "the summary")
+    with pytest.raises(ValueError, match="both region part 2 of still"):
+        p.claim(f.parts[2].output, "the manifest")
+
+
+def test_two_scenes_of_one_name_get_a_hint_that_fits():
+    other_room = SceneInfo(path="/t/still.json", name="still", width=64, height=64, cameras=1)
+    with pytest.raises(ValueError, match="the scenes /s/still.json and /t/still.json are both named "
+                                         "'still', so {scene} cannot tell them apart: render them in "
+                                         "separate runs with different -o folders, or rename one"):
+        plan(scenes=[STILL, other_room], output="/o/{scene}.png")
+
+
+def test_regions_split_each_cameras_own_frame():
+    wide_and_tall = SceneInfo(path="/s/two.json", name="two", width=200, height=100, cameras=2,
+                              camera_sizes=((200, 100), (50, 100)))
+    p = plan(scenes=[wide_and_tall], regions=4, output="/o/{camera}.exr")
+    for f, (w, h) in zip(p.frames, [(200, 100), (50, 100)]):
+        regions = [q.region for q in f.parts]
+        assert max(r.x1 for r in regions) == w and max(r.y1 for r in regions) == h
+        assert sum(r.pixels for r in regions) == w * h
+
+
+def test_keys_follow_the_scenes_files_but_not_their_paths_only():
+    before = plan(scenes=[STILL])
+    edited = plan(scenes=[dataclasses.replace(STILL, content="texture edited")])
+    assert before.frames[0].key != edited.frames[0].key
+    assert before.render_jobs[0].key != edited.render_jobs[0].key
+
+
+@pytest.mark.parametrize("pattern", ["/o/{}.png", "/o/{0}.png", "/o/{frame[0]}.png", "/o/{scene!x}.png",
+                                     "/o/{frame:abc}.png", "/o/{scene.png"])
+def test_bad_pattern_fields_are_value_errors(pattern):
+    with pytest.raises(ValueError, match="output pattern"):
+        plan(output=pattern)
+
+
+def test_a_batch_of_too_many_jobs_is_refused_before_it_is_planned():
+    started = time.monotonic()
+    with pytest.raises(ValueError, match="99999999 frames, more than a batch may have"):
+        parse_frames("0-99999998")
+    with pytest.raises(ValueError, match="jobs, more than a batch may have"):
+        plan(frames=list(range(10_000)), regions=128, scenes=[STILL])
+    assert time.monotonic() - started < 1.0
 
 
 def test_missing_camera_is_refused():

@@ -1,5 +1,6 @@
 """Region splits: every pixel of the frame in exactly one region, sensible shapes."""
 import itertools
+import time
 
 import pytest
 
@@ -52,3 +53,13 @@ def test_impossible_splits_are_refused():
         split_frame(1, 1, 2)
     with pytest.raises(ValueError):
         split_frame(10, 10, 0)
+
+
+def test_a_huge_region_count_fails_fast():
+    started = time.monotonic()
+    with pytest.raises(ValueError, match="it has 4096 pixels"):
+        split_frame(64, 64, 1_000_000_000)
+    # The largest counts a frame allows factor in O(sqrt(n)), not O(n).
+    assert grid_shape(16384, 16384, 16384 * 16384) == (16384, 16384)
+    assert grid_shape(16384, 16384, 16384 * 16381) == (16381, 16384)  # 16381 is a prime
+    assert time.monotonic() - started < 1

@@ -1,0 +1,108 @@
+"""The renderer options given after `--`: read in both `--x v` and `--x=v` forms, as the
+renderer's CLI11 takes them, and split by their role in a batch (what decides an image's
+bytes, what only changes how fast it is made, what `zigzag info` needs to plan it)."""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass
+
+
+class UsageError(Exception):
+    """Bad options or setup: a one-line error and exit code 2."""
+
+
+def option_value(args: list[str], name: str) -> str | None:
+    """The value of the last `name V` or `name=V` in args, else None."""
+    value = None
+    for i, a in enumerate(args):
+        if a == name and i + 1 < len(args):
+            value = args[i + 1]
+        elif a.startswith(name + "="):
+            value = a.split("=", 1)[1]
+    return value
+
+
+def without_option(args: list[str], name: str) -> list[str]:
+    """args without any `name V` or `name=V`."""
+    out, skip = [], False
+    for i, a in enumerate(args):
+        if skip:
+            skip = False
+        elif a == name:
+            skip = i + 1 < len(args)
+        elif not a.startswith(name + "="):
+            out.append(a)
+    return out
+
+
+# Set by the driver itself for every job: after `--` they would contradict its plan.
+DRIVER_OPTIONS = ("-o", "--output", "--camera", "--frame", "--region", "--stats", "--time")
+# What `zigzag info` takes too, so that the plan sees the sizes and files the render will.
+INFO_OPTIONS = ("--width", "--height", "--fps", "--assets")
+
+
+def _whole_number(text: str | None, what: str, least: int = 1) -> int | None:
+    if text is None:
+        return None
+    try:
+        value = int(text)
+    except ValueError:
+        raise UsageError(f"{what} {text!r}: expected a whole number") from None
+    if value < least:
+        raise UsageError(f"{what} {value}: must be at least {least}")
+    return value
+
+
+def _positive_float(text: str | None, what: str) -> float | None:
+    if text is None:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        raise UsageError(f"{what} {text!r}: expected a number") from None
+    if not value > 0:
+        raise UsageError(f"{what} {text}: must be more than 0")
+    return value
+
+
+def _size_option(given: int | None, passed: list[str], name: str) -> int | None:
+    """--width/--height given to the farm or after `--` (the same value if both)."""
+    after = _whole_number(option_value(passed, name), f"{name} (after --)")
+    if given is not None and after is not None and given != after:
+        raise UsageError(f"{name} {given} and {name} {after} after --: give it once")
+    return given if given is not None else after
+
+
+@dataclass
+class RenderOptions:
+    """The renderer options of a batch, split by their role."""
+
+    key_args: list[str]      # every job's options that decide its bytes: part of the job keys
+    runtime_args: list[str]  # options that do not (--threads): out of the keys
+    info_args: list[str]     # what `zigzag info` needs to size and list the scene as rendered
+
+
+def render_options(o, passed: list[str]) -> RenderOptions:
+    for name in DRIVER_OPTIONS:
+        if option_value(passed, name) is not None or name in passed:
+            raise UsageError(f"{name} after --: zigzag-farm sets it for every job "
+                             "(use -o, --camera, --frames, --regions, --stats)")
+    width = _size_option(o.width, passed, "--width")
+    height = _size_option(o.height, passed, "--height")
+    _positive_float(option_value(passed, "--fps"), "--fps (after --)")
+    threads = _whole_number(option_value(passed, "--threads"), "--threads (after --)", least=0)
+    key_args = without_option(without_option(without_option(passed, "--threads"), "--width"),
+                              "--height")
+    for name, value in (("--width", width), ("--height", height)):
+        if value is not None:
+            key_args += [name, str(value)]
+    if threads is None and o.scheduler is None and o.slurm is None:
+        # Workers of a LocalCluster share this machine's cores.
+        threads = max(1, (os.cpu_count() or 1) // o.workers)
+    runtime_args = ["--threads", str(threads)] if threads is not None else []
+    info_args = []
+    for name in INFO_OPTIONS:
+        value = option_value(key_args, name)
+        if value is not None:
+            info_args += [name, value]
+    return RenderOptions(key_args, runtime_args, info_args)

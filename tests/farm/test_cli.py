@@ -1,0 +1,133 @@
+"""The driver's command line, in process and without a cluster: options after `--`, and every
+usage error a clean one-line message with exit code 2 (nothing rendered, no traceback)."""
+import argparse
+import os
+import time
+
+import pytest
+
+from conftest import FAKE_ZIGZAG, write_scene
+from zigzag_farm import cli
+
+
+def options(*farm_args, passed=()):
+    o = argparse.Namespace(width=None, height=None, scheduler=None, slurm=None, workers=1)
+    for name, value in zip(farm_args[::2], farm_args[1::2]):
+        setattr(o, name, value)
+    return cli.render_options(o, list(passed))
+
+
+@pytest.mark.parametrize("passed", [["--width=64", "--threads=2"], ["--width", "64", "--threads", "2"]])
+def test_options_after_dashes_in_either_form_are_taken_once(passed):
+    r = options("width", 64, passed=passed)
+    assert r.key_args == ["--width", "64"]
+    assert r.runtime_args == ["--threads", "2"]
+    assert r.info_args == ["--width", "64"]
+
+
+def test_threads_given_or_derived_stay_out_of_the_keys():
+    keys = {tuple(options("workers", n, passed=extra).key_args)
+            for n in (1, 2, 7) for extra in ([], ["--threads", "3"], ["--threads=1"])}
+    assert keys == {()}
+    assert options("workers", 1).runtime_args[0] == "--threads"
+    assert options("scheduler", "tcp://x:1").runtime_args == []  # remote workers: their own cores
+
+
+def test_info_gets_the_options_it_takes_in_either_form():
+    r = options(passed=["--assets=/a", "--eps", "0.1", "--fps", "30", "--height=90"])
+    pairs = dict(zip(r.info_args[::2], r.info_args[1::2]))
+    assert pairs == {"--assets": "/a", "--fps": "30", "--height": "90"}
+    assert r.key_args == ["--assets=/a", "--eps", "0.1", "--fps", "30", "--height", "90"]
+
+
+def run(capsys, *args):
+    code = cli.main(["render", "-q", *args])
+    return code, capsys.readouterr().err
+
+
+@pytest.fixture
+def scene(workdir):
+    return write_scene(workdir, "anim", animated=True, frame_range=[0, 3])
+
+
+def usage_error(capsys, *args):
+    code, err = run(capsys, *args)
+    assert code == 2, err
+    assert "Traceback" not in err and err.startswith("zigzag-farm: error: "), err
+    return err
+
+
+@pytest.mark.parametrize("args,message", [
+    (["--workers", "-1"], "--workers -1: must be at least 1"),
+    (["--workers", "0"], "--workers 0: must be at least 1"),
+    (["--width", "0"], "--width 0: must be at least 1"),
+    (["--regions", "0"], "--regions 0: must be at least 1"),
+    (["--timeout", "0"], "--timeout 0: must be more than 0"),
+    (["--frames=-2-1"], "the renderer's frames are 0 to 100000000"),
+    (["--frames", "0-99999999"], "100000000 frames, more than a batch may have"),
+    (["--", "--width", "abc"], "--width (after --) 'abc': expected a whole number"),
+    (["--", "--height=-5"], "--height (after --) -5: must be at least 1"),
+    (["--", "--threads=x"], "--threads (after --) 'x': expected a whole number"),
+    (["--width", "64", "--", "--width=32"], "--width 64 and --width 32 after --: give it once"),
+    (["--", "--frame", "3"], "--frame after --: zigzag-farm sets it for every job"),
+    (["--", "--stats=x.json"], "--stats after --: zigzag-farm sets it"),
+])
+def test_bad_numbers_and_options_are_usage_errors(capsys, workdir, scene, args, message):
+    err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG, *args)
+    assert message in err
+    assert not os.path.exists(f"{workdir}/out")
+
+
+@pytest.mark.parametrize("output,stats,message", [
+    ("out/{}.png", None, "output pattern 'out/{}.png'"),
+    ("out/f{frame}.png", "out/f{frame}.png", "both the image of anim camera 0 f0 and the stats of anim camera 0 f0"),
+    ("out/f{frame}.png", "out/stats.json", "both the stats of anim camera 0 f0 and the stats of anim camera 0 f1: add {frame} to --stats"),
+])
+def test_colliding_or_bad_output_patterns_are_usage_errors(capsys, workdir, scene, output, stats, message):
+    os.chdir(workdir)
+    extra = ["--stats", stats] if stats else []
+    err = usage_error(capsys, scene, "-o", output, "--zigzag", FAKE_ZIGZAG, "--frames", "0-3", *extra)
+    assert message in err
+
+
+def test_a_summary_onto_an_output_is_a_usage_error(capsys, workdir, scene):
+    err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--summary", f"{workdir}/f2.png")
+    assert "both the image of anim camera 0 f2 and the summary" in err
+    assert os.listdir(workdir) == ["anim.json"]
+
+
+@pytest.mark.parametrize("where", ["output", "summary", "manifest", "stats"])
+@pytest.mark.parametrize("how", ["parent is a file", "cannot be made"])
+def test_unwritable_places_are_usage_errors_before_anything_runs(capsys, workdir, scene, where, how):
+    afile = os.path.join(workdir, "afile")
+    open(afile, "w").close()
+    # Root may write anywhere a mode forbids; /proc is unwritable for everyone.
+    bad = f"{afile}/x" if how == "parent is a file" else "/proc/zigzag-farm-test/x"
+    args = {"output": ["-o", f"{bad}/f{{frame}}.png"], "summary": ["--summary", f"{bad}/s.json"],
+            "manifest": ["--manifest", f"{bad}/m.jsonl"], "stats": ["--stats", f"{bad}/{{frame}}.json"]}[where]
+    if where != "output":
+        args += ["-o", f"{workdir}/out/f{{frame}}.png"]
+    err = usage_error(capsys, scene, "--zigzag", FAKE_ZIGZAG, *args)
+    assert "cannot write" in err
+    if how == "parent is a file":
+        assert f"{afile} is a file, not a folder" in err
+    assert not os.path.exists(f"{workdir}/out")
+
+
+def test_a_bad_scheduler_address_is_a_usage_error(capsys, workdir, scene):
+    err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--scheduler", "bogus", "--wait", "2")
+    assert "cannot reach the Dask scheduler at bogus" in err
+
+
+@pytest.mark.parametrize("regions,message", [
+    ("1000000000", "the batch would have 1000000001 jobs, more than a batch may have"),
+    ("99991", "cannot split a 48x32 frame into 99991 regions (it has 1536 pixels)"),
+])
+def test_an_impossible_region_count_fails_at_once(capsys, workdir, scene, regions, message):
+    started = time.monotonic()
+    err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--frames", "0", "--regions", regions)
+    assert message in err
+    assert time.monotonic() - started < 5

@@ -1,0 +1,44 @@
+"""The driver's side of a run without Dask: which temporaries it cleans, what it calls running."""
+import os
+
+from zigzag_farm import job
+from zigzag_farm.plan import FrameJob, RenderJob
+from zigzag_farm.runner import Runner, remove_stale_temporaries
+
+
+def frame_job(folder):
+    out = os.path.join(folder, "shot.png")
+    part = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None,
+                     output=out)
+    return FrameJob(key="f", output=out, stats=os.path.join(folder, "shot.json"), scene_name="s",
+                    frame=None, camera=0, parts=(part,), merged=False)
+
+
+def test_stale_temporaries_are_exactly_this_outputs(workdir):
+    tag = "node_7_example_org-4242-0123abcd"
+    ours = [os.path.basename(job.temporary_name(os.path.join(workdir, "shot.png"))),
+            f".shot.{tag}.tmp.png", f".shot.{tag}.tmp.png.stats.json",       # the job's
+            f"..shot.{tag}.tmp.zz-99-0.png", f"..shot.{tag}.tmp.png.stats.zz-99-1.json",  # zigzag's
+            f".shot.{tag}.tmp.json", f"..shot.{tag}.tmp.zz-5-3.json"]        # the stats file's
+    others = ["shot.png", "shot.json", f".shot.v2.{tag}.tmp.png",          # shot.v2.png's
+              f"..shot.v2.{tag}.tmp.zz-99-0.png", f".shotgun.{tag}.tmp.png",
+              f".shot.{tag}.tmp.exr", ".shot.png.keep", f".shot.{tag}.tmp.png.bak"]
+    for name in ours + others:
+        open(os.path.join(workdir, name), "w").close()
+    remove_stale_temporaries(frame_job(workdir))
+    assert sorted(os.listdir(workdir)) == sorted(others)
+
+
+class FakeClient:
+    def processing(self):
+        return {"w1": ["a", "b", "c"], "w2": ["d"], "w3": [], "w4": ["e", "f", "g"]}
+
+    def scheduler_info(self):
+        return {"workers": {"w1": {"resources": {"render": 1}}, "w2": {"resources": {"render": 1}},
+                            "w3": {"resources": {"render": 1}}, "w4": {"resources": {"render": 2}}}}
+
+
+def test_running_counts_jobs_in_render_slots_not_jobs_queued_on_workers():
+    pending = {"a", "b", "c", "d", "e", "f", "g"}
+    assert Runner._running(FakeClient(), pending) == 1 + 1 + 0 + 2
+    assert Runner._running(FakeClient(), {"b", "c"}) == 1
