@@ -3,8 +3,6 @@
 // and a `render` with the same arguments give the same PNG bytes.
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
-#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,8 +14,10 @@
 #include "app/output_paths.h"
 #include "app/render_options.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "scene/camera_select.h"
 #include "gpu/visibility.h"
+#include "render/image_io.h"
 #include "render/memory_budget.h"
 #include "render/renderer.h"
 #include "scene/loader.h"
@@ -44,11 +44,9 @@ struct ViewOptions {
 // loads, as render checks -o (a float format would hold display values, not radiance).
 void check_screenshot(const std::string& option, const std::string& path) {
   preflight_output(option, path, true);
-  std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".exr" || ext == ".hdr")
+  if (is_hdr_extension(path))
     throw Error(option + " " + path + ": a screenshot is the 8-bit display image (.png, .jpg, .tif, ...); for "
-                "linear radiance use `zigzag render -o FILE" + ext + "`");
+                "linear radiance use `zigzag render -o FILE" + lowercase_extension(path) + "`");
 }
 
 int view(const ViewOptions& o) {

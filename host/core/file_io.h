@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,9 @@ std::vector<unsigned char> read_regular_file(const std::string& path, uintmax_t 
 // Writes all `size` bytes at `offset`, retrying short writes and EINTR. On failure returns
 // false and sets *why ("No space left on device", "File too large").
 bool pwrite_all(int fd, const void* data, size_t size, int64_t offset, std::string* why);
+
+// The file name's extension in lower case (".PNG" -> ".png"), as formats are chosen by it.
+std::string lowercase_extension(const std::filesystem::path& path);
 
 // "4 GiB", "64 MiB", "1000 bytes": a limit as error messages state it.
 std::string byte_size_text(uintmax_t bytes);

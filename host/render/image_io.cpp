@@ -8,6 +8,7 @@
 
 #include "core/atomic_file.h"
 #include "core/error.h"
+#include "core/file_io.h"
 #include "render/checked_output.h"
 
 namespace zz {
@@ -106,14 +107,12 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
 }  // namespace
 
 bool is_hdr_extension(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowercase_extension(path);
   return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
 }
 
 bool holds_extra_channels(const std::filesystem::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowercase_extension(path);
   return ext == ".exr";
 }
 

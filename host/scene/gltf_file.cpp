@@ -98,8 +98,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
   const std::vector<unsigned char> bytes = read_regular_file(file, kMaxFileBytes);
   if (bytes.empty()) throw Error(file + ": empty file");
 
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowercase_extension(path);
   const bool binary = ext == ".glb";
   if (binary) require_gltf2_container(bytes, file);
   const std::string_view json =

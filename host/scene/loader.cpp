@@ -258,8 +258,7 @@ json parse_rig_file(const fs::path& path) {
     if (std::find(chain.begin(), chain.end(), canonical) != chain.end())
       throw Error(rig.string() + ": rig cycle: " + text + " (a rig's \"model\" must be a .gltf or .glb)");
     chain.push_back(canonical);
-    std::string ext = next.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    const std::string ext = lowercase_extension(next);
     std::error_code ec;
     if (ext != ".json" || !fs::is_regular_file(next, ec)) break;
     json j;
@@ -433,8 +432,7 @@ Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) 
   const bool exists = fs::exists(path, ec);
   if (ec) throw Error(path.string() + ": " + ec.message());  // e.g. a folder on the way not searchable
   if (!exists) throw Error(path.string() + ": file not found");
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowercase_extension(path);
   if (ext == ".json") return load_json_scene(path, options);
   if (ext != ".gltf" && ext != ".glb")
     throw Error(path.string() + ": unknown scene format (expected .json, .gltf or .glb)");

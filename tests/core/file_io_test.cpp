@@ -51,6 +51,14 @@ TEST_F(FileIo, FailuresSayWhy) {
   }
 }
 
+TEST(FileIoText, ExtensionsInLowerCase) {
+  EXPECT_EQ(lowercase_extension("a/b/Shot.PNG"), ".png");
+  EXPECT_EQ(lowercase_extension("scene.GlTf"), ".gltf");
+  EXPECT_EQ(lowercase_extension("archive.tar.GZ"), ".gz");
+  EXPECT_EQ(lowercase_extension("noext"), "");
+  EXPECT_EQ(lowercase_extension(".hidden"), "");
+}
+
 TEST(FileIoText, LimitsReadAsUsersWriteThem) {
   EXPECT_EQ(byte_size_text(uintmax_t(1) << 32), "4 GiB");
   EXPECT_EQ(byte_size_text(uintmax_t(64) << 20), "64 MiB");
