@@ -36,7 +36,8 @@ bool read_regular_file(const std::string& path, uintmax_t max_bytes, std::vector
     *why = reason;
     return false;
   };
-  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
+  // O_NONBLOCK: opening a named pipe would wait for a writer; fstat then refuses it.
+  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK));
   if (file.fd < 0) return fail("cannot open (" + std::string(std::strerror(errno)) + ")");
   struct stat st {};
   if (::fstat(file.fd, &st) != 0) return fail("cannot read (" + std::string(std::strerror(errno)) + ")");

@@ -84,7 +84,29 @@ void require_gltf2_asset(const tinygltf::Model& model, const std::string& file) 
     throw Error(file + ": glTF minVersion '" + model.asset.minVersion + "'; only glTF 2.0 is supported");
 }
 
+int hex_digit(char c) {
+  if (c >= '0' && c <= '9') return c - '0';
+  if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+  if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+  return 0;  // as tinygltf: a bad digit counts as 0
+}
+
 }  // namespace
+
+std::filesystem::path external_file(const std::filesystem::path& gltf, const std::string& uri) {
+  std::string decoded;
+  for (size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      decoded += ' ';
+    } else if (uri[i] == '%' && i + 2 < uri.size()) {
+      decoded += char(hex_digit(uri[i + 1]) << 4 | hex_digit(uri[i + 2]));
+      i += 2;
+    } else {
+      decoded += uri[i];
+    }
+  }
+  return gltf.parent_path() / decoded;
+}
 
 void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning) {
   const std::string file = path.string();

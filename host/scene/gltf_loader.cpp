@@ -124,7 +124,7 @@ struct Loader {
 
   void warn_out_of_range(const Material& m) const {
     std::string all;
-    for (const std::string& f : out_of_range_factors(m)) all += (all.empty() ? "" : "; ") + f;
+    for (const FactorProblem& f : out_of_range_factors(m)) all += (all.empty() ? "" : "; ") + f.text();
     if (!all.empty()) warn("material '" + m.name + "': " + all);
   }
 
@@ -240,7 +240,7 @@ struct Loader {
       // An image file that could not be read: say why (tinygltf's own warning says only
       // that it failed, and -q hides it). The URI resolves as tinygltf resolves it.
       if (image.bufferView < 0 && !image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
-        const std::filesystem::path p = std::filesystem::path(file).parent_path() / image.uri;
+        const std::filesystem::path p = gltf::external_file(file, image.uri);
         std::vector<unsigned char> bytes;
         std::string reason;
         if (!read_regular_file(p.string(), gltf::kMaxFileBytes, &bytes, &reason))
@@ -568,7 +568,7 @@ struct Loader {
       l.direction = *d;
     }
     l.intensity = vec3_of(g.color, glm::vec3(1.0f)) * float(g.intensity);
-    l.range = g.range > 0.0 ? float(g.range) : 0.0f;
+    l.range = float(g.range);  // 0 when absent (tinygltf): no range; a negative one is refused below
     if (l.type == Light::Type::Spot) {
       l.inner_cone = float(g.spot.innerConeAngle);
       l.outer_cone = float(g.spot.outerConeAngle);
@@ -615,8 +615,8 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   const bool quantized = std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(),
                                    "KHR_mesh_quantization") != model.extensionsUsed.end();
   scene.source_files.push_back(file);
-  auto external = [&](const std::string& uri) {  // resolved as tinygltf resolves it
-    if (!uri.empty() && uri.rfind("data:", 0) != 0) scene.source_files.push_back((path.parent_path() / uri).string());
+  auto external = [&](const std::string& uri) {
+    if (!uri.empty() && uri.rfind("data:", 0) != 0) scene.source_files.push_back(gltf::external_file(path, uri).string());
   };
   for (const tinygltf::Buffer& b : model.buffers) external(b.uri);
   for (const tinygltf::Image& i : model.images) external(i.uri);

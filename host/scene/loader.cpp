@@ -361,8 +361,8 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
       // The override's own values on a default material: out of glTF's ranges, an error.
       Material probe;
       apply_material_override(J, probe, it.value(), "materials_override." + it.key());
-      if (const std::vector<std::string> bad = out_of_range_factors(probe); !bad.empty())
-        J.fail("materials_override." + it.key() + ": " + bad.front().substr(0, bad.front().rfind(',')));
+      if (const std::vector<FactorProblem> bad = out_of_range_factors(probe); !bad.empty())
+        J.fail("materials_override." + it.key() + ": " + bad.front().what);
       bool found = false;
       for (Material& m : scene.materials)
         if (m.name == it.key()) {

@@ -63,20 +63,24 @@ WhittedMaterial whitted_from_gltf(const Material& m) {
   return w;
 }
 
-std::vector<std::string> out_of_range_factors(const Material& m) {
-  std::vector<std::string> found;
+std::vector<FactorProblem> out_of_range_factors(const Material& m) {
+  std::vector<FactorProblem> found;
   auto text = [](float v) {
     char b[32];
     std::snprintf(b, sizeof b, "%g", double(v));
     return std::string(b);
   };
-  auto colour_text = [&](glm::vec3 c) { return "(" + text(c.x) + ", " + text(c.y) + ", " + text(c.z) + ")"; };
+  auto colour_text = [](glm::vec3 c) {
+    char b[96];
+    std::snprintf(b, sizeof b, "(%g, %g, %g)", double(c.x), double(c.y), double(c.z));
+    return std::string(b);
+  };
   auto unit = [&](const char* name, float v) {
-    if (v < 0.0f || v > 1.0f) found.push_back(std::string(name) + " " + text(v) + " outside [0, 1], clamped");
+    if (v < 0.0f || v > 1.0f) found.push_back({std::string(name) + " " + text(v) + " outside [0, 1]", "clamped"});
   };
   auto unit_colour = [&](const char* name, glm::vec3 c) {
     if (glm::any(glm::lessThan(c, glm::vec3(0.0f))) || glm::any(glm::greaterThan(c, glm::vec3(1.0f))))
-      found.push_back(std::string(name) + " " + colour_text(c) + " outside [0, 1], clamped");
+      found.push_back({std::string(name) + " " + colour_text(c) + " outside [0, 1]", "clamped"});
   };
   unit_colour("base colour", m.base_color);
   unit("alpha", m.base_alpha);
@@ -85,10 +89,10 @@ std::vector<std::string> out_of_range_factors(const Material& m) {
   unit("transmission", m.transmission);
   unit_colour("attenuation colour", m.attenuation_color);
   if (glm::any(glm::lessThan(m.emissive, glm::vec3(0.0f))))
-    found.push_back("emissive " + colour_text(m.emissive) + " below 0, clamped");
-  if (!(m.ior >= 1.0f)) found.push_back("ior " + text(m.ior) + " below 1, 1.5 used");
+    found.push_back({"emissive " + colour_text(m.emissive) + " below 0", "clamped"});
+  if (!(m.ior >= 1.0f)) found.push_back({"ior " + text(m.ior) + " below 1", "1.5 used"});
   if (!(m.attenuation_distance > 0.0f))
-    found.push_back("attenuation distance " + text(m.attenuation_distance) + " not > 0, no absorption");
+    found.push_back({"attenuation distance " + text(m.attenuation_distance) + " not > 0", "no absorption"});
   return found;
 }
 

@@ -114,8 +114,14 @@ void whitted_surface(WhittedMaterial& w, const PbrSample& p);
 // The whole Whitted material from the glTF factors alone.
 WhittedMaterial whitted_from_gltf(const Material& m);
 
-// The factors of `m` outside the ranges glTF gives them, each as "metallic -0.5 outside
-// [0, 1], clamped": the loaders warn with these (whitted_from_gltf clamps or replaces them).
-std::vector<std::string> out_of_range_factors(const Material& m);
+// A factor of a material outside the range glTF gives it: what ("metallic -0.5 outside
+// [0, 1]") and what whitted_from_gltf does with it instead ("clamped").
+struct FactorProblem {
+  std::string what, remedy;
+  std::string text() const { return what + ", " + remedy; }
+};
+
+// The factors of `m` outside glTF's ranges: a glTF's are warned about, a rig's refused.
+std::vector<FactorProblem> out_of_range_factors(const Material& m);
 
 }  // namespace zz

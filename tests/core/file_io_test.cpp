@@ -1,6 +1,7 @@
 #include "core/file_io.h"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -40,6 +41,8 @@ TEST_F(FileIo, FailuresSayWhy) {
   EXPECT_EQ(why_not((dir / "missing").string(), 100), "cannot open (No such file or directory)");
   EXPECT_EQ(why_not("/dev/zero", 100), "not a regular file");  // would never end
   EXPECT_EQ(why_not(dir.string(), 100), "not a regular file");
+  ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
+  EXPECT_EQ(why_not((dir / "pipe").string(), 100), "not a regular file");  // opened without waiting for a writer
   write_bytes(dir / "big", std::string(65, 'x'));
   EXPECT_EQ(why_not((dir / "big").string(), 64), "larger than 64 bytes");
   EXPECT_EQ(read_regular_file((dir / "big").string(), 65).size(), 65u);  // the limit itself is allowed

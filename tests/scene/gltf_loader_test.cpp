@@ -464,6 +464,35 @@ TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
   expect_vec(s.lights[2].direction, {0, 0, -1});
 }
 
+// As tinygltf reads them: percent-decoded, '+' a space, next to the glTF.
+TEST(GltfLoader, ExternalFilesAreNamedAsTinygltfReadsThem) {
+  EXPECT_EQ(gltf::external_file("a/scene.gltf", "My%20Wood.png"), std::filesystem::path("a/My Wood.png"));
+  EXPECT_EQ(gltf::external_file("a/scene.gltf", "tex/b+c%2fd.png"), std::filesystem::path("a/tex/b c/d.png"));
+  EXPECT_EQ(gltf::external_file("scene.gltf", "x%2"), std::filesystem::path("x%2"));  // too short to decode
+  // The scene's file list names the decoded files (a farm hashes them to tell edits).
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  const auto dir = test::temp_dir("encoded");
+  const auto path = b.write(dir, "my model");
+  auto doc = nlohmann::json::parse(test::read_text(path));
+  ASSERT_EQ(doc["buffers"][0]["uri"], "my model.bin");
+  doc["buffers"][0]["uri"] = "my%20model.bin";
+  test::write_text(path, doc.dump());
+  const Scene s = load_scene(path, kQuiet);
+  ASSERT_EQ(s.source_files.size(), 2u);
+  EXPECT_EQ(s.source_files[1], (dir / "my model.bin").string());
+}
+
+// KHR_lights_punctual: range > 0 when given. A negative one was taken as no range.
+TEST(GltfLoader, ANegativeLightRangeIsAnError) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.doc["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"name", "far"}, {"range", -3}}}}}}};
+  b.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  expect_error([&] { load_scene(b.write(test::temp_dir("negrange")), kQuiet); }, "light 'far': negative range");
+}
+
 TEST(GltfLoader, MaterialFactorsOutOfRangeAreClampedWithAWarning) {
   GltfBuilder b;
   b.doc["materials"] = {{{"name", "odd"}, {"pbrMetallicRoughness", {{"metallicFactor", -0.5}, {"roughnessFactor", 0.5}}}}};
