@@ -3,7 +3,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import os
 import shutil
 import signal
@@ -12,7 +11,7 @@ import tempfile
 
 from . import cluster, fingerprint
 from .fingerprint import HashCache
-from .job import temporary_name
+from .job import write_json_atomically
 from .manifest import Manifest, ManifestBusy
 from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
@@ -126,9 +125,12 @@ def _check_can_write(path: str, what: str) -> None:
 
 
 def _check_outputs_writable(plan, extra: dict[str, str]) -> None:
-    """One probe per folder the batch writes into (images, stats, parts, summary, manifest)."""
+    """Every file the batch writes (images, stats, parts, summary, manifest) is not a folder,
+    and each folder it writes into takes a probe file (once per folder)."""
     seen = set()
     for path, what in [*plan.claims.items(), *extra.items()]:
+        if os.path.isdir(path):
+            raise UsageError(f"cannot write {what} {path}: it is a folder")
         folder = os.path.dirname(path)
         if folder not in seen:
             seen.add(folder)
@@ -202,13 +204,11 @@ def render(o) -> int:
     except OSError as e:
         raise UsageError(f"cannot open the manifest {manifest_path}: {e.strerror or e}") from None
     hashes.save()
-    with manifest:
+    with manifest, open(os.devnull, "w") as devnull:
         runner = Runner(plan, manifest, RunSettings(zigzag=zigzag, timeout=o.timeout,
                                                     retries=o.retries, keep_parts=o.keep_parts,
                                                     runtime_args=tuple(opts.runtime_args)),
-                        live=False if o.quiet else None)
-        if o.quiet:
-            runner.progress_stream = open(os.devnull, "w")
+                        progress_stream=devnull if o.quiet else None, live=False if o.quiet else None)
         if runner.pending_frames():
             try:
                 with _client(o) as client:
@@ -232,18 +232,10 @@ def render(o) -> int:
 
 def _write_summary(path: str, outcome) -> bool:
     """Written whole to a temporary and renamed: a failed write keeps an earlier summary."""
-    tmp = temporary_name(os.path.abspath(path))
     try:
-        os.makedirs(os.path.dirname(tmp), exist_ok=True)
-        with open(tmp, "w") as fh:
-            json.dump(outcome.as_json(), fh, indent=2)
-        os.replace(tmp, path)
+        write_json_atomically(path, outcome.as_json())
         return True
     except OSError as e:  # checked before the run; the disk can still fill up since
-        try:
-            os.remove(tmp)
-        except OSError:
-            pass
         print(f"zigzag-farm: error: cannot write the summary {path}: {e.strerror or e}",
               file=sys.stderr)
         return False

@@ -127,6 +127,21 @@ def _publish(tmp: str, final: str) -> dict:
     return {"output": final, "size": size, "sha256": digest}
 
 
+def write_json_atomically(path: str, data) -> dict:
+    """JSON written whole to a temporary, fsynced and renamed over `path` (a failure keeps
+    what was there and removes the temporary) -> the file as the manifest records it."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    tmp = temporary_name(os.path.abspath(path))
+    try:
+        with open(tmp, "w") as fh:
+            json.dump(data, fh, indent=2)
+            fh.write("\n")
+        return _publish(tmp, path)
+    except BaseException:
+        _remove(tmp)
+        raise
+
+
 def _remove(*paths: str) -> None:
     for p in paths:
         try:

@@ -37,6 +37,11 @@ def without_option(args: list[str], name: str) -> list[str]:
 
 # Set by the driver itself for every job: after `--` they would contradict its plan.
 DRIVER_OPTIONS = ("-o", "--output", "--camera", "--frame", "--region", "--stats", "--time")
+# How a job runs, not what it makes: the images are the same bits whatever these are, so
+# they stay out of the job keys (another --workers count or a validation run re-renders
+# nothing). Flags, then options with a value.
+RUNTIME_FLAGS = ("-q", "--quiet", "--vk-validate", "--edges-serial")
+RUNTIME_OPTIONS = ("--threads", "--vk-device")
 # What `zigzag info` takes too, so that the plan sees the sizes and files the render will.
 INFO_OPTIONS = ("--width", "--height", "--fps", "--assets")
 
@@ -73,12 +78,24 @@ def _size_option(given: int | None, passed: list[str], name: str) -> int | None:
     return given if given is not None else after
 
 
+def _aov_files(args: list[str]) -> list[str]:
+    """The FILEs of `--aov NAME FILE` (an AOV image of its own; without one, layers of -o)."""
+    files = []
+    for i, a in enumerate(args):
+        name_given = a.startswith("--aov=")
+        if a == "--aov" or name_given:
+            at = i + (1 if name_given else 2)
+            if at < len(args) and not args[at].startswith("-"):
+                files.append(args[at])
+    return files
+
+
 @dataclass
 class RenderOptions:
     """The renderer options of a batch, split by their role."""
 
     key_args: list[str]      # every job's options that decide its bytes: part of the job keys
-    runtime_args: list[str]  # options that do not (--threads): out of the keys
+    runtime_args: list[str]  # options that do not (RUNTIME_FLAGS, RUNTIME_OPTIONS): out of the keys
     info_args: list[str]     # what `zigzag info` needs to size and list the scene as rendered
 
 
@@ -86,13 +103,19 @@ def render_options(o, passed: list[str]) -> RenderOptions:
     for name in DRIVER_OPTIONS:
         if option_value(passed, name) is not None or name in passed:
             raise UsageError(f"{name} after --: zigzag-farm sets it for every job "
-                             "(use -o, --camera, --frames, --regions, --stats)")
+                             "(use -o, --camera, --frames, --regions, --stats; frames, not times)")
+    for file in _aov_files(passed):
+        # Written by each job beside the farm's outputs, unclaimed, unrecorded, and by every
+        # region for its own part: AOVs go into the -o EXR as layers instead.
+        raise UsageError(f"--aov ... {file} after --: an AOV image of its own is not a farm output; "
+                         "give --aov NAME without a file and an .exr -o to get it as layers")
     width = _size_option(o.width, passed, "--width")
     height = _size_option(o.height, passed, "--height")
     _positive_float(option_value(passed, "--fps"), "--fps (after --)")
     threads = _whole_number(option_value(passed, "--threads"), "--threads (after --)", least=0)
-    key_args = without_option(without_option(without_option(passed, "--threads"), "--width"),
-                              "--height")
+    key_args = [a for a in passed if a not in RUNTIME_FLAGS]
+    for name in (*RUNTIME_OPTIONS, "--width", "--height"):
+        key_args = without_option(key_args, name)
     for name, value in (("--width", width), ("--height", height)):
         if value is not None:
             key_args += [name, str(value)]
@@ -100,6 +123,9 @@ def render_options(o, passed: list[str]) -> RenderOptions:
         # Workers of a LocalCluster share this machine's cores.
         threads = max(1, (os.cpu_count() or 1) // o.workers)
     runtime_args = ["--threads", str(threads)] if threads is not None else []
+    runtime_args += [a for a in passed if a in RUNTIME_FLAGS]
+    if (device := option_value(passed, "--vk-device")) is not None:
+        runtime_args += ["--vk-device", device]
     info_args = []
     for name in INFO_OPTIONS:
         value = option_value(key_args, name)

@@ -3,8 +3,6 @@ futures, record each finished job, assemble frames, report failures while the re
 """
 from __future__ import annotations
 
-import hashlib
-import json
 import os
 import re
 import time
@@ -119,17 +117,6 @@ def remove_stale_temporaries(f: FrameJob) -> None:
                     pass
 
 
-def _write_json_atomically(path: str, data: dict) -> dict:
-    """-> the file as the manifest records it (output, size, sha256)."""
-    os.makedirs(os.path.dirname(path) or ".", exist_ok=True)
-    tmp = job.temporary_name(path)
-    blob = (json.dumps(data, indent=2) + "\n").encode()
-    with open(tmp, "wb") as fh:
-        fh.write(blob)
-    os.replace(tmp, path)
-    return {"output": path, "size": len(blob), "sha256": hashlib.sha256(blob).hexdigest()}
-
-
 def _failure_message(exc: BaseException) -> str:
     try:
         from distributed.scheduler import KilledWorker
@@ -191,7 +178,7 @@ class Runner:
                             frame=f.frame, job_seconds=[r.get("seconds") for r in records],
                             workers=[r.get("worker") for r in records],
                             regions=[list(p.region.bounds) for p in f.parts] if f.merged else None)
-        stats_record = _write_json_atomically(f.stats, stats) if f.stats else None
+        stats_record = job.write_json_atomically(f.stats, stats) if f.stats else None
         image = merge_result if merge_result is not None else records[0]
         self.manifest.record(f.key, "frame", image, stats_file=f.stats,
                              also=[stats_record] if stats_record else [])
@@ -211,11 +198,16 @@ class Runner:
         start = time.monotonic()
         todo = self.pending_frames()
         futures = {}  # key -> (future, kind, frame, render job or None)
+        failed_frames: set[str] = set()
         for f in todo:
             remove_stale_temporaries(f)
             part_futures = []
             if not f.merged and self.manifest.done(f.parts[0].key):
-                self._finish_frame(f, None)  # rendered before the last driver died, not recorded
+                try:  # rendered before the last driver died, or only its stats are missing
+                    self._finish_frame(f, None)
+                except OSError as e:  # the stats cannot be written: reported, never a traceback
+                    failed_frames.add(f.key)
+                    self.outcome.failures.append(Failure(describe(f.parts[0]), f.key, f"{e.strerror or e}: {e.filename}"))
                 continue
             for p in f.parts:
                 if f.merged and self.manifest.done(p.key):
@@ -231,7 +223,6 @@ class Runner:
                 futures[key] = (fut, "merge", f, None)
         self.outcome.jobs_run = list(futures)
         progress = Progress(len(futures), self.progress_stream, self.live)
-        failed_frames: set[str] = set()
         failed_jobs: set[str] = set()  # parts come before their merge in `pending`
         done = failed = 0
         pending = dict(futures)

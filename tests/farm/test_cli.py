@@ -33,6 +33,13 @@ def test_threads_given_or_derived_stay_out_of_the_keys():
     assert options("scheduler", "tcp://x:1").runtime_args == []  # remote workers: their own cores
 
 
+def test_how_a_job_runs_is_not_part_of_its_key():
+    """Flags that change how a render runs, not its bytes, travel beside the keys."""
+    r = options(passed=["-q", "--eps", "0.1", "--vk-validate", "--vk-device=1", "--edges-serial", "--threads", "2"])
+    assert r.key_args == ["--eps", "0.1"]
+    assert r.runtime_args == ["--threads", "2", "-q", "--vk-validate", "--edges-serial", "--vk-device", "1"]
+
+
 def test_info_gets_the_options_it_takes_in_either_form():
     r = options(passed=["--assets=/a", "--eps", "0.1", "--fps", "30", "--height=90"])
     pairs = dict(zip(r.info_args[::2], r.info_args[1::2]))
@@ -71,6 +78,9 @@ def usage_error(capsys, *args):
     (["--width", "64", "--", "--width=32"], "--width 64 and --width 32 after --: give it once"),
     (["--", "--frame", "3"], "--frame after --: zigzag-farm sets it for every job"),
     (["--", "--stats=x.json"], "--stats after --: zigzag-farm sets it"),
+    (["--", "--time", "0.5"], "frames, not times"),
+    (["--", "--aov", "rays", "rays.png"], "--aov ... rays.png after --: an AOV image of its own is not a farm output"),
+    (["--", "--aov=level", "l.png", "--eps", "0.1"], "--aov ... l.png after --"),
 ])
 def test_bad_numbers_and_options_are_usage_errors(capsys, workdir, scene, args, message):
     err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG, *args)
@@ -113,6 +123,18 @@ def test_unwritable_places_are_usage_errors_before_anything_runs(capsys, workdir
     if how == "parent is a file":
         assert f"{afile} is a file, not a folder" in err
     assert not os.path.exists(f"{workdir}/out")
+
+
+def test_an_output_that_is_a_folder_is_a_usage_error_wherever_it_comes(capsys, workdir, scene):
+    """Not only the first file of a folder: frame 2's image path being a folder is found too."""
+    os.makedirs(f"{workdir}/out/f2.png")
+    err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG)
+    assert f"cannot write the image of anim camera 0 f2 {workdir}/out/f2.png: it is a folder" in err
+
+
+def test_layers_of_aovs_after_dashes_are_fine():
+    assert options(passed=["--aov", "depth", "--aov=normal", "--eps", "0.1"]).key_args == [
+        "--aov", "depth", "--aov=normal", "--eps", "0.1"]
 
 
 def test_a_bad_scheduler_address_is_a_usage_error(capsys, workdir, scene):

@@ -310,7 +310,9 @@ def test_fake_options_after_dashes_reach_info_and_render_in_either_form(workdir)
     assert p.returncode == 0, p.stderr
     assert read(f"{out}/car.png") == fake_render(scene, f"{workdir}/ref.png", "--assets", assets,
                                                  "--width", "40")
-    for args in logged_renders(log):
+    renders = logged_renders(log)
+    assert len(renders) == 2  # the two regions (the reference render is not logged)
+    for args in renders:
         assert sum(a.startswith("--width") for a in args) == 1
         assert sum(a.startswith("--threads") for a in args) == 1
 
@@ -321,6 +323,7 @@ def test_fake_other_worker_counts_and_threads_render_nothing_again(workdir):
     common = fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--summary", f"{workdir}/summary.json")
     p = run_farm(*common, "--workers", "1", env={"FAKE_ZIGZAG_LOG": log})
     assert p.returncode == 0, p.stderr
+    assert len(logged_renders(log)) == 3
     assert all("--threads" in args for args in logged_renders(log))  # derived: cores / workers
     for again in (["--workers", "2"], ["--workers", "1", "--", "--threads=1"], ["--", "--threads", "2"]):
         p = run_farm(*common, *again, env={"FAKE_ZIGZAG_LOG": log})

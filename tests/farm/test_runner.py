@@ -42,3 +42,30 @@ def test_running_counts_jobs_in_render_slots_not_jobs_queued_on_workers():
     pending = {"a", "b", "c", "d", "e", "f", "g"}
     assert Runner._running(FakeClient(), pending) == 1 + 1 + 0 + 2
     assert Runner._running(FakeClient(), {"b", "c"}) == 1
+
+
+def test_stats_that_cannot_be_written_fail_the_frame_without_a_traceback(workdir, monkeypatch):
+    """A frame whose image is recorded and whose stats are asked for: when the stats cannot be
+    written (a full disk), the frame is reported failed and the run goes on."""
+    from zigzag_farm.manifest import Manifest
+    from zigzag_farm.plan import Plan
+    from zigzag_farm.runner import RunSettings
+
+    f = frame_job(workdir)
+    with open(f.output, "wb") as fh:
+        fh.write(b"an image")
+    with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
+        manifest.record("r", "render", {"output": f.output, "size": 8, "sha256": job.sha256_of(f.output)},
+                        stats={"pixels": 4, "rays": {"total": 4}}, seconds=1.0, worker="w")
+
+        def full_disk(path, data):
+            raise OSError(28, "No space left on device", path)
+
+        monkeypatch.setattr(job, "write_json_atomically", full_disk)
+        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
+                        live=False)
+        outcome = runner.run(client=None)  # nothing to submit: the image is there
+    assert outcome.failed_frames == 1
+    assert [x.key for x in outcome.failures] == ["f"]
+    assert "No space left on device" in outcome.failures[0].message
+    assert not os.path.exists(f.stats)
