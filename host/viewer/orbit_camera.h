@@ -30,8 +30,8 @@ class OrbitCamera {
   Camera start_;
   glm::vec3 target_{0.0f};
   float distance_ = 1.0f;
-  // The start's frame turned by pitch about its right axis (positive looks further down),
-  // then by yaw about world +Y.
+  // The start's frame turned by pitch about its right axis (positive turns the view towards
+  // the start's -up: down on screen), then by yaw about world +Y.
   float yaw_ = 0.0f;
   float pitch_ = 0.0f;
 };

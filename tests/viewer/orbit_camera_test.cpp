@@ -90,6 +90,22 @@ TEST(OrbitCamera, RolledAndTopDownCamerasStartWhereTheyAreAndMoveSmoothly) {
   }
 }
 
+// A slightly rolled camera can still reach a pole (past about 1.2 degrees of roll the
+// view cannot come that close to one): it stops at the limit too.
+TEST(OrbitCamera, ARolledCameraStopsShortOfThePoles) {
+  const glm::vec3 up = glm::normalize(glm::vec3(0.009f, 1.0f, 0.0f));  // rolled by half a degree
+  const Camera start = Camera::look_at({0.0f, 1.0f, 5.0f}, {0.0f, 0.0f, 0.0f}, up, 0.7f);
+  ASSERT_GT(std::hypot(start.forward.y, start.up.y), std::sin(1.55f));  // a pole is in reach
+  for (const float dy : {1e5f, -1e5f}) {
+    OrbitCamera orbit(start, 5.0f);
+    orbit.orbit(0.0f, dy, 480);
+    const Camera c = orbit.camera();
+    EXPECT_LE(std::abs(c.forward.y), std::sin(1.55f) + 1e-5f);
+    EXPECT_GT(std::abs(c.forward.y), 0.99f);
+    EXPECT_NEAR(glm::dot(c.forward, c.up), 0.0f, 1e-5f);
+  }
+}
+
 TEST(OrbitCamera, PanMovesThePointUnderTheCursorWithIt) {
   // At the target's depth the image is 2 d tan(fov/2) tall: a drag of h/2 pixels moves the
   // camera by d tan(fov/2) along its right axis (opposite to the drag).
