@@ -37,7 +37,7 @@ std::vector<AovRequest> parse_aovs(const std::vector<std::vector<std::string>>& 
   for (const std::vector<std::string>& g : groups) {
     if (g.empty()) continue;
     const std::optional<Aov> aov = find_aov(g[0]);
-    if (!aov) throw Error("--aov " + g[0] + ": unknown AOV (valid: " + aov_names() + ")");
+    if (!aov) throw UsageError("--aov " + g[0] + ": unknown AOV (valid: " + aov_names() + ")");
     out.push_back({*aov, g[0], g.size() > 1 ? g[1] : std::string()});
   }
   return out;

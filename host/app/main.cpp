@@ -40,6 +40,9 @@ int main(int argc, char** argv) {
   } catch (const zz::Interrupted& i) {
     std::fprintf(stderr, "%s\n", zz::interrupt_message(i.signal));
     return 128 + i.signal;
+  } catch (const zz::UsageError& e) {
+    std::fprintf(stderr, "zigzag: error: %s\n", e.what());
+    return zz::kUsageExit;
   } catch (const zz::Error& e) {
     std::fprintf(stderr, "zigzag: error: %s\n", e.what());
     return 1;

@@ -247,8 +247,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   add_batch_options(cmd, *o);
   cmd->callback([o, &exit_code] {
-    validate(*o);  // before anything is loaded: a bad invocation costs no render
-    preflight_outputs(*o);
+    as_usage_checks([&] {  // before anything is loaded: a bad invocation costs no render
+      validate(*o);
+      preflight_outputs(*o);
+    });
     // Instance and device creation overlap the first scene's load and BVH build; the
     // first job that needs the device waits for it. Creation errors (no device: the
     // install hint) end the whole batch as before, even after a job failed to load.
@@ -273,7 +275,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       }
       return vulkan.get();
     };
-    int failed = 0;
+    int failed = 0, refused = 0;  // refused: the job's options cannot work for its scene (UsageError)
     for (const std::string& scene : o->scenes) {
       try {
         render_job(*o, scene, device);
@@ -281,12 +283,14 @@ void add_render_command(CLI::App& app, int& exit_code) {
         if (device_error) std::rethrow_exception(device_error);
         std::fprintf(stderr, "zigzag: error: %s\n", e.what());
         ++failed;
+        refused += dynamic_cast<const UsageError*>(&e) != nullptr;
       }
     }
     device();  // a batch whose jobs all failed before needing the device still reports it
     if (failed > 0 && o->scenes.size() > 1)
       std::fprintf(stderr, "zigzag: %d of %zu jobs failed\n", failed, o->scenes.size());
-    exit_code = failed > 0 ? 1 : 0;
+    // Only refusals: the usage exit code, so a farm does not run the jobs again.
+    exit_code = failed == 0 ? 0 : refused == failed ? kUsageExit : 1;
     if (vulkan && vulkan->validation_enabled() && vulkan->validation_message_count() > 0) {
       std::fprintf(stderr, "zigzag: %d Vulkan validation message(s)\n", vulkan->validation_message_count());
       exit_code = 1;

@@ -51,10 +51,12 @@ void check_screenshot(const std::string& option, const std::string& path) {
 
 int view(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
-  validate(o.render);
-  if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot);
-  for (const ScriptEvent& e : parse_script(o.script))
-    if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text);
+  as_usage_checks([&] {
+    validate(o.render);
+    if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot);
+    for (const ScriptEvent& e : parse_script(o.script))
+      if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text);
+  });
   // Fail fast, before loading anything, when no window can be opened.
   require_display();
   const auto t0 = std::chrono::steady_clock::now();

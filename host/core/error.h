@@ -11,4 +11,25 @@ struct Error : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// The command line asks for what cannot be done (a bad option combination, an output that
+// cannot be written), found before any scene loads. It exits with kUsageExit, CLI11's own
+// code for an option that fails validation, so that a script or the render farm tells it
+// from a render that failed: run again, it fails the same way.
+struct UsageError : Error {
+  using Error::Error;
+};
+inline constexpr int kUsageExit = 105;
+
+// Runs `checks`, turning the zz::Error it throws into a UsageError.
+template <class F>
+void as_usage_checks(F&& checks) {
+  try {
+    checks();
+  } catch (const UsageError&) {
+    throw;
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+}
+
 }  // namespace zz

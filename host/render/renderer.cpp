@@ -32,8 +32,8 @@ TileRect render_region(const RenderSettings& settings) {
   const TileRect frame{0, 0, settings.width, settings.height};
   const TileRect& r = settings.region;
   if (r == TileRect{}) return frame;
-  if (r.empty() || intersect(r, frame) != r)
-    throw Error("region " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
+  if (r.empty() || intersect(r, frame) != r)  // a --region the frame cannot hold, however often it runs
+    throw UsageError("region " + std::to_string(r.x0) + "," + std::to_string(r.y0) + "," + std::to_string(r.x1) + "," +
                 std::to_string(r.y1) + " must be a non-empty X0,Y0,X1,Y1 (half-open) inside the " +
                 std::to_string(settings.width) + "x" + std::to_string(settings.height) + " frame");
   return r;

@@ -17,6 +17,7 @@
 #include <limits>
 #include <map>
 
+#include "core/error.h"
 #include "cli.h"
 #include "../scratch_dir.h"
 #include "render/aov.h"
@@ -241,7 +242,7 @@ TEST_F(AovExrTest, BadInvocationsFailBeforeTheSceneLoads) {
   };
   for (const Case& c : cases) {
     const auto r = test::run_command(test::zigzag_binary() + " render " + missing + " -q " + c.options);
-    EXPECT_EQ(r.exit_code, 1) << c.options << ": " << r.output;
+    EXPECT_EQ(r.exit_code, kUsageExit) << c.options << ": " << r.output;
     EXPECT_NE(r.output.find(c.message), std::string::npos) << c.options << ": " << r.output;
     EXPECT_EQ(r.output.find("no_such_scene"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(dir / "x.exr"));

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "core/error.h"
 #include "cli.h"
 #include "../scratch_dir.h"
 #include "render/image_io.h"
@@ -114,7 +115,7 @@ TEST_F(RegionTest, BadRegionsAreOneLineErrors) {
   for (const char* bad : {"0,0,151,10", "-1,0,10,10", "5,5,5,10", "10,0,5,10", "1,2,3", "a,b,c,d", "0,0,10,10,3"}) {
     const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
                                      kFrame + "--edges off -q --region " + bad + " -o " + (dir / "x.exr").string());
-    EXPECT_EQ(r.exit_code, 1) << bad << ": " << r.output;
+    EXPECT_EQ(r.exit_code, kUsageExit) << bad << ": " << r.output;
     EXPECT_NE(r.output.find("region "), std::string::npos) << bad << ": " << r.output;
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
     EXPECT_FALSE(fs::exists(dir / "x.exr"));

@@ -15,6 +15,7 @@
 #include <random>
 #include <thread>
 
+#include "core/error.h"
 #include "child_process.h"
 #include "scratch_scene_dir.h"
 #include "render/image_io.h"
@@ -39,10 +40,11 @@ class Outputs : public robust::ScratchSceneDir {
     for (const char* a : {"--edges", "off", "-q"}) args.push_back(a);
     return robust::run_child(args, {{}, 60.0});
   }
-  // A one-line error, exit 1, mentioning `mention`, well before any render could finish.
-  static void expect_error(const robust::ChildResult& r, const std::string& mention) {
+  // A one-line error, exit `code` (1: the job failed; kUsageExit: the command line cannot
+  // work, found before any scene loads), mentioning `mention`, well before any render could finish.
+  static void expect_error(const robust::ChildResult& r, const std::string& mention, int code = 1) {
     ASSERT_TRUE(r.exited) << "signal " << r.signal << " timed out " << r.timed_out;
-    EXPECT_EQ(r.exit_code, 1) << r.err;
+    EXPECT_EQ(r.exit_code, code) << r.err;
     EXPECT_EQ(robust::lines_of(r.err).size(), 1u) << r.err;
     EXPECT_NE(r.err.find(mention), std::string::npos) << r.err;
     std::printf("[ message ] exit %d: %s", r.exit_code, r.err.c_str());
@@ -135,24 +137,25 @@ TEST_F(Outputs, InterruptDuringTheRenderExitsPromptlyWithOneLine) {
 
 TEST_F(Outputs, JobsThatWouldWriteOneFileAreRefusedNamingThePlaceholder) {
   expect_error(render({path("good.json").string(), path("other.json").string(), "-o", path("x.png").string()}),
-               "add {scene}");
+               "add {scene}", kUsageExit);
   EXPECT_FALSE(fs::exists(path("x.png")));
   expect_error(render({path("good.json").string(), "--camera", "all", "-o", path("{scene}.png").string()}),
-               "add {camera}");
+               "add {camera}", kUsageExit);
   expect_error(render({path("good.json").string(), path("other.json").string(), "-o", path("{scene}.png").string(),
                        "--stats", path("s.json").string()}),
-               "--stats");
+               "--stats", kUsageExit);
 }
 
 TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   write("plain", "x");
   const std::string good = path("good.json").string();
   const auto a = render({good, "-o", path("plain/out.png").string()});
-  expect_error(a, "plain is a file, not a directory");
-  expect_error(render({good, "-o", "/proc/zz_no_such_dir/out.png"}), "/proc");
-  expect_error(render({good, "-o", path("out").string()}), "no file extension");
-  expect_error(render({good, "-o", path("out.xyz").string()}), "unknown image format");
-  expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats");
+  expect_error(a, "plain is a file, not a directory", kUsageExit);
+  expect_error(render({good, "-o", "/proc/zz_no_such_dir/out.png"}), "/proc", kUsageExit);
+  expect_error(render({good, "-o", path("out").string()}), "no file extension", kUsageExit);
+  expect_error(render({good, "-o", path("out.xyz").string()}), "unknown image format", kUsageExit);
+  expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
+               kUsageExit);
   EXPECT_LT(a.seconds, 10.0);
 }
 
