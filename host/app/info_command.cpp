@@ -60,7 +60,11 @@ nlohmann::json scene_info(const std::filesystem::path& path, const InfoOptions& 
 
 void print_human(const nlohmann::json& j) {
   std::string cameras;
-  for (const auto& c : j["cameras"]) cameras += (cameras.empty() ? "" : ", ") + c.get<std::string>();
+  for (size_t i = 0; i < j["cameras"].size(); ++i) {
+    const auto& size = j["camera_sizes"][i];
+    cameras += (i == 0 ? "" : ", ") + j["cameras"][i].get<std::string>() + " (" + std::to_string(size[0].get<int>()) +
+               "x" + std::to_string(size[1].get<int>()) + ")";
+  }
   std::printf("%s (%s)\n", j["scene"].get<std::string>().c_str(), j["path"].get<std::string>().c_str());
   std::printf("  size      %dx%d\n", j["width"].get<int>(), j["height"].get<int>());
   std::printf("  cameras   %zu: %s\n", j["cameras"].size(), cameras.c_str());
@@ -71,6 +75,9 @@ void print_human(const nlohmann::json& j) {
     std::printf("  animation none (frames %d..%d at %g fps)\n", j["frames"][0].get<int>(), j["frames"][1].get<int>(),
                 j["fps"].get<double>());
   std::printf("  geometry  %zu triangles, %zu lights\n", j["triangles"].get<size_t>(), j["lights"].get<size_t>());
+  std::printf("  files    ");
+  for (const auto& f : j["files"]) std::printf(" %s", f.get<std::string>().c_str());
+  std::printf("\n");
 }
 
 }  // namespace

@@ -66,7 +66,8 @@ int view(const ViewOptions& o) {
   try {
     camera = find_camera(scene, o.camera);
   } catch (const Error& e) {
-    throw Error(o.scene + ": --camera " + o.camera + ": " + e.what());
+    throw Error(o.scene + ": --camera " + o.camera + ": " + e.what() +
+                (o.camera == "all" ? " (the viewer shows one camera: an index or a name; 'all' is render's)" : ""));
   }
   const Bvh bvh = Bvh::build(scene.positions);
   const Shader shader(scene, bvh);

@@ -99,6 +99,8 @@ TEST(InfoCommand, HumanReadableWithoutJson) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("1024x1024"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("10196 triangles, 9 lights"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("front (1024x1024)"), std::string::npos) << r.output;  // each camera's size
+  EXPECT_NE(r.output.find("scenes/room.gltf"), std::string::npos) << r.output;    // the files
   EXPECT_FALSE(nlohmann::json::accept(r.output));
 }
 
