@@ -20,18 +20,26 @@ class ManifestBusy(RuntimeError):
     pass
 
 
-def verified(record: dict | None, image_only: bool = False) -> bool:
+def verified(record: dict | None, image_only: bool = False, hashed: dict | None = None) -> bool:
     """The record's output (and, unless image_only, each file in its "also") is on disk,
-    complete, and the same bytes as when recorded."""
+    complete, and the same bytes as when recorded. `hashed` remembers each file's SHA-256
+    under its identity on disk (size, inode, mtime, ctime), so that a re-run over large
+    finished EXRs reads each once, however often it asks."""
     if not record:
         return False
-    if not image_only and not all(verified(other) for other in record.get("also", ())):
+    if not image_only and not all(verified(other, hashed=hashed) for other in record.get("also", ())):
         return False
     path = record.get("output")
     try:
-        if not path or os.path.getsize(path) != record.get("size"):
+        st = os.stat(path) if path else None
+        if st is None or st.st_size != record.get("size"):
             return False
-        return sha256_of(path) == record.get("sha256")
+        identity = (path, st.st_size, st.st_ino, st.st_mtime_ns, st.st_ctime_ns)
+        if hashed is None:
+            return sha256_of(path) == record.get("sha256")
+        if identity not in hashed:
+            hashed[identity] = sha256_of(path)
+        return hashed[identity] == record.get("sha256")
     except OSError:
         return False
 
@@ -40,6 +48,7 @@ class Manifest:
     def __init__(self, path: str):
         self.path = path
         self.records: dict[str, dict] = {}
+        self._hashed: dict[tuple, str] = {}  # verified()'s memo for this run
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
         self._file = open(path, "a+", encoding="utf-8")
         try:
@@ -64,7 +73,7 @@ class Manifest:
                 self.records[record["key"]] = record
 
     def done(self, key: str, image_only: bool = False) -> bool:
-        return verified(self.records.get(key), image_only)
+        return verified(self.records.get(key), image_only, self._hashed)
 
     def get(self, key: str) -> dict | None:
         return self.records.get(key)

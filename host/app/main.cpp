@@ -1,4 +1,5 @@
 // zigzag: adaptive antialiasing ray tracer (Vostryakov & Voloboy 2006, SSE 4-ray packets).
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -36,7 +37,14 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // `render --aov depth scene.json` reads the scene as the AOV's file and finds no scene.
+    const bool aov_ate_the_scene = std::string(e.what()).find("scenes is required") != std::string::npos &&
+                                   std::any_of(argv, argv + argc, [](const char* a) { return std::string(a) == "--aov"; });
+    const int code = app.exit(e);
+    if (aov_ate_the_scene)
+      std::fprintf(stderr, "(--aov NAME [FILE] takes the word after NAME as its FILE: put the scene files first, or "
+                           "end the options with --)\n");
+    return code;
   } catch (const zz::Interrupted& i) {
     std::fprintf(stderr, "%s\n", zz::interrupt_message(i.signal));
     return 128 + i.signal;

@@ -138,6 +138,18 @@ TEST(RenderCommand, BatchWithCameraPatternWritesOneImagePerJob) {
   fs::remove_all(dir);
 }
 
+// `--aov depth scene.json`: CLI11 takes the scene as the AOV's file and says only that the
+// scenes are missing; the hint says why.
+TEST(RenderCommand, AnAovBeforeTheSceneSaysWhyTheSceneIsMissing) {
+  const std::string scene = test::source_path("scenes/default.json");
+  const auto r = test::run_command(test::zigzag_binary() + " render --aov depth " + scene + " -o /tmp/zz_never.exr");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("put the scene files first"), std::string::npos) << r.output;
+  const auto plain = test::run_command(test::zigzag_binary() + " render -o /tmp/zz_never.exr");
+  EXPECT_NE(plain.exit_code, 0);
+  EXPECT_EQ(plain.output.find("--aov NAME"), std::string::npos) << plain.output;  // only where --aov was given
+}
+
 TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   const fs::path dir = temp_dir();
   // An ICD list that names no driver: Vulkan is unavailable, --edges off still renders.

@@ -79,3 +79,24 @@ def test_a_record_counts_only_with_its_other_files(workdir):
     os.remove(stats["output"])
     with Manifest(m_path) as m:
         assert not m.done("ka") and m.done("ka", image_only=True)
+
+
+def test_each_output_is_read_once_per_run_however_often_it_is_asked(workdir, monkeypatch):
+    """A re-run asks about every finished image several times (pending, stats, the frame's
+    own check); each is hashed once, and again only once its bytes on disk changed."""
+    from zigzag_farm import manifest as manifest_module
+
+    m_path = os.path.join(workdir, "m.jsonl")
+    a = output(workdir, "a.exr", b"pixels" * 1000)
+    reads = []
+    monkeypatch.setattr(manifest_module, "sha256_of", lambda p: reads.append(p) or sha256_of(p))
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", a)
+        assert all(m.done("ka") for _ in range(4)) and m.done("ka", image_only=True)
+        assert reads == [a["output"]]
+        with open(a["output"], "r+b") as f:  # same size, other bytes, newer mtime/ctime
+            f.write(b"X")
+        os.utime(a["output"], ns=(1, 1))  # a changed identity on disk (a write within one clock tick
+        # of the hash keeps it: the farm replaces outputs by rename, a new inode, never in place)
+        assert not m.done("ka")
+        assert len(reads) == 2
