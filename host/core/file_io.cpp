@@ -8,6 +8,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
 #include "core/error.h"
 
@@ -30,25 +31,48 @@ std::string byte_size_text(uintmax_t bytes) {
   return std::to_string(bytes) + " bytes";
 }
 
+namespace {
+
+std::string errno_reason(const char* what) { return std::string(what) + " (" + std::strerror(errno) + ")"; }
+
+// Opens `path` if it is a regular file of at most max_bytes: its descriptor and size, or -1
+// and *why.
+int open_regular(const std::string& path, uintmax_t max_bytes, size_t* size, std::string* why) {
+  // O_NONBLOCK: opening a named pipe would wait for a writer; fstat then refuses it.
+  FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK));
+  struct stat st {};
+  if (file.fd < 0) *why = errno_reason("cannot open");
+  else if (::fstat(file.fd, &st) != 0) *why = errno_reason("cannot read");
+  else if (!S_ISREG(st.st_mode)) *why = "not a regular file";
+  else if (uintmax_t(st.st_size) > max_bytes) *why = "larger than " + byte_size_text(max_bytes);
+  else {
+    *size = size_t(st.st_size);
+    return std::exchange(file.fd, -1);
+  }
+  return -1;
+}
+
+}  // namespace
+
+bool readable_regular_file(const std::string& path, uintmax_t max_bytes, std::string* why) {
+  size_t size = 0;
+  return FileDescriptor(open_regular(path, max_bytes, &size, why)).fd >= 0;
+}
+
 bool read_regular_file(const std::string& path, uintmax_t max_bytes, std::vector<unsigned char>* out,
                        std::string* why) {
-  auto fail = [why](const std::string& reason) {
-    *why = reason;
-    return false;
-  };
-  // O_NONBLOCK: opening a named pipe would wait for a writer; fstat then refuses it.
-  const FileDescriptor file(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK));
-  if (file.fd < 0) return fail("cannot open (" + std::string(std::strerror(errno)) + ")");
-  struct stat st {};
-  if (::fstat(file.fd, &st) != 0) return fail("cannot read (" + std::string(std::strerror(errno)) + ")");
-  if (!S_ISREG(st.st_mode)) return fail("not a regular file");
-  if (uintmax_t(st.st_size) > max_bytes) return fail("larger than " + byte_size_text(max_bytes));
-  out->resize(size_t(st.st_size));
+  size_t size = 0;
+  const FileDescriptor file(open_regular(path, max_bytes, &size, why));
+  if (file.fd < 0) return false;
+  out->resize(size);
   size_t done = 0;
   while (done < out->size()) {
     const ssize_t n = ::read(file.fd, out->data() + done, out->size() - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return fail(n < 0 ? "cannot read (" + std::string(std::strerror(errno)) + ")" : "the file shrank while being read");
+    if (n <= 0) {
+      *why = n < 0 ? errno_reason("cannot read") : "the file shrank while being read";
+      return false;
+    }
     done += size_t(n);
   }
   return true;

@@ -29,6 +29,10 @@ bool read_regular_file(const std::string& path, uintmax_t max_bytes, std::vector
 // The same, or zz::Error "PATH: WHY".
 std::vector<unsigned char> read_regular_file(const std::string& path, uintmax_t max_bytes);
 
+// Whether read_regular_file could open `path`, without reading it: false and *why as it
+// would give them (a reason after a reader that does not say why it failed).
+bool readable_regular_file(const std::string& path, uintmax_t max_bytes, std::string* why);
+
 // Writes all `size` bytes at `offset`, retrying short writes and EINTR. On failure returns
 // false and sets *why ("No space left on device", "File too large").
 bool pwrite_all(int fd, const void* data, size_t size, int64_t offset, std::string* why);

@@ -93,7 +93,8 @@ int hex_digit(char c) {
 
 }  // namespace
 
-std::filesystem::path external_file(const std::filesystem::path& gltf, const std::string& uri) {
+std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri) {
+  if (uri.empty() || uri.rfind("data:", 0) == 0) return std::nullopt;
   std::string decoded;
   for (size_t i = 0; i < uri.size(); ++i) {
     if (uri[i] == '+') {

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -29,7 +30,8 @@ int json_nesting_depth(std::string_view text, int limit = kMaxJsonDepth);
 
 // The file an external buffer's or image's URI names, as tinygltf reads it: relative to the
 // glTF's folder, percent-decoded and with '+' for a space ("My%20Wood.png" is My Wood.png).
-std::filesystem::path external_file(const std::filesystem::path& gltf, const std::string& uri);
+// None for a URI that names no file (empty, or a data: URI holding the bytes).
+std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri);
 
 // Reads and parses `path` (.glb by its extension, else glTF JSON); zz::Error naming the
 // file on anything wrong. Images keep their encoded bytes (gltf_image.h). Warnings from

@@ -239,13 +239,10 @@ struct Loader {
     if (!t) {
       // An image file that could not be read: say why (tinygltf's own warning says only
       // that it failed, and -q hides it). The URI resolves as tinygltf resolves it.
-      if (image.bufferView < 0 && !image.uri.empty() && image.uri.rfind("data:", 0) != 0) {
-        const std::filesystem::path p = gltf::external_file(file, image.uri);
-        std::vector<unsigned char> bytes;
-        std::string reason;
-        if (!read_regular_file(p.string(), gltf::kMaxFileBytes, &bytes, &reason))
-          why = "image " + std::to_string(source) + ": " + p.string() + ": " + reason;
-      }
+      const std::optional<std::filesystem::path> p = gltf::external_file(file, image.uri);
+      std::string reason;
+      if (image.bufferView < 0 && p && !readable_regular_file(p->string(), gltf::kMaxFileBytes, &reason))
+        why = "image " + std::to_string(source) + ": " + p->string() + ": " + reason;
       texture_problem(why);
     }
     return t;
@@ -616,7 +613,7 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
                                    "KHR_mesh_quantization") != model.extensionsUsed.end();
   scene.source_files.push_back(file);
   auto external = [&](const std::string& uri) {
-    if (!uri.empty() && uri.rfind("data:", 0) != 0) scene.source_files.push_back(gltf::external_file(path, uri).string());
+    if (const std::optional<std::filesystem::path> f = gltf::external_file(path, uri)) scene.source_files.push_back(f->string());
   };
   for (const tinygltf::Buffer& b : model.buffers) external(b.uri);
   for (const tinygltf::Image& i : model.images) external(i.uri);

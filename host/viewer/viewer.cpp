@@ -26,7 +26,6 @@ constexpr const char* kNoPresentation =
     "no Vulkan driver that can present to this display; install one with `apt-get install "
     "mesa-vulkan-drivers` (lavapipe, CPU), or use `zigzag render`";
 
-
 using Clock = std::chrono::steady_clock;
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }

@@ -40,12 +40,20 @@ TEST_F(FileIo, FailuresSayWhy) {
   };
   EXPECT_EQ(why_not((dir / "missing").string(), 100), "cannot open (No such file or directory)");
   EXPECT_EQ(why_not("/dev/zero", 100), "not a regular file");  // would never end
+  std::string why;  // the same reasons without reading
+  EXPECT_FALSE(readable_regular_file("/dev/zero", 100, &why));
+  EXPECT_EQ(why, "not a regular file");
+  EXPECT_FALSE(readable_regular_file((dir / "missing").string(), 100, &why));
+  EXPECT_EQ(why, "cannot open (No such file or directory)");
   EXPECT_EQ(why_not(dir.string(), 100), "not a regular file");
   ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
   EXPECT_EQ(why_not((dir / "pipe").string(), 100), "not a regular file");  // opened without waiting for a writer
   write_bytes(dir / "big", std::string(65, 'x'));
   EXPECT_EQ(why_not((dir / "big").string(), 64), "larger than 64 bytes");
   EXPECT_EQ(read_regular_file((dir / "big").string(), 65).size(), 65u);  // the limit itself is allowed
+  EXPECT_TRUE(readable_regular_file((dir / "big").string(), 65, &why));
+  EXPECT_FALSE(readable_regular_file((dir / "big").string(), 64, &why));
+  EXPECT_EQ(why, "larger than 64 bytes");
   try {
     read_regular_file((dir / "big").string(), uintmax_t(1) << 5);
     FAIL() << "no error";

@@ -469,6 +469,8 @@ TEST(GltfLoader, ExternalFilesAreNamedAsTinygltfReadsThem) {
   EXPECT_EQ(gltf::external_file("a/scene.gltf", "My%20Wood.png"), std::filesystem::path("a/My Wood.png"));
   EXPECT_EQ(gltf::external_file("a/scene.gltf", "tex/b+c%2fd.png"), std::filesystem::path("a/tex/b c/d.png"));
   EXPECT_EQ(gltf::external_file("scene.gltf", "x%2"), std::filesystem::path("x%2"));  // too short to decode
+  EXPECT_FALSE(gltf::external_file("a/scene.gltf", "data:image/png;base64,AAAA"));     // the bytes are in the URI
+  EXPECT_FALSE(gltf::external_file("a/scene.gltf", ""));
   // The scene's file list names the decoded files (a farm hashes them to tell edits).
   GltfBuilder b;
   b.node({{"mesh", b.mesh("tri", kTriPos)}});
