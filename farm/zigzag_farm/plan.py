@@ -163,11 +163,12 @@ def _tell_apart(a: _Image, b: _Image, option: str) -> str:
     return f"add {' or '.join(missing)} to {option}"
 
 
-def _scene_frames(info: SceneInfo, frames: list[int] | None) -> list[int | None]:
+def _scene_frames(info: SceneInfo, frames: list[int] | None):
+    """The frames to render of a scene (a range, so that counting a long one costs nothing)."""
     if frames is not None:
-        return list(frames)
+        return frames
     if info.animated and info.frame_range is not None:
-        return list(range(info.frame_range[0], info.frame_range[1] + 1))
+        return range(info.frame_range[0], info.frame_range[1] + 1)
     return [None]
 
 
@@ -184,14 +185,8 @@ def _scene_cameras(info: SceneInfo, camera: str) -> list[int]:
 def _check_job_count(scenes: list[SceneInfo], frames, camera: str, regions: int) -> None:
     total = 0
     for info in scenes:
-        if frames is not None:
-            n_frames = len(frames)
-        elif info.animated and info.frame_range is not None:
-            n_frames = info.frame_range[1] - info.frame_range[0] + 1
-        else:
-            n_frames = 1
         n_cameras = info.cameras if camera == "all" else 1
-        total += n_frames * n_cameras * (regions + (regions > 1))  # + the merge
+        total += len(_scene_frames(info, frames)) * n_cameras * (regions + (regions > 1))  # + the merge
     if total > MAX_JOBS:
         raise ValueError(f"the batch would have {total} jobs, more than a batch may have "
                          f"({MAX_JOBS}): fewer frames, cameras or regions")

@@ -16,6 +16,8 @@ The result also says how the frame was made (`farm`: regions, job times, workers
 """
 from __future__ import annotations
 
+import operator
+
 SUMMED = {"pixels", "rays", "time_s", "bvh.build_s", "adaptive.zones_traced",
           "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s",
           "aov.primary_hit_rays", "aov.primary_hit_s"}
@@ -68,24 +70,22 @@ def _rule(path: str) -> str | None:
     return None
 
 
+def _fold(values: list, op):
+    acc = values[0]
+    for v in values[1:]:
+        acc = _combine(acc, v, op)
+    return acc
+
+
 def _merge_value(path: str, values: list, weights: list[float], differing: list[str]):
     rule = _rule(path)
     if rule == "sum":
-        acc = values[0]
-        for v in values[1:]:
-            acc = _combine(acc, v, lambda a, b: a + b)
-        return acc
+        return _fold(values, operator.add)
     if rule == "pixels":
         total = sum(weights) or 1.0
-        acc = _scale(values[0], weights[0] / total)
-        for v, w in zip(values[1:], weights[1:]):
-            acc = _combine(acc, _scale(v, w / total), lambda a, b: a + b)
-        return acc
+        return _fold([_scale(v, w / total) for v, w in zip(values, weights)], operator.add)
     if rule == "max":
-        acc = values[0]
-        for v in values[1:]:
-            acc = _combine(acc, v, max)
-        return acc
+        return _fold(values, max)
     if all(isinstance(v, dict) for v in values):
         return _merge_level(values, weights, path + ".", differing)
     if path not in RECOMPUTED and any(v != values[0] for v in values[1:]):
