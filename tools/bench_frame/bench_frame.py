@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Frame benchmark: 1 ray/px, adaptive and the 25-point lattice per scene, interleaved (every repetition runs every configuration once, so load
-drifts hit all of them alike), medians of --reps runs, through the real `zigzag render`
+drifts hit all of them alike; the order rotates by repetition), medians of --reps runs, through the real `zigzag render`
 path (times from its --stats JSON). The adaptive frame runs twice: as zigzag renders it
 (the map alongside level 1; frame = wall of both) and with --edges-serial (map, then
 render: the split). Prints the ratios of issue 11: the map's share of the serial adaptive
@@ -79,9 +79,12 @@ def main():
     runs = {(n, c): [] for n in names for c in CONFIGS}
     one_core = min(os.sched_getaffinity(0))
     with tempfile.TemporaryDirectory() as work:
+        configs = list(CONFIGS.items())
         for rep in range(a.reps):
             for scene, name in zip(scenes, names):
-                for config, options in CONFIGS.items():
+                # Each repetition starts at another configuration, so none always runs first
+                # (a cold cache) or right after the same neighbour.
+                for config, options in configs[rep % len(configs):] + configs[:rep % len(configs)]:
                     threads = 1 if config in ("adaptive_1t", "adaptive_1core") else a.threads
                     cpus = {one_core} if config == "adaptive_1core" else None
                     runs[(name, config)].append(render(zigzag, scene, a.size, threads, options, work, cpus))
@@ -103,7 +106,7 @@ def main():
     for n in names:
         adaptive, one = med(n, "adaptive", "frame"), med(n, "adaptive_1t", "frame")
         core = med(n, "adaptive_1core", "frame")
-        lattice = med(n, "lattice", "render")
+        lattice = med(n, "lattice", "frame")  # frame against frame: the same clock as the adaptive's
         share = statistics.median(r["map"] / (r["render"] + r["map"]) for r in runs[(n, "serial")])
         print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'serial', 'render'):.3f} | "
               f"{med(n, 'serial', 'map'):.3f} | {100 * share:.0f} % | {adaptive:.3f} | "

@@ -24,6 +24,7 @@ class Context:
     work: Path          # scratch: EXRs, stats, display PNGs of every point
     cache: Path         # references, kept across report runs
     ref_spp: int
+    binary: str = ""    # the zigzag binary's digest: a resumed row measured by another is dropped
 
 
 @dataclass
@@ -47,18 +48,21 @@ def load_reference(ctx: Context, scene: Path) -> Reference:
 
 
 def save_png(display01: np.ndarray, path: Path) -> None:
+    """The display image as an 8-bit PNG: for the crops and for looking at, not for the metrics."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(np.round(display01 * 255).astype(np.uint8)).save(path)
+    Image.fromarray(metrics.eight_bit(display01)).save(path)
 
 
 def stage_times(stats: dict) -> dict:
-    """Per-stage wall seconds from --stats; `image_s` = visibility map + render (what AA costs)."""
+    """Per-stage wall seconds from --stats. `image_s` is the frame's wall time (visibility map and
+    render, which overlap: zigzag makes the map on its own thread while level 1 traces, so their
+    sum would count the overlap twice); `edges_s` is the map's own wall time beside level 1."""
     t = stats.get("time_s", {})
     edges = t.get("edges", {}).get("total", 0.0) if isinstance(t.get("edges"), dict) else 0.0
     out = {"load_s": t.get("load", 0.0), "bvh_s": t.get("bvh", 0.0), "edges_s": edges,
            "render_s": t.get("render", 0.0), "write_s": t.get("write", 0.0),
            "total_s": t.get("total", 0.0)}
-    out["image_s"] = out["edges_s"] + out["render_s"]
+    out["image_s"] = t.get("frame", out["edges_s"] + out["render_s"])
     return out
 
 
@@ -87,10 +91,12 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference |
     row = base_row(scene.stem, setting, stats)
     row.update({k: median_of(timings, k) for k in timings[0]})
     row["maxrss_mb"] = max(t["maxrss_mb"] for t in timings)
-    row.update({"rmse": np.nan, "psnr": np.nan, "flip": np.nan})
+    row.update({"rmse": np.nan, "psnr": np.nan, "rmse_display": np.nan, "flip": np.nan,
+                "binary": ctx.binary, "ref_spp": ctx.ref_spp})
     if ref is not None:  # None: a timing-only run (--no-reference)
         err = metrics.rmse(linear, ref.linear)
-        row.update({"rmse": err, "psnr": metrics.psnr(err), "flip": metrics.mean_flip(disp, ref.display)})
+        row.update({"rmse": err, "psnr": metrics.psnr(err), "rmse_display": metrics.rmse(disp, ref.display),
+                    "flip": metrics.mean_flip(disp, ref.display)})
     return row
 
 
@@ -151,24 +157,7 @@ def measure_star(ctx: Context, setting: Setting, geo_ss: int) -> list[dict]:
                     "level2_fraction": run["level2_fraction"], "level3_fraction": run["level3_fraction"],
                     "geo_fraction": run.get("geo_pixels", 0) / ctx.size ** 2 if method == "adaptive" else "",
                     "rmse": run["rmse"], "psnr": metrics.psnr(run["rmse"]), "flip": np.nan,
-                    "pixels_off": run.get("pixels_off")})
+                    "rmse_display": np.nan, "pixels_off": run.get("pixels_off"),
+                    "binary": ctx.binary, "ref_spp": ctx.ref_spp})
         rows.append(row)
     return rows
-
-
-def add_display_rmse(rows: list[dict], work: Path) -> None:
-    """RMSE of the 8-bit display images (the space the sampler's eps lives in), from the saved PNGs.
-
-    Linear HDR RMSE is dominated by the few brightest pixels (lamps, highlights), so the
-    display-space RMSE is reported beside it."""
-    refs: dict[str, np.ndarray] = {}
-    for r in rows:
-        png = work / r["scene"] / f"{r['setting']}.png"
-        ref_png = work / r["scene"] / "reference.png"
-        if r["scene"] == "star" or not png.exists() or not ref_png.exists():
-            r.setdefault("rmse_display", np.nan)
-            continue
-        if r["scene"] not in refs:
-            refs[r["scene"]] = np.asarray(Image.open(ref_png).convert("RGB"), dtype=np.float64) / 255
-        test = np.asarray(Image.open(png).convert("RGB"), dtype=np.float64) / 255
-        r["rmse_display"] = metrics.rmse(test, refs[r["scene"]])

@@ -24,12 +24,19 @@ def srgb_encode(x: np.ndarray) -> np.ndarray:
 
 
 def display(linear: np.ndarray, exposure: float) -> np.ndarray:
-    """The renderer's tone map T(c) = sRGB(1 - exp(-exposure c)), quantised like its 8-bit PNG.
+    """The renderer's tone map T(c) = sRGB(1 - exp(-exposure c)), float in [0, 1], not rounded.
 
-    Returned as float in [0, 1] (what FLIP's LDR mode expects)."""
+    The errors are measured on these values (what FLIP's LDR mode expects, and the space the
+    sampler's eps lives in): rounding both images to 8 bits first adds quantisation noise
+    that, where the error is a fraction of a step, pulls every ratio towards 1."""
     c = np.nan_to_num(np.maximum(linear, 0.0), nan=0.0, posinf=1e30)
     t = srgb_encode(1.0 - np.exp(-exposure * c))
-    return np.round(np.clip(t, 0.0, 1.0) * 255.0) / 255.0
+    return np.clip(t, 0.0, 1.0)
+
+
+def eight_bit(display01: np.ndarray) -> np.ndarray:
+    """A display image as the renderer's PNG stores it."""
+    return np.round(display01 * 255.0).astype(np.uint8)
 
 
 def rmse(test: np.ndarray, ref: np.ndarray) -> float:

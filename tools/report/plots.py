@@ -8,8 +8,10 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-STAGES = [("load_s", "load"), ("bvh_s", "BVH"), ("edges_s", "visibility map"),
-          ("render_s", "render (trace+AA+filter)"), ("write_s", "write")]
+# Stacked, so they must not overlap: the frame holds the visibility map and the render, which
+# run side by side (the map is drawn over the frame's bar, not on top of it).
+STAGES = [("load_s", "load"), ("bvh_s", "BVH"), ("image_s", "frame (map + trace + AA + filter)"),
+          ("write_s", "write")]
 
 
 def finite(v) -> bool:
@@ -80,7 +82,7 @@ def scene_error_plot(rows: list[dict], scene: str, out: Path) -> Path:
     rows = [r for r in rows if r["scene"] == scene]
     timed = any(finite(r.get("image_s")) for r in rows)
     has_flip = any(finite(r.get("flip")) for r in rows)
-    xs = ([("image_s", "time: visibility map + render [s]")] if timed else []) + [("rays_per_px", "primary rays / pixel")]
+    xs = ([("image_s", "frame time: visibility map and render [s]")] if timed else []) + [("rays_per_px", "primary rays / pixel")]
     ys = [("rmse", "RMSE (linear HDR)")] + ([("flip", "mean FLIP (display)")] if has_flip else [])
     fig, axes = plt.subplots(len(ys), len(xs), figsize=(5.2 * len(xs), 3.8 * len(ys)), squeeze=False)
     for i, (yk, yl) in enumerate(ys):
@@ -103,15 +105,20 @@ def stage_bars(rows: list[dict], picks: dict[str, str], out: Path) -> Path:
     """Stacked wall seconds per stage for a few settings in every rendered scene."""
     scenes = list(dict.fromkeys(r["scene"] for r in rows if finite(r.get("total_s"))))
     fig, axes = plt.subplots(1, len(scenes), figsize=(2.6 * len(scenes) + 1, 4), squeeze=False, sharey=False)
-    colors = ["#bbbbbb", "#8c564b", "#ff7f0e", "#1f77b4", "#2ca02c"]
+    colors = ["#bbbbbb", "#8c564b", "#1f77b4", "#2ca02c"]
     for ax, scene in zip(axes[0], scenes):
         by_label = {r["setting"]: r for r in rows if r["scene"] == scene}
         names = [n for n in picks if picks[n] in by_label]
         bottom = [0.0] * len(names)
         for (key, label), color in zip(STAGES, colors):
             vals = [float(by_label[picks[n]].get(key) or 0.0) for n in names]
+            if key == "image_s":
+                frame_bottom = list(bottom)
             ax.bar(names, vals, bottom=bottom, color=color, label=label)
             bottom = [b + v for b, v in zip(bottom, vals)]
+        edges = [float(by_label[picks[n]].get("edges_s") or 0.0) for n in names]
+        ax.bar(names, edges, bottom=frame_bottom, width=0.3, color="#ff7f0e",
+               label="visibility map (its own thread, within the frame)")
         ax.set_title(scene)
         ax.tick_params(axis="x", rotation=60, labelsize=7)
         ax.set_ylabel("wall s (median)")
@@ -150,14 +157,14 @@ def tuner_pareto(csv_path: Path, out: Path) -> Path | None:
 
 
 def all_plots(rows: list[dict], out: Path, tuner_csv: Path, chosen: str) -> list[tuple[str, Path]]:
-    from settings import CLI_DEFAULT, LATTICE25
+    from settings import PAPER_POINT, LATTICE25
     import dataclasses
     figs = []
     for scene in dict.fromkeys(r["scene"] for r in rows):
         figs.append((f"error vs cost: {scene}", scene_error_plot(rows, scene, out)))
     picks = {"1 ray/px": "none", "uniform grid 25": "uniform-grid-25", "lattice 25": LATTICE25.label,
-             "adaptive (CLI default)": CLI_DEFAULT.label,
-             "adaptive edges off": dataclasses.replace(CLI_DEFAULT, edges="off").label}
+             "adaptive (the paper's eps 0.1)": PAPER_POINT.label,
+             "adaptive edges off": dataclasses.replace(PAPER_POINT, edges="off").label}
     if chosen not in picks.values():
         picks["adaptive (recommended)"] = chosen
     if any(finite(r.get("total_s")) for r in rows):

@@ -32,7 +32,6 @@ import zzrun  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 SCENES = ["room", "glass", "car", "lamp", "vase"]
-TARGET_SCENES = ["room", "car", "glass"]
 QUICK_SCENES = ["room", "glass"]
 
 
@@ -60,6 +59,8 @@ def parse_args(argv: list[str]) -> argparse.Namespace:
     a.size = a.size or (256 if a.quick else 1024)
     a.runs = a.runs or (1 if a.quick else 3)
     a.ref_spp = 0 if a.no_reference else a.ref_spp or (64 if a.quick else 256)
+    if a.no_reference and not a.out and not a.quick:
+        p.error("--no-reference needs --out: its report has no errors and would replace the committed reports/")
     a.out = a.out or (a.build / "report-quick" if a.quick else ROOT / "reports")
     return a
 
@@ -97,13 +98,22 @@ def snapshot(scene: Path, args) -> Path:
 
 
 class RowStore:
-    """Rows appended to a JSONL file as they are measured, so a long run can --resume."""
+    """Rows appended to a JSONL file as they are measured, so a long run can --resume.
 
-    def __init__(self, path: Path, resume: bool):
+    `measured_by` (binary digest, reference rays/px): a resumed row measured with another binary
+    or reference is dropped and measured again, so one report never mixes two renderers.
+    None keeps every row (--report-only rewrites the outputs of the run that measured them)."""
+
+    def __init__(self, path: Path, resume: bool, measured_by: tuple[str, int] | None = None):
         self.path = path
         self.rows = []
         if resume and path.exists():
-            self.rows = [json.loads(line) for line in path.read_text().splitlines() if line]
+            rows = [json.loads(line) for line in path.read_text().splitlines() if line]
+            self.rows = [r for r in rows if measured_by is None or (r.get("binary"), r.get("ref_spp")) == measured_by]
+            if len(self.rows) < len(rows):
+                log(f"--resume: {len(rows) - len(self.rows)} of {len(rows)} rows were measured with another "
+                    "zigzag binary or reference; measuring them again")
+                path.write_text("".join(json.dumps(r, default=float) + "\n" for r in self.rows))
         elif path.exists():
             path.unlink()
 
@@ -174,7 +184,7 @@ def environment(args, zigzag: Path) -> dict:
         except OSError:
             return "?"
     return {"date": f"{datetime.datetime.now():%Y-%m-%d %H:%M}", "commit": git("rev-parse", "--short", "HEAD"),
-            "dirty": bool(git("status", "--porcelain", "--", "host", "shaders")),
+            "dirty": bool(git("status", "--porcelain", "--", "host", "shaders", "tools", "scenes")),
             "size": args.size, "runs": args.runs, "threads": args.threads, "ref_spp": args.ref_spp,
             "cores": os.cpu_count(), "loadavg": os.getloadavg(), "binary_digest": zzrun.file_digest([zigzag])[:12],
             "quick": args.quick, "argv": " ".join(sys.argv[1:])}
@@ -189,16 +199,17 @@ def main(argv: list[str]) -> int:
     work = args.build / ("report-work-quick" if args.quick else f"report-work-{args.size}")
     work.mkdir(parents=True, exist_ok=True)
     args.work = work
-    ctx = measure.Context(zigzag, args.assets, args.size, args.threads, args.runs, work,
-                          args.build / "report-cache", args.ref_spp)
     env = environment(args, zigzag)
+    ctx = measure.Context(zigzag, args.assets, args.size, args.threads, args.runs, work,
+                          args.build / "report-cache", args.ref_spp, env["binary_digest"])
     log(f"zigzag {zigzag} ({env['binary_digest']}), {args.size}^2, {args.runs} run(s), "
         f"{args.threads} threads, load {env['loadavg'][0]:.1f}")
     points = settings.uniform_settings(args.quick) + settings.adaptive_settings(args.quick)
     if args.only:
         points = [p for p in points if p.label in args.only]
     scenes, skipped = available_scenes(args)
-    store = RowStore(work / "rows.jsonl", args.resume or args.report_only)
+    store = RowStore(work / "rows.jsonl", args.resume or args.report_only,
+                     None if args.report_only else (env["binary_digest"], args.ref_spp))
     if args.report_only:
         keys = {s.stem: zzrun.reference_key(zigzag, s, args.assets, args.size, args.ref_spp) for s in scenes}
         refs = {n: json.loads(p.read_text()) for n, k in keys.items()
@@ -216,9 +227,8 @@ def main(argv: list[str]) -> int:
     elif not args.report_only:
         run_file.write_text(json.dumps(env))
     rows = store.rows
-    measure.add_display_rmse(rows, work)
     write_csv(rows, args.out / "accuracy_vs_time.csv")
-    choice = markdown.choose_defaults(rows, TARGET_SCENES)
+    choice = markdown.choose_defaults(rows, markdown.TARGET_SCENES)
     figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
     figures += crops.all_crops(rows, work, args.out, choice)
     extra = [r for f in args.table2_extra for r in csv.DictReader(open(f))]

@@ -122,12 +122,12 @@ class Setting:
 
 # The paper's operating point (eps 0.1, its tables): the baseline of the variations and of the
 # star. The CLI's defaults are picked from the whole grid by markdown.choose_defaults.
-CLI_DEFAULT = Setting("adaptive", eps=0.1, edges="vulkan", filter="box", tables="paper",
+PAPER_POINT = Setting("adaptive", eps=0.1, edges="vulkan", filter="box", tables="paper",
                       geo="paper")
 
 LATTICE25 = Setting("uniform", spp=25, pattern="lattice")
 
-# The base of the signature ablation: the CLI's adaptive defaults without signatures.
+# The base of the signature ablation: eps 0.05, tuned tables, every zone for flagged pixels, no signatures.
 SIGNATURE_BASE = Setting("adaptive", eps=0.05, edges="vulkan", filter="box", tables="tuned", geo="all")
 SIGNATURE_PARTS = ["object", "lights", "secondary"]
 
@@ -206,14 +206,14 @@ def variations(base: Setting) -> list[Setting]:
 def adaptive_settings(quick: bool) -> list[Setting]:
     if quick:
         sweep = [0.05, 0.1, 0.2]
-        points = [dataclasses.replace(CLI_DEFAULT, eps=e) for e in sweep]
-        return _unique(points + [dataclasses.replace(CLI_DEFAULT, edges="off")] + signature_settings(True)
+        points = [dataclasses.replace(PAPER_POINT, eps=e) for e in sweep]
+        return _unique(points + [dataclasses.replace(PAPER_POINT, edges="off")] + signature_settings(True)
                        + beyond_settings(True))
     sweep = [0.02, 0.05, 0.1, 0.2]
-    points = [dataclasses.replace(CLI_DEFAULT, eps=e, tables=t)
+    points = [dataclasses.replace(PAPER_POINT, eps=e, tables=t)
               for t in ("paper", "tuned") for e in sweep]
     for eps in (0.05, 0.1):
-        points += variations(dataclasses.replace(CLI_DEFAULT, eps=eps))
+        points += variations(dataclasses.replace(PAPER_POINT, eps=eps))
     return _unique(points + signature_settings(False) + beyond_settings(False))
 
 
@@ -221,12 +221,12 @@ def star_settings(quick: bool) -> list[Setting]:
     """The star is two-tone: every eps below 1 flags the same pixels, so no eps sweep there.
     Mitchell is left out: the exact-coverage reference is a box integral."""
     if quick:
-        return [CLI_DEFAULT]
+        return [PAPER_POINT]
     r = dataclasses.replace
-    return ([CLI_DEFAULT] + [v for v in variations(CLI_DEFAULT) if v.filter == "box"]
-            + [r(CLI_DEFAULT, orient="on"), r(CLI_DEFAULT, tables="tuned"), r(CLI_DEFAULT, tables="tuned", orient="on"),
-               r(CLI_DEFAULT, tables="tuned", orient="on", zones="on"),
-               r(CLI_DEFAULT, tables="tuned", edges="off", split="on")])
+    return ([PAPER_POINT] + [v for v in variations(PAPER_POINT) if v.filter == "box"]
+            + [r(PAPER_POINT, orient="on"), r(PAPER_POINT, tables="tuned"), r(PAPER_POINT, tables="tuned", orient="on"),
+               r(PAPER_POINT, tables="tuned", orient="on", zones="on"),
+               r(PAPER_POINT, tables="tuned", edges="off", split="on")])
 
 
 def _unique(points: list[Setting]) -> list[Setting]:
