@@ -22,18 +22,38 @@ size_t find_camera(const Scene& scene, const std::string& spec) {
   throw Error("no camera named '" + spec + "' (cameras: " + names + ")");
 }
 
-FrameSize frame_size(const Scene& scene, const Camera& camera, int width, int height) {
-  if (width <= 0 && scene.width_given) width = scene.default_width;
-  if (height <= 0 && scene.height_given) height = scene.default_height;
-  const float aspect = camera.aspect;
-  const bool known = std::isfinite(aspect) && aspect > 0.0f;
-  auto side = [](double v) { return int(std::clamp(std::lround(v), 1L, long(kMaxImageSide))); };
+namespace {
+
+int clamped_side(double v) { return int(std::clamp(std::lround(v), 1L, long(kMaxImageSide))); }
+
+// The frame the scene itself asks for: the rig's sides, a side it does not set from the
+// camera's aspect, 512 on the longer side.
+FrameSize natural_frame_size(const Scene& scene, float aspect, bool known) {
+  const int width = scene.width_given ? scene.default_width : 0;
+  const int height = scene.height_given ? scene.default_height : 0;
   if (width > 0 && height > 0) return {width, height};
-  if (width > 0) return {width, known ? side(width / aspect) : scene.default_height};
-  if (height > 0) return {known ? side(height * aspect) : scene.default_width, height};
+  if (width > 0) return {width, known ? clamped_side(width / aspect) : scene.default_height};
+  if (height > 0) return {known ? clamped_side(height * aspect) : scene.default_width, height};
   if (!known) return {scene.default_width, scene.default_height};
   const int longer = std::max(scene.default_width, scene.default_height);
-  return aspect >= 1.0f ? FrameSize{longer, side(longer / aspect)} : FrameSize{side(longer * aspect), longer};
+  return aspect >= 1.0f ? FrameSize{longer, clamped_side(longer / aspect)} : FrameSize{clamped_side(longer * aspect), longer};
+}
+
+}  // namespace
+
+FrameSize frame_size(const Scene& scene, const Camera& camera, int width, int height) {
+  if (width > 0 && height > 0) return {width, height};
+  const float aspect = camera.aspect;
+  const bool known = std::isfinite(aspect) && aspect > 0.0f;
+  const FrameSize natural = natural_frame_size(scene, aspect, known);
+  if (width <= 0 && height <= 0) return natural;
+  // One side given: the other keeps the natural frame's shape (`--width 96` on a 1024² rig
+  // is a 96² preview, not a 96 x 1024 strip), exactly the camera's where the rig does not
+  // fix both sides.
+  const double shape = known && !(scene.width_given && scene.height_given) ? double(aspect)
+                                                                           : double(natural.width) / natural.height;
+  if (width > 0) return {width, clamped_side(width / shape)};
+  return {clamped_side(height * shape), height};
 }
 
 }  // namespace zz

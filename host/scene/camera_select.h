@@ -17,10 +17,10 @@ struct FrameSize {
   int height = 0;
 };
 
-// The image size for `camera`. A side given on the command line (> 0) or by the rig wins,
-// in that order; a missing side follows the camera's aspect ratio (width / height) when the
-// camera has one, else the scene default (512). With neither side given the longer side is
-// the scene's default size.
+// The image size for `camera`. Without sides from the command line (> 0): the rig's, a side
+// it does not set following the camera's aspect ratio (width / height), 512 on the longer
+// side. Both sides given: those. One side given: the other keeps that natural frame's
+// aspect (the camera's, unless the rig sets both sides).
 FrameSize frame_size(const Scene& scene, const Camera& camera, int width = 0, int height = 0);
 
 }  // namespace zz

@@ -3,6 +3,8 @@
 #include <cmath>
 
 #include "scene/camera.h"
+#include "scene/camera_select.h"
+#include "scene/scene.h"
 
 namespace zz {
 namespace {
@@ -67,6 +69,43 @@ TEST(CameraRays, PixelStepsAreSquare) {
   CameraRays rays(tilted(), 800, 200);
   EXPECT_NEAR(glm::length(rays.du), glm::length(rays.dv), 1e-7f);
   EXPECT_NEAR(glm::length(rays.dv), 2.0f * std::tan(0.45f) / 200.0f, 1e-7f);
+}
+
+// The frame size rule (camera_select.h): the rig's sides, the camera's aspect for a side
+// it leaves out, 512 on the longer side; one side from the command line keeps that shape.
+TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {
+  Scene rig;  // a rig that sets both sides, 1024 x 1024
+  rig.default_width = rig.default_height = 1024;
+  rig.width_given = rig.height_given = true;
+  Camera square = tilted();
+  EXPECT_EQ(frame_size(rig, square).width, 1024);
+  EXPECT_EQ(frame_size(rig, square, 96).height, 96);  // a preview, not a 96 x 1024 strip
+  EXPECT_EQ(frame_size(rig, square, 0, 50).width, 50);
+  EXPECT_EQ(frame_size(rig, square, 96, 40).height, 40);  // both given: those
+  rig.default_height = 512;  // a 2:1 rig frame: its shape wins over the camera's aspect
+  square.aspect = 1.0f;
+  EXPECT_EQ(frame_size(rig, square, 300).height, 150);
+
+  Scene gltf;  // no rig sides: 512 default
+  Camera automatic = tilted();  // aspect unknown (0): the default 512 x 512 frame's shape
+  EXPECT_EQ(frame_size(gltf, automatic, 64).height, 64);
+  EXPECT_EQ(frame_size(gltf, automatic, 0, 64).width, 64);
+  Camera wide = tilted();
+  wide.aspect = 1.5f;
+  EXPECT_EQ(frame_size(gltf, wide).width, 512);
+  EXPECT_EQ(frame_size(gltf, wide).height, 341);
+  EXPECT_EQ(frame_size(gltf, wide, 300).height, 200);  // exactly the camera's, not 512 / 341's
+  EXPECT_EQ(frame_size(gltf, wide, 0, 100).width, 150);
+
+  Scene one_side;  // the rig sets the width; the height follows the camera
+  one_side.default_width = 800;
+  one_side.width_given = true;
+  Camera two = tilted();
+  two.aspect = 2.0f;
+  EXPECT_EQ(frame_size(one_side, two).height, 400);
+  EXPECT_EQ(frame_size(one_side, two, 0, 100).width, 200);
+  EXPECT_EQ(frame_size(one_side, two, 16384).height, 8192);
+  EXPECT_EQ(frame_size(one_side, two, 0, 16384).width, 16384);  // clamped to the largest side
 }
 
 }  // namespace
