@@ -101,13 +101,15 @@ void add_analytic_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("analytic", "Run the antialiasing on a built-in analytic image");
   std::string images;
   for (std::string_view n : analytic_image_names()) images += (images.empty() ? "" : "|") + std::string(n);
-  cmd->add_option("--image", args->image, images)->capture_default_str();
+  std::vector<std::string> image_names;
+  for (std::string_view n : analytic_image_names()) image_names.emplace_back(n);
+  cmd->add_option("--image", args->image, images)->capture_default_str()->check(CLI::IsMember(image_names));
   cmd->add_option("--size", args->size, "Frame size N (N x N pixels)")->capture_default_str()->check(CLI::Range(1, 8192));
   add_adaptive_options(cmd, args->adaptive);
   cmd->add_option("--geo-ss", args->geo_ss, "Geo map samples per pixel axis (0 = no geo map)")
       ->capture_default_str()
       ->check(CLI::Range(0, 16));
-  cmd->add_option("--threads", args->threads, "Worker threads (0 = all)")->capture_default_str();
+  cmd->add_option("--threads", args->threads, "Worker threads (0 = all)")->capture_default_str()->check(CLI::Range(0, 1024));
   cmd->add_option("--out", args->out, "Write the adaptive image (PNG)");
   cmd->add_option("--json", args->json, "Write the comparison as JSON");
   cmd->callback([args] { run(*args); });

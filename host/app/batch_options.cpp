@@ -110,12 +110,46 @@ void validate(const BatchOptions& o) {
       throw Error("--aov " + a.name + " without a file adds channels to the -o image, which must be an .exr (-o " +
                   o.output_pattern() + ")" +
                   (has_heatmap(a.aov) ? "; or give a file: --aov " + a.name + " FILE.png" : std::string()));
+    if (!a.layers() && has_heatmap(a.aov) && is_hdr_extension(a.file))
+      throw Error("--aov " + a.name + " " + a.file + ": the heatmap is a display image (8-bit colours), not "
+                  "radiance; write it as .png, or give --aov " + a.name + " without a file for the raw channel in "
+                  "an -o .exr");
     if (!a.layers() && !has_heatmap(a.aov))
       throw Error("--aov " + a.name + " " + a.file + ": " + a.name +
                   " has no image of its own; give it without a file to add its channels to an -o .exr (scene "
                   "files go before the options, or after --)");
   }
   check_distinct_outputs(output_patterns(o), known_jobs(o));
+}
+
+std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOptions& o) {
+  const RenderOptions& r = o.render;
+  const std::string mode = std::string("--aa ") + name_of(kAaModes, r.aa);
+  bool geo_aov = false;
+  for (const AovRequest& a : o.aovs) geo_aov |= a.aov == Aov::Geo;
+  const bool map_made = wants_visibility_map(r) || (geo_aov && r.edges == EdgeMode::Vulkan);
+  const std::string no_map = r.edges == EdgeMode::Off ? "--edges off" : mode + " (only adaptive or --aov geo make it)";
+  const struct {
+    std::vector<const char*> names;
+    bool applies;
+    std::string why;
+  } groups[] = {
+      {{"--eps", "--eps-specular", "--tables", "--geo-policy", "--filter", "--signature", "--highlights", "--textures",
+        "--footprint", "--curvature", "--hdr-zones", "--geo-orient", "--geo-zones", "--split-unflagged", "--fill-gaps"},
+       r.aa == AaMode::Adaptive,
+       "applies to --aa adaptive only, not " + mode},
+      {{"--spp", "--pattern"}, r.aa == AaMode::Uniform, "applies to --aa uniform only, not " + mode},
+      {{"--edge-ss", "--edge-angle", "--edge-depth", "--edge-material", "--edges-serial", "--vk-device", "--vk-validate"},
+       map_made,
+       "needs the visibility map, which is not made with " + no_map},
+  };
+  std::vector<std::string> warnings;
+  for (const auto& g : groups)
+    if (!g.applies)
+      for (const char* name : g.names)
+        if (const CLI::Option* opt = cmd.get_option_no_throw(name); opt && opt->count() > 0)
+          warnings.push_back(std::string(name) + " " + g.why + ": ignored");
+  return warnings;
 }
 
 void preflight_outputs(const BatchOptions& o) {

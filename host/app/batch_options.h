@@ -54,6 +54,11 @@ TileRect parse_region(const std::string& text);
 // names, placeholders, and that no two jobs write the same file. Throws zz::Error.
 void validate(const BatchOptions& o);
 
+// Options given on the command line that this batch's mode never reads (`--filter` with
+// --aa uniform, `--spp` with adaptive, `--edge-ss` without a visibility map), each with
+// the reason: warnings, so that a request that does nothing is not silent.
+std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOptions& o);
+
 // The jobs' keys as far as they are known before loading (see batch_options.cpp).
 std::vector<OutputKey> known_jobs(const BatchOptions& o);
 

@@ -73,9 +73,66 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
   return j.dump();
 }
 
+// The frame number {frame} names: the loaded frame, or for a --time the frame at that
+// time. A time between frames names none, so a pattern with {frame} is refused there:
+// rounding it would let two times overwrite one file.
+int output_frame(const BatchOptions& o, const Scene& scene) {
+  if (scene.frame >= 0) return scene.frame;
+  const double at = scene.time * scene.fps, nearest = std::round(at);
+  if (std::abs(at - nearest) <= 1e-6 * std::max(1.0, std::abs(at))) return int(nearest);
+  for (const OutputPattern& p : output_patterns(o))
+    if (p.pattern.find("{frame") != std::string::npos) {
+      char when[160];
+      std::snprintf(when, sizeof when, "--time %g is between frames (frame %.3f at %g fps)", scene.time, at, scene.fps);
+      throw UsageError(std::string(when) + ", so {frame} in " + p.option + " " + p.pattern +
+                       " names no frame: give --frame N, or an output name without {frame}");
+    }
+  return int(std::lround(at));
+}
+
+// Rendering past either end of an animation shows the end's pose: say so, as it is
+// usually a wrong --frame or --fps, not a wish.
+void warn_outside_animation(const Scene& scene, bool quiet) {
+  if (quiet || !scene.animated) return;
+  const bool outside_range = scene.frame >= 0 && (scene.frame < scene.first_frame || scene.frame > scene.last_frame);
+  if (outside_range)
+    std::fprintf(stderr, "zigzag: warning: frame %d is outside the scene's frames %d..%d\n", scene.frame,
+                 scene.first_frame, scene.last_frame);
+  // A frame range ends at the first frame at or after the last keyframe, so only a frame
+  // more than one frame past it is outside the animation.
+  const double end = double(scene.animation_end) * (1.0 + 1e-6) + 1e-6 + (scene.frame >= 0 ? 1.0 / scene.fps : 0.0);
+  if (!outside_range && scene.time > end)
+    std::fprintf(stderr, "zigzag: warning: %s %.4g s is past the animation's end (%.4g s): its last pose is held%s\n",
+                 scene.frame >= 0 ? ("frame " + std::to_string(scene.frame) + "'s time").c_str() : "--time", scene.time,
+                 double(scene.animation_end), scene.frame >= 0 ? " (check --fps)" : "");
+}
+
+std::string seconds_text(double s) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%g s", s);
+  return text;
+}
+
+// A batch's jobs (one per scene and camera) and those that failed; refused: the job's
+// options cannot work for its scene (UsageError), which a farm must not run again.
+struct JobTally {
+  int jobs = 0, failed = 0, refused = 0;
+
+  void fail(const std::string& where, const std::exception& e) {
+    std::fprintf(stderr, "zigzag: error: %s%s\n", where.c_str(), e.what());
+    ++failed;
+    refused += dynamic_cast<const UsageError*>(&e) != nullptr;
+  }
+};
+
+void render_camera(const BatchOptions& o, const Scene& scene, const std::string& scene_name, const Shader& shader,
+                   const BvhBuildStats& bvh_stats, VulkanContext* vulkan, VisibilityPass* visibility,
+                   int camera_index, bool first_camera, double load_s, double bvh_s);
+
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
+// A camera whose job fails is reported and the scene's other cameras still render.
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
-                const std::function<VulkanContext*()>& device) {
+                const std::function<VulkanContext*()>& device, JobTally& tally) {
   const LoadOptions load = load_options(o.render, o.quiet);
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
@@ -83,6 +140,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
   const std::vector<int> cameras = select_cameras(o, scene, scene_path);
+  warn_outside_animation(scene, o.quiet);
 
   t = std::chrono::steady_clock::now();
   BvhBuildStats bvh_stats;
@@ -94,149 +152,164 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
   if (vulkan) visibility = std::make_unique<VisibilityPass>(*vulkan, scene);
 
   for (int camera_index : cameras) {
-    const auto t_job = std::chrono::steady_clock::now();
-    RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
-    if (!o.region.empty()) settings.region = parse_region(o.region);
-    const TileRect region = render_region(settings);
-    const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +
-                                                     std::to_string(settings.height) + " frame"
-                                               : "a " + std::to_string(region.width()) + "x" +
-                                                     std::to_string(region.height()) + " region";
-    // The film's own memory (region-sized; display image, scratch), the visibility raster
-    // and readback (full-frame tiles, a full-size map) and the level-1 corner field on top
-    // of what the process holds now (libraries, Vulkan, scene, BVH).
-    uint64_t frame_need =
-        render_bytes(settings, region, scene) +
-        (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
-    // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
-    // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
-    size_t layer_count = 0;
-    for (Aov a : o.layer_aovs()) layer_count += aov_channel_names(a).size();
-    const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
-    const uint64_t layer_need = layer_count == 0 ? 0
-                                                 : region_pixels * (4 * layer_count + (o.wants_primary_hits() ? 28 : 0)) +
-                                                       uint64_t(64) * uint64_t(region.width()) * 4 * (3 + layer_count);
-    frame_need += layer_need;
-    check_memory(frame_need, what.c_str());
-    const uint64_t memory_estimate = resident_bytes() + frame_need;
-    const int frame = scene.frame >= 0 ? scene.frame : int(std::lround(scene.time * scene.fps));
-    const OutputKey key{scene_name, std::to_string(camera_index), frame};
-    const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
-
-    // The map's targets, flag buffer and pipeline are allocated (on lavapipe: and their
-    // pages touched) before the frame's clock starts: one-off work, like the upload.
-    if (visibility) visibility->prepare(settings.width, settings.height, make_visibility_settings(o.render));
-
-    // The map is made on its own thread while level 1 traces (render_frame awaits it
-    // before classifying); --edges-serial makes it first. The image is the same.
-    const auto t_frame = std::chrono::steady_clock::now();
-    GeoMap geo;
-    VisibilityTimings edge_times;
-    std::shared_future<GeoMap> pending;
-    const bool film_is_region = !o.region.empty();
-    if (visibility) {
-      auto make_map = [&, camera_index] {
-        // A region's sampler reads the map over the region grown by its filter margin.
-        std::optional<TileRect> map_region;
-        if (film_is_region) map_region = adaptive_region(region, settings.width, settings.height, o.render.adaptive.filter);
-        return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                               make_visibility_settings(o.render), &edge_times, map_region);
-      };
-      if (o.render.edges_serial) geo = make_map();
-      else pending = std::async(std::launch::async, make_map).share();
+    ++tally.jobs;
+    try {
+      render_camera(o, scene, scene_name, shader, bvh_stats, vulkan, visibility.get(), camera_index,
+                    camera_index == cameras.front(), load_s, bvh_s);
+    } catch (const std::exception& e) {
+      tally.fail(scene_path.string() + (cameras.size() > 1 ? ": camera " + std::to_string(camera_index) : "") + ": ", e);
     }
+  }
+}
 
-    Film film;
-    RenderStats stats;
-    // Steps: the level-1 blocks traced before the tiles, then the tiles.
-    Progress progress(int(corner_field_plan(settings).blocks + make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
-                      !o.quiet && isatty(STDERR_FILENO));
-    RenderCallbacks callbacks;
-    callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.step_done(rays.total()); };
-    callbacks.corners_done = [&](const RayCounters& rays) { progress.step_done(rays.total()); };
-    callbacks.cancel = &interrupt_flag();
-    {
-      CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written
-      if (pending.valid()) {
-        render_frame(shader, scene.cameras[size_t(camera_index)], pending, settings, film, stats, callbacks);
-        geo = pending.get();
-      } else {
-        render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
-      }
+void render_camera(const BatchOptions& o, const Scene& scene, const std::string& scene_name, const Shader& shader,
+                   const BvhBuildStats& bvh_stats, VulkanContext* vulkan, VisibilityPass* visibility,
+                   int camera_index, bool first_camera, double load_s, double bvh_s) {
+  auto t = std::chrono::steady_clock::now();
+  const auto t_job = t;
+  RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
+  if (!o.region.empty()) settings.region = parse_region(o.region);
+  const TileRect region = render_region(settings);
+  const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +
+                                                   std::to_string(settings.height) + " frame"
+                                             : "a " + std::to_string(region.width()) + "x" +
+                                                   std::to_string(region.height()) + " region";
+  // The film's own memory (region-sized; display image, scratch), the visibility raster
+  // and readback (full-frame tiles, a full-size map) and the level-1 corner field on top
+  // of what the process holds now (libraries, Vulkan, scene, BVH).
+  uint64_t frame_need =
+      render_bytes(settings, region, scene) +
+      (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+  // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
+  // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
+  size_t layer_count = 0;
+  for (Aov a : o.layer_aovs()) layer_count += aov_channel_names(a).size();
+  const uint64_t region_pixels = uint64_t(region.width()) * uint64_t(region.height());
+  const uint64_t layer_need = layer_count == 0 ? 0
+                                               : region_pixels * (4 * layer_count + (o.wants_primary_hits() ? 28 : 0)) +
+                                                     uint64_t(64) * uint64_t(region.width()) * 4 * (3 + layer_count);
+  frame_need += layer_need;
+  check_memory(frame_need, what.c_str());
+  const uint64_t memory_estimate = resident_bytes() + frame_need;
+  const int frame = output_frame(o, scene);
+  const OutputKey key{scene_name, std::to_string(camera_index), frame};
+  const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
+
+  // The map's targets, flag buffer and pipeline are allocated (on lavapipe: and their
+  // pages touched) before the frame's clock starts: one-off work, like the upload.
+  if (visibility) visibility->prepare(settings.width, settings.height, make_visibility_settings(o.render));
+
+  // The map is made on its own thread while level 1 traces (render_frame awaits it
+  // before classifying); --edges-serial makes it first. The image is the same.
+  const auto t_frame = std::chrono::steady_clock::now();
+  GeoMap geo;
+  VisibilityTimings edge_times;
+  std::shared_future<GeoMap> pending;
+  const bool film_is_region = !o.region.empty();
+  if (visibility) {
+    auto make_map = [&, camera_index] {
+      // A region's sampler reads the map over the region grown by its filter margin.
+      std::optional<TileRect> map_region;
+      if (film_is_region) map_region = adaptive_region(region, settings.width, settings.height, o.render.adaptive.filter);
+      return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                             make_visibility_settings(o.render), &edge_times, map_region);
+    };
+    if (o.render.edges_serial) geo = make_map();
+    else pending = std::async(std::launch::async, make_map).share();
+  }
+
+  Film film;
+  RenderStats stats;
+  // Steps: the level-1 blocks traced before the tiles, then the tiles.
+  Progress progress(int(corner_field_plan(settings).blocks + make_tiles(settings.width, settings.height, region, settings.tile_size).size()),
+                    !o.quiet && isatty(STDERR_FILENO));
+  RenderCallbacks callbacks;
+  callbacks.tile_done = [&](const TileRect&, const RayCounters& rays) { progress.step_done(rays.total()); };
+  callbacks.corners_done = [&](const RayCounters& rays) { progress.step_done(rays.total()); };
+  callbacks.cancel = &interrupt_flag();
+  {
+    CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written
+    if (pending.valid()) {
+      render_frame(shader, scene.cameras[size_t(camera_index)], pending, settings, film, stats, callbacks);
+      geo = pending.get();
+    } else {
+      render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
+    }
+  }
+  throw_if_interrupted();
+  const double frame_s = seconds_since(t_frame);
+
+  // The AOV layers of the -o EXR (render/aov_layers.h); the centre rays only when
+  // depth, normal or albedo is among them.
+  const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
+  const GeoMap& film_geo = film.is_region() ? region_geo : geo;
+  RayCounters aov_rays;
+  double aov_s = 0.0;
+  if (!o.layer_aovs().empty()) {
+    t = std::chrono::steady_clock::now();
+    PrimaryHits hits;
+    if (o.wants_primary_hits()) {
+      CancellableScope cancellable;
+      hits = trace_primary_hits(shader, scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                                region, settings.threads, &interrupt_flag(), &aov_rays);
     }
     throw_if_interrupted();
-    const double frame_s = seconds_since(t_frame);
+    film.channels = aov_channels(o.layer_aovs(), film, film_geo, hits);
+    aov_s = seconds_since(t);
+  }
 
-    // The AOV layers of the -o EXR (render/aov_layers.h); the centre rays only when
-    // depth, normal or albedo is among them.
-    const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
-    const GeoMap& film_geo = film.is_region() ? region_geo : geo;
-    RayCounters aov_rays;
-    double aov_s = 0.0;
-    if (!o.layer_aovs().empty()) {
-      t = std::chrono::steady_clock::now();
-      PrimaryHits hits;
-      if (o.wants_primary_hits()) {
-        CancellableScope cancellable;
-        hits = trace_primary_hits(shader, scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                                  region, settings.threads, &interrupt_flag(), &aov_rays);
-      }
-      throw_if_interrupted();
-      film.channels = aov_channels(o.layer_aovs(), film, film_geo, hits);
-      aov_s = seconds_since(t);
-    }
+  // The job's files are published together once all are written (core/atomic_file.h).
+  OutputSet outputs;
+  t = std::chrono::steady_clock::now();
+  write_film(output, film, settings.tonemap,
+             {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
+  const double write_s = seconds_since(t);
+  for (const AovRequest& a : o.aovs)
+    if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo, &outputs);
 
-    // The job's files are published together once all are written (core/atomic_file.h).
-    OutputSet outputs;
-    t = std::chrono::steady_clock::now();
-    write_film(output, film, settings.tonemap,
-               {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
-    const double write_s = seconds_since(t);
-    for (const AovRequest& a : o.aovs)
-      if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo, &outputs);
-
-    JobRecord record;
-    record.scene_name = scene_name;
-    record.camera = camera_index;
-    record.output = output.string();
-    record.options = &o.render;
-    record.settings = &settings;
-    record.stats = &stats;
-    record.scene = &scene;
-    record.shader = &shader;
-    record.bvh = &bvh_stats;
-    record.memory_estimate_bytes = memory_estimate;
-    record.region = region;
-    for (const FilmChannel& c : film.channels) record.aov_channels.push_back(c.name);
-    record.aov_rays = aov_rays;
-    record.aov_seconds = aov_s;
-    record.times = {load_s, bvh_s, write_s,
-                    seconds_since(t_job) + (camera_index == cameras.front() ? load_s + bvh_s : 0.0), frame_s};
-    if (visibility) {
-      record.visibility = visibility.get();
-      record.edge_times = &edge_times;
-      record.geo = &geo;
-      record.vulkan_device = vulkan->device_name();
-    }
-    const nlohmann::json j = render_stats_json(record);
-    if (!o.stats.empty())
-      write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
-    outputs.commit();
-    if (!o.quiet) {
-      std::string effects;
-      for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
-      const double pixels = double(region.width()) * region.height();
-      const std::string where = (film.is_region() ? " region " + o.region : std::string()) +
-                                (scene.animated ? " frame " + std::to_string(frame) : std::string());
-      std::fprintf(stderr,
-                   "%s cam %d: %dx%d%s aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
-                   "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
-                   scene_name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
-                   name_of(kAaModes, o.render.aa),
-                   j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
-                   stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
-                   load_s, bvh_s, output.string().c_str());
-    }
+  JobRecord record;
+  record.scene_name = scene_name;
+  record.camera = camera_index;
+  record.output = output.string();
+  record.options = &o.render;
+  record.settings = &settings;
+  record.stats = &stats;
+  record.scene = &scene;
+  record.shader = &shader;
+  record.bvh = &bvh_stats;
+  record.memory_estimate_bytes = memory_estimate;
+  record.region = region;
+  for (const FilmChannel& c : film.channels) record.aov_channels.push_back(c.name);
+  record.aov_rays = aov_rays;
+  record.aov_seconds = aov_s;
+  record.times = {load_s, bvh_s, write_s,
+                  seconds_since(t_job) + (first_camera ? load_s + bvh_s : 0.0), frame_s};
+  if (visibility) {
+    record.visibility = visibility;
+    record.edge_times = &edge_times;
+    record.geo = &geo;
+    record.vulkan_device = vulkan->device_name();
+  }
+  const nlohmann::json j = render_stats_json(record);
+  if (!o.stats.empty())
+    write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
+  outputs.commit();
+  if (!o.quiet) {
+    std::string effects;
+    for (const std::string& e : shader.effects().names()) effects += (effects.empty() ? "" : ",") + e;
+    const double pixels = double(region.width()) * region.height();
+    const std::string where = (film.is_region() ? " region " + o.region : std::string()) +
+                              (!scene.animated      ? std::string()
+                               : scene.frame >= 0   ? " frame " + std::to_string(frame)
+                                                    : " time " + seconds_text(scene.time));
+    std::fprintf(stderr,
+                 "%s cam %d: %dx%d%s aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
+                 "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
+                 scene_name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
+                 name_of(kAaModes, o.render.aa),
+                 j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
+                 stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
+                 load_s, bvh_s, output.string().c_str());
   }
 }
 
@@ -246,11 +319,13 @@ void add_render_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<BatchOptions>();
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   add_batch_options(cmd, *o);
-  cmd->callback([o, &exit_code] {
+  cmd->callback([o, &exit_code, cmd] {
     as_usage_checks([&] {  // before anything is loaded: a bad invocation costs no render
       validate(*o);
       preflight_outputs(*o);
     });
+    if (!o->quiet)
+      for (const std::string& w : inapplicable_options(*cmd, *o)) std::fprintf(stderr, "zigzag: warning: %s\n", w.c_str());
     // Instance and device creation overlap the first scene's load and BVH build; the
     // first job that needs the device waits for it. Creation errors (no device: the
     // install hint) end the whole batch as before, even after a job failed to load.
@@ -275,22 +350,22 @@ void add_render_command(CLI::App& app, int& exit_code) {
       }
       return vulkan.get();
     };
-    int failed = 0, refused = 0;  // refused: the job's options cannot work for its scene (UsageError)
+    JobTally tally;
     for (const std::string& scene : o->scenes) {
+      const int jobs_before = tally.jobs;
       try {
-        render_job(*o, scene, device);
-      } catch (const std::exception& e) {
+        render_job(*o, scene, device, tally);
+      } catch (const std::exception& e) {  // the scene failed before its cameras: one job
         if (device_error) std::rethrow_exception(device_error);
-        std::fprintf(stderr, "zigzag: error: %s\n", e.what());
-        ++failed;
-        refused += dynamic_cast<const UsageError*>(&e) != nullptr;
+        tally.jobs = jobs_before + 1;
+        tally.fail("", e);
       }
     }
     device();  // a batch whose jobs all failed before needing the device still reports it
-    if (failed > 0 && o->scenes.size() > 1)
-      std::fprintf(stderr, "zigzag: %d of %zu jobs failed\n", failed, o->scenes.size());
+    if (tally.failed > 0 && tally.jobs > 1)
+      std::fprintf(stderr, "zigzag: %d of %d jobs failed\n", tally.failed, tally.jobs);
     // Only refusals: the usage exit code, so a farm does not run the jobs again.
-    exit_code = failed == 0 ? 0 : refused == failed ? kUsageExit : 1;
+    exit_code = tally.failed == 0 ? 0 : tally.refused == tally.failed ? kUsageExit : 1;
     if (vulkan && vulkan->validation_enabled() && vulkan->validation_message_count() > 0) {
       std::fprintf(stderr, "zigzag: %d Vulkan validation message(s)\n", vulkan->validation_message_count());
       exit_code = 1;

@@ -125,7 +125,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   add_choice(cmd, "--edge-material", o.edge_material, kOnOff,
              "Visibility map: samples on different materials are an edge too (material boundaries on flat "
              "surfaces)");
-  cmd->add_option("--vk-device", o.vk_device, "Vulkan device index (default: first GPU, else lavapipe)");
+  cmd->add_option("--vk-device", o.vk_device, "Vulkan device index (default: first GPU, else lavapipe)")
+      ->check(CLI::Range(0, 1 << 16));
   cmd->add_flag("--vk-validate", o.vk_validate, "Vulkan validation layers; exit non-zero if they report anything");
   cmd->add_flag("--edges-serial", o.edges_serial,
                 "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");

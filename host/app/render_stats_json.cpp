@@ -6,7 +6,7 @@ namespace zz {
 
 nlohmann::json adaptive_settings_json(const AdaptiveOptions& a) {
   return {{"eps", a.eps},
-          {"eps_specular", a.eps_specular},
+          {"eps_specular", a.eps_specular >= 0.0f ? nlohmann::json(a.eps_specular) : nlohmann::json("off")},
           {"tables", a.tables->name},
           {"geo_policy", name_of(kGeoPolicies, a.geo_policy)},
           {"filter", name_of(kFilters, a.filter)},
@@ -37,7 +37,8 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["region"] = {region.x0, region.y0, region.x1, region.y1};
   j["pixels"] = int64_t(region.width()) * region.height();
   j["animated"] = r.scene->animated;
-  j["frame"] = r.scene->frame;  // -1 when rendered at a --time
+  // A --time names no frame: null (scene_time_s says when).
+  j["frame"] = r.scene->frame >= 0 ? nlohmann::json(r.scene->frame) : nlohmann::json(nullptr);
   j["scene_time_s"] = r.scene->time;
   j["fps"] = r.scene->fps;
   j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());

@@ -6,6 +6,8 @@
 
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "cli.h"
 #include "render/image_io.h"
@@ -54,6 +56,46 @@ TEST_F(AnimationRender, FrameAndTimeAreExclusive) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("excludes"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "x.png"));
+}
+
+// {frame} names a frame; a time between two frames has none, and rounding it would let two
+// times overwrite one file. A time on a frame names that frame.
+TEST_F(AnimationRender, TimeBetweenFramesNamesNoFrame) {
+  const std::string base = test::zigzag_binary() + " render " + test::source_path("scenes/animated.json") +
+                           " --width 16 --height 16 --edges off -q ";
+  const auto between = test::run_command(base + "--time 1.01 -o " + (dir / "t{frame}.png").string());
+  EXPECT_EQ(between.exit_code, 105) << between.output;
+  EXPECT_NE(between.output.find("between frames"), std::string::npos) << between.output;
+  EXPECT_FALSE(fs::exists(dir / "t24.png"));
+  const auto on_frame = test::run_command(base + "--time 1 -o " + (dir / "t{frame}.png").string());
+  EXPECT_EQ(on_frame.exit_code, 0) << on_frame.output;
+  EXPECT_TRUE(fs::exists(dir / "t24.png"));
+  // Without {frame} any time renders; its stats give the time, and no frame.
+  const auto named = test::run_command(base + "--time 1.01 -o " + (dir / "t.png").string() + " --stats " +
+                                       (dir / "t.json").string());
+  EXPECT_EQ(named.exit_code, 0) << named.output;
+  std::ifstream in(dir / "t.json");
+  const std::string stats((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(stats.find("\"frame\": null"), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"scene_time_s\": 1.01"), std::string::npos) << stats;
+}
+
+// Past either end of the animation the pose is held: rendered, with a warning, as it is
+// usually a wrong --frame or --fps.
+TEST_F(AnimationRender, OutsideTheAnimationWarns) {
+  auto warnings = [&](const std::string& options) {
+    const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/animated.json") +
+                                     " --width 16 --height 16 --edges off " + options + " -o " +
+                                     (dir / "w.png").string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return r.output.find("warning") == std::string::npos ? std::string() : r.output;
+  };
+  EXPECT_EQ(warnings("--frame 0"), "");
+  EXPECT_EQ(warnings("--frame 47"), "");  // the range's last frame (0..47)
+  EXPECT_EQ(warnings("--time 2"), "");    // the last keyframe
+  EXPECT_NE(warnings("--frame 100").find("outside the scene's frames 0..47"), std::string::npos);
+  EXPECT_NE(warnings("--frame 40 --fps 12").find("past the animation's end"), std::string::npos);
+  EXPECT_NE(warnings("--time 5").find("past the animation's end"), std::string::npos);
 }
 
 }  // namespace

@@ -142,7 +142,7 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
       {{a}, "missing"},
       {{a, b, b}, "overlap"},
       {{a, other}, "exposure"},
-      {{a, eps}, "zigzag:settings differs"},
+      {{a, eps}, "zigzag:settings differs: /adaptive/eps is 0.1"},  // names the setting
       {{a, (dir / "size.exr").string()}, "frame"},
       {{a, png}, "zigzag:exposure"},
       {{a, (dir / "nothing.exr").string()}, "nothing.exr"},
@@ -155,6 +155,27 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
   }
   const auto ok = merge({b, a}, "m.png");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
+}
+
+// A job is one camera of one scene: a region that does not fit one camera's frame fails
+// that job, named with its scene and camera, and the scene's other cameras still render.
+TEST_F(RegionTest, ARegionOutsideOneCamerasFrameFailsOnlyThatJob) {
+  const fs::path rig = dir / "three.json";
+  std::ofstream(rig) << R"({"model": ")" << test::source_path("scenes/default.gltf") << R"(",
+    "camera": {"name": "square", "eye": [0, 1.9, 4.2], "target": [0, 0.4, 0], "yfov_deg": 40, "aspect": 1},
+    "cameras": [{"name": "wide", "eye": [0, 1.9, 4.2], "target": [0, 0.4, 0], "yfov_deg": 40, "aspect": 2},
+                {"name": "tall", "eye": [0, 1.9, 4.2], "target": [0, 0.4, 0], "yfov_deg": 40, "aspect": 0.5}],
+    "lights": [{"type": "point", "position": [2.5, 4, 3], "intensity": 10}]})";
+  // Frames 40x40, 40x20 and 40x80: rows 0..30 miss only the wide camera's.
+  const auto r = test::run_command(test::zigzag_binary() + " render " + rig.string() +
+                                   " --camera all --width 40 --edges off --region 0,0,40,30 -o " +
+                                   (dir / "c{camera}.exr").string());
+  EXPECT_EQ(r.exit_code, kUsageExit) << r.output;  // its only failure is a refusal
+  EXPECT_NE(r.output.find("three.json: camera 1: region 0,0,40,30"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("1 of 3 jobs failed"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "c0.exr"));
+  EXPECT_FALSE(fs::exists(dir / "c1.exr"));
+  EXPECT_TRUE(fs::exists(dir / "c2.exr"));
 }
 
 }  // namespace

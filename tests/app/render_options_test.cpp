@@ -167,5 +167,50 @@ TEST(RenderOptions, CombinationsAreCheckedBeforeLoading) {
   EXPECT_NE(parse({"a.json", "--camera", "all", "-o", "{scene}.png"}, d).find("add {camera}"), std::string::npos);
 }
 
+// The options a batch's mode never reads, as given on the command line.
+std::vector<std::string> inapplicable(std::vector<std::string> args) {
+  BatchOptions o;
+  CLI::App app;
+  CLI::App* cmd = app.add_subcommand("render");
+  add_batch_options(cmd, o);
+  args.insert(args.begin(), "render");
+  std::reverse(args.begin(), args.end());
+  app.parse(args);
+  return inapplicable_options(*cmd, o);
+}
+
+TEST(RenderOptions, OptionsTheModeNeverReadsAreNamed) {
+  EXPECT_TRUE(inapplicable({"a.json"}).empty());
+  EXPECT_TRUE(inapplicable({"a.json", "--eps", "0.1", "--filter", "mitchell", "--edge-ss", "6"}).empty());
+  EXPECT_TRUE(inapplicable({"a.json", "--aa", "uniform", "--spp", "16", "--pattern", "grid"}).empty());
+  // Defaults are not "given": only what the command line says counts.
+  const auto uniform = inapplicable({"a.json", "--aa", "uniform", "--filter", "mitchell", "--edge-ss", "6"});
+  ASSERT_EQ(uniform.size(), 2u);
+  EXPECT_EQ(uniform[0], "--filter applies to --aa adaptive only, not --aa uniform: ignored");
+  EXPECT_NE(uniform[1].find("--edge-ss needs the visibility map"), std::string::npos) << uniform[1];
+  const auto adaptive = inapplicable({"a.json", "--spp", "16"});
+  ASSERT_EQ(adaptive.size(), 1u);
+  EXPECT_EQ(adaptive[0], "--spp applies to --aa uniform only, not --aa adaptive: ignored");
+  const auto none = inapplicable({"a.json", "--aa", "none", "--eps", "0.1", "--eps-specular", "off"});
+  EXPECT_EQ(none.size(), 2u);
+  const auto no_map = inapplicable({"a.json", "--edges", "off", "--edge-angle", "30", "--vk-validate"});
+  ASSERT_EQ(no_map.size(), 2u);
+  EXPECT_NE(no_map[0].find("not made with --edges off"), std::string::npos) << no_map[0];
+  // --aov geo makes the map in every mode, so its thresholds apply.
+  EXPECT_TRUE(inapplicable({"a.json", "--aa", "uniform", "--aov", "geo", "g.png", "--edge-ss", "6"}).empty());
+}
+
+TEST(RenderOptions, HeatmapsAreDisplayImagesNotRadiance) {
+  BatchOptions o;
+  EXPECT_NE(parse({"a.json", "--aov", "rays", "r.exr"}, o).find("display image"), std::string::npos);
+  BatchOptions p;
+  EXPECT_EQ(parse({"a.json", "--aov", "rays", "r.png"}, p), "");
+}
+
+TEST(RenderOptions, DeviceIndexIsNotNegative) {
+  BatchOptions o;
+  EXPECT_NE(parse({"a.json", "--vk-device", "-1"}, o).find("cli: "), std::string::npos);
+}
+
 }  // namespace
 }  // namespace zz
