@@ -71,7 +71,32 @@ TEST(ZoneTables, WorkedExampleThroughTheMaskCode) {
   const Level2 l2 = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Horizontal, corners,
                                  tm.apply4(corners), int4(0), tm, float4(0.1f));
   EXPECT_EQ(l2.b, 0b0101);
+  EXPECT_EQ(l2.c0, 0b0100);  // !d(A,E), !d(D,F), d(A,G), !d(D,H): A = 1, G = 0
   EXPECT_EQ(l2.c1, 0b0001);  // d(A,F), !d(B,H), !d(C,E), !d(D,G)
+
+  // The same pixel in the vertical orientation: canonical A, B, C, D are the physical BL,
+  // TL, BR, TR corners (lattice.h), so canonical A = 1, B = 0, C = 1, D = 0 is physical
+  // TL = 0, TR = 0, BL = 1, BR = 1. Same canonical colours, same masks.
+  const Rgb4 vcorners{float4(0, 0, 1, 1), float4(0, 0, 1, 1), float4(0, 0, 1, 1)};
+  const Level2 v = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Vertical, vcorners,
+                                tm.apply4(vcorners), int4(0), tm, float4(0.1f));
+  EXPECT_EQ(v.orientation, Orientation::Vertical);
+  alignas(16) float canon[4];
+  v.corners.r.store(canon);
+  EXPECT_EQ(canon[0], 1.0f);  // A
+  EXPECT_EQ(canon[1], 0.0f);  // B
+  EXPECT_EQ(canon[2], 1.0f);  // C
+  EXPECT_EQ(canon[3], 0.0f);  // D
+  EXPECT_EQ(v.b, 0b0101);
+  EXPECT_EQ(v.c0, 0b0100);
+  EXPECT_EQ(v.c1, 0b0001);
+  // And the physical corners of the horizontal example, read in the vertical frame, are a
+  // different pixel: canonical A = BL = 1, B = TL = 1, C = BR = 0, D = TR = 0.
+  const Level2 w = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Vertical, corners,
+                                tm.apply4(corners), int4(0), tm, float4(0.1f));
+  EXPECT_EQ(w.b, 0b0101);
+  EXPECT_EQ(w.c0, 0b0100);   // AE 0, DF 0, AG 1, DH 0
+  EXPECT_EQ(w.c1, 0b0111);   // AF 1, BH 1, CE 1, DG 0
 }
 
 TEST(ZoneTables, RegistryAndAllSet) {

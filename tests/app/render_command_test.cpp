@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -32,8 +33,10 @@ nlohmann::json read_json(const fs::path& p) {
 }
 
 struct ImageDiff {
-  double mean_abs = 0.0;  // in 8-bit display levels
-  double p999 = 0.0;      // 99.9th percentile of per-channel differences
+  double mean_abs = 0.0;        // in 8-bit display levels
+  double p999 = 0.0;            // 99.9th percentile of per-channel differences
+  double max_abs = 0.0;         // largest per-channel difference
+  double pixels_differ = 0.0;   // fraction of pixels with any channel differing
 };
 
 ImageDiff compare_png(const fs::path& a, const fs::path& b) {
@@ -41,12 +44,15 @@ ImageDiff compare_png(const fs::path& a, const fs::path& b) {
   const std::vector<float> x = read_rgb_float(a, wa, ha), y = read_rgb_float(b, wb, hb);
   EXPECT_EQ(wa, wb);
   EXPECT_EQ(ha, hb);
-  if (x.size() != y.size()) return {1e9, 1e9};
+  if (x.size() != y.size() || x.empty()) return {1e9, 1e9, 1e9, 1.0};
   std::vector<double> d(x.size());
   double sum = 0.0;
+  size_t differ = 0;
   for (size_t i = 0; i < x.size(); ++i) sum += d[i] = std::abs(double(x[i]) - double(y[i])) * 255.0;
+  for (size_t p = 0; p + 2 < d.size(); p += 3) differ += (d[p] > 0.5 || d[p + 1] > 0.5 || d[p + 2] > 0.5);
+  const double max_abs = *std::max_element(d.begin(), d.end());
   std::sort(d.begin(), d.end());
-  return {sum / double(d.size()), d[size_t(double(d.size() - 1) * 0.999)]};
+  return {sum / double(d.size()), d[size_t(double(d.size() - 1) * 0.999)], max_abs, double(differ) / double(d.size() / 3)};
 }
 
 class SceneReference : public ::testing::TestWithParam<const char*> {};
@@ -68,16 +74,36 @@ TEST_P(SceneReference, MatchesStoredImage) {
   }
   ASSERT_TRUE(fs::exists(reference)) << "no reference; run with ZZ_UPDATE_REFERENCES=1";
   const ImageDiff diff = compare_png(out, reference);
-  // Same code, same inputs: identical here. The slack absorbs a different lavapipe
-  // build flagging a few more or fewer edge pixels, never a shading change.
-  EXPECT_LT(diff.mean_abs, 0.5) << scene;
-  EXPECT_LT(diff.p999, 24.0) << scene;
+  std::printf("%s: mean %.4f p999 %.2f max %.2f levels, %.4f %% pixels differ\n", scene.c_str(), diff.mean_abs,
+              diff.p999, diff.max_abs, 100.0 * diff.pixels_differ);
+  // Measured against the stored references (llvmpipe LLVM 15, this build): default and
+  // glass identical; room 16 pixels (0.098 %) off by 1 level (mean 0.0005, p999 0, max 1:
+  // its reference predates a small change; rays/px 4.3596 vs 4.3606, zones_traced 9832 vs
+  // 9836). The slack absorbs a different lavapipe build flagging a few more or fewer edge
+  // pixels, never a shading change, which moves far more than 0.5 % of the pixels.
+  EXPECT_LT(diff.mean_abs, 0.05) << scene;
+  EXPECT_LE(diff.p999, 2.0) << scene;
+  EXPECT_LE(diff.pixels_differ, 0.005) << scene;
 
   const nlohmann::json got = read_json(stats), want = read_json(reference_stats);
-  EXPECT_NEAR(got["rays_per_pixel"].get<double>(), want["rays_per_pixel"].get<double>(),
-              0.03 * want["rays_per_pixel"].get<double>());
+  auto near = [&](const nlohmann::json& g, const nlohmann::json& w, const char* key, double rel) {
+    ASSERT_TRUE(g.contains(key) && w.contains(key)) << key;
+    const double a = g[key].get<double>(), b = w[key].get<double>();
+    std::printf("%s: %s %.6g (stored %.6g)\n", scene.c_str(), key, a, b);
+    EXPECT_NEAR(a, b, rel * std::abs(b)) << scene << " " << key;
+  };
+  near(got, want, "rays_per_pixel", 0.003);
+  near(got, want, "geo_fraction", 0.01);
+  ASSERT_TRUE(got.contains("adaptive") && want.contains("adaptive"));
+  for (const char* key : {"level2_fraction", "level3_fraction", "zones_traced", "zones_interpolated",
+                          "specular_fraction", "vertical_fraction"})
+    near(got["adaptive"], want["adaptive"], key, 0.01);
+  ASSERT_TRUE(got.contains("rays") && want.contains("rays"));
+  for (const char* key : {"primary", "reflection", "refraction", "shadow", "total"})
+    near(got["rays"], want["rays"], key, 0.01);
   EXPECT_EQ(got["effects"], want["effects"]);
   EXPECT_EQ(got["triangles"], want["triangles"]);
+  EXPECT_EQ(got["pixels"], want["pixels"]);
   EXPECT_EQ(got["rays"]["shadow"].get<uint64_t>() > 0, got["lights"].get<int>() > 0);
   fs::remove_all(dir);
 }

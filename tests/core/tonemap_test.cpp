@@ -53,6 +53,43 @@ TEST(ToneMap, KnownValue) {
   EXPECT_NEAR(tm.apply(std::log(2.0f)), 0.735357f, 3e-5f);
 }
 
+// T_e(c) = srgb(1 - exp(-e c)): the exposure scales the radiance, nothing else.
+TEST(ToneMap, ExposureScalesTheRadiance) {
+  for (float e : {0.25f, 0.5f, 2.0f, 3.0f, 8.0f}) {
+    const ToneMap scaled{e}, unit{1.0f};
+    for (float c : {1e-4f, 0.01f, 0.1f, 0.37f, 1.0f, 2.5f, 10.0f}) {
+      // Powers of two scale exactly in float; the others round e * c once, either way.
+      EXPECT_NEAR(scaled.apply(c), unit.apply(e * c), 1e-6f) << e << " " << c;
+    }
+  }
+  // Closed form at exposure 2, in double: c = ln(2) / 2 -> 1 - exp(-ln 2) = 0.5 ->
+  // sRGB(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.735357; c = 1 -> 1 - e^-2 = 0.864665.
+  auto srgb = [](double l) { return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1 / 2.4) - 0.055; };
+  const ToneMap two{2.0f};
+  EXPECT_NEAR(two.apply(float(std::log(2.0) / 2)), srgb(0.5), 3e-5);
+  EXPECT_NEAR(srgb(0.5), 0.735357, 1e-6);
+  EXPECT_NEAR(two.apply(1.0f), srgb(1.0 - std::exp(-2.0)), 3e-5);
+  EXPECT_NEAR(two.apply(0.001f), srgb(1.0 - std::exp(-0.002)), 3e-5);
+  // Exposure 2 is not exposure 1: a wrong (ignored) exposure shows.
+  EXPECT_GT(two.apply(1.0f) - ToneMap{1.0f}.apply(1.0f), 0.05f);
+}
+
+TEST(ToneMap, SlopeCarriesTheExposureOnce) {
+  // Chain rule: slope_e(c) = e * slope_1(e c). And against central differences of the float
+  // operator: the step moves u = 1 - exp(-e c) by 2e-3 (8 segments of the sRGB table, whose
+  // piecewise-linear slope is not the derivative's; truncation error then < 0.2 %).
+  for (float e : {0.5f, 2.0f, 4.0f}) {
+    const ToneMap tm{e}, unit{1.0f};
+    for (float c : {0.05f, 0.2f, 0.5f, 1.0f}) {
+      const float slope = tm.slope4(float4(c))[0];
+      EXPECT_NEAR(slope, e * unit.slope4(float4(e * c))[0], 1e-5f * slope) << e << " " << c;
+      const float h = float(2e-3 / (e * std::exp(-double(e) * c)));
+      const double fd = (double(tm.apply(c + h)) - double(tm.apply(c - h))) / (2.0 * double(h));
+      EXPECT_NEAR(slope, fd, 0.01 * fd) << e << " " << c;
+    }
+  }
+}
+
 TEST(ToneMap, SlopeIsTheDerivative) {
   // Against the derivative of the exact operator in double (finite differences of the float
   // operator drown in the rounding of 1 - exp near 0 and near 1).

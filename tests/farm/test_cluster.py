@@ -226,8 +226,9 @@ def test_a_bad_scene_is_reported_and_the_others_complete(renderer, workdir):
     assert "1 scene(s) failed to load" in p.stderr
 
 
-def test_an_existing_scheduler_on_loopback(workdir):
-    """--scheduler: a `dask scheduler` and a `dask worker` started as the README says."""
+def test_fake_an_existing_scheduler_on_loopback(workdir):
+    """--scheduler: a `dask scheduler` and a `dask worker` started as the README says (named
+    test_fake_...: the fake renderer, so ctest's `-k fake` selection runs it)."""
     dask = os.path.join(os.path.dirname(sys.executable), "dask")
     sched_file = os.path.join(workdir, "scheduler.json")
     loopback = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]

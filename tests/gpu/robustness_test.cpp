@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "core/error.h"
+#include "flag_reference.h"
+#include "gpu/geo_flags_cpu.h"
 #include "gpu/visibility.h"
 #include "gpu_fixture.h"
 #include "test_scenes.h"
@@ -97,9 +99,34 @@ TEST_F(RobustnessTest, DegenerateTrianglesAndTinyFrames) {
   Scene scene = b.done();
   Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
   VisibilityPass pass(context(), scene);
-  for (int size : {1, 2, 3, 5}) {
+  const std::vector<glm::vec4> normals = geometric_normals(scene);
+  // Degenerate triangles have a zero normal (geometric_normals), the real one does not.
+  EXPECT_EQ(glm::vec3(normals[0]), glm::vec3(0.0f));
+  EXPECT_EQ(glm::vec3(normals[1]), glm::vec3(0.0f));
+  EXPECT_NEAR(glm::length(glm::vec3(normals[2])), 1.0f, 1e-6f);
+  for (int size : {1, 2, 3, 5, 33}) {
     GeoMap map = pass.run(camera, size, size);
-    EXPECT_EQ(map.flags.size(), size_t(size * size));
+    EXPECT_EQ(map.width, size);
+    EXPECT_EQ(map.height, size);
+    ASSERT_EQ(map.flags.size(), size_t(size * size));
+    // A point and a line cover no sample: their ids (1, 2) never show; the real
+    // triangle (id 3) covers the frame's centre.
+    const std::vector<uint32_t> ids = pass.render_ids(camera, size, size);
+    const int sw = size * 4 + 2;
+    ASSERT_EQ(ids.size(), size_t(sw) * sw);
+    for (uint32_t id : ids) ASSERT_TRUE(id == 0u || id == 3u) << "id " << id << " at size " << size;
+    EXPECT_EQ(ids[size_t(sw / 2) * sw + sw / 2], 3u) << size;
+    // The GPU map is the rule's, bit for bit, at every size (scalar reference and SSE).
+    const gpu::FlagPush push = make_flag_push(camera, size, size, {});
+    EXPECT_EQ(map.flags, (FlagReference{ids, scene.positions, normals, push}.map().flags)) << size;
+    EXPECT_EQ(map.flags, geo_flags_cpu(ids, triangle_planes(scene.positions, normals, glm::vec3(push.origin)), push)
+                             .flags)
+        << size;
+    if (size == 33) {  // the triangle's outline (and only it) flags: a meaningful comparison
+      EXPECT_GT(count(map), 33u);
+      EXPECT_LT(count(map), size_t(33 * 33 / 3));
+      EXPECT_FALSE(map.at(16, 20)) << "inside the triangle";
+    }
   }
   VisibilitySettings bad;
   bad.supersample = 0;

@@ -60,6 +60,26 @@ TEST(AaFrame, EpsZeroAndHuge) {
   const Film coarse = robust::render(split_wall(0.0f, 1e6f), adaptive(40, 30, 1e30f), &st);
   EXPECT_EQ(st.aa.level2_pixels, 0u);
   EXPECT_EQ(robust::bad_values(coarse), 0u);
+  // Corners left of the split (corner columns 0..19) see 0, right of it (21..40) 1e6; the
+  // middle column 20 lies on the split and sees either. So pixels 0..18 are 0, 21..39 are
+  // 1e6, and pixels 19 and 20 share column 20: with k of its two corners seeing 1e6, pixel
+  // 19 is k/4 * 1e6 and pixel 20 (2 + k)/4 * 1e6 (exact in float: quarters of 1e6).
+  ASSERT_EQ(coarse.width, 40);
+  ASSERT_EQ(coarse.height, 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x) {
+      const glm::vec3 c = coarse.radiance[size_t(y) * 40 + x];
+      ASSERT_EQ(c.r, c.g) << x << "," << y;
+      ASSERT_EQ(c.r, c.b) << x << "," << y;
+      if (x <= 18) ASSERT_EQ(c.r, 0.0f) << x << "," << y;
+      if (x >= 21) ASSERT_EQ(c.r, 1e6f) << x << "," << y;
+    }
+  for (int y = 0; y < 30; ++y) {
+    const float left = coarse.radiance[size_t(y) * 40 + 19].r, right = coarse.radiance[size_t(y) * 40 + 20].r;
+    const float k = left / 2.5e5f;  // corners of column 20 (of this row's pixels) seeing 1e6
+    EXPECT_TRUE(k == 0.0f || k == 1.0f || k == 2.0f) << "row " << y << ": " << left;
+    EXPECT_EQ(right, (2.0f + k) * 2.5e5f) << "row " << y;
+  }
 }
 
 TEST(AaFrame, AllBackgroundAndAllIdenticalFrames) {

@@ -90,10 +90,24 @@ TEST_F(Progressive, DestroyingMidFrameCancelsAndJoins) {
   auto renderer = std::make_unique<ProgressiveRenderer>(*shader_, display);
   FrameRequest slow = request(1024, 768, AaMode::Uniform);
   slow.settings.uniform = {UniformPattern::Stratified, 256};
-  renderer->request(slow);
+  const uint64_t id = renderer->request(slow);
+  // Wait (up to 30 s on a loaded machine) until the render thread has taken the request.
+  for (int i = 0; i < 3000 && renderer->status().request != id; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // Mid-frame: 1024 x 768 x 256 samples take far longer than 200 ms.
+  const ProgressStatus before = renderer->status();
+  ASSERT_EQ(before.request, id);
+  EXPECT_EQ(before.frames_completed, 0);
+  EXPECT_NE(before.completed, id);
+  EXPECT_GT(before.tiles_total, 0);
+  EXPECT_LT(before.tiles_done, before.tiles_total);
+  const auto t0 = std::chrono::steady_clock::now();
   renderer.reset();  // must return (cancel at the next tile), not finish the frame
-  SUCCEED();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // A tile of this frame takes well under a second; finishing the frame would take
+  // minutes. The bound is loose for a noisy 2-core machine.
+  EXPECT_LT(seconds, 10.0);
 }
 
 TEST_F(Progressive, PreviewIsFullyReplacedByTheFullFrame) {
