@@ -43,7 +43,7 @@ def render(zigzag, scene, size, threads, options, workdir, cpus=None):
     with open(stats) as f:
         j = json.load(f)
     edges = j["time_s"].get("edges", {}).get("total", 0.0)
-    return {"render": j["time_s"]["render"], "map": edges, "frame": j["time_s"].get("frame", 0.0), "rays": j["rays"]}
+    return {"render": j["time_s"]["render"], "map": edges, "frame": j["time_s"]["frame"], "rays": j["rays"]}
 
 
 def traversal_rates(bench, scenes, threads, workdir):
