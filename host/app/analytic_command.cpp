@@ -99,10 +99,12 @@ void run(const AnalyticArgs& a) {
 void add_analytic_command(CLI::App& app) {
   auto args = std::make_shared<AnalyticArgs>();
   CLI::App* cmd = app.add_subcommand("analytic", "Run the antialiasing on a built-in analytic image");
-  std::string images;
-  for (std::string_view n : analytic_image_names()) images += (images.empty() ? "" : "|") + std::string(n);
   std::vector<std::string> image_names;
-  for (std::string_view n : analytic_image_names()) image_names.emplace_back(n);
+  std::string images;  // the help: star|zoneplate|...
+  for (std::string_view n : analytic_image_names()) {
+    images += (images.empty() ? "" : "|") + std::string(n);
+    image_names.emplace_back(n);
+  }
   cmd->add_option("--image", args->image, images)->capture_default_str()->check(CLI::IsMember(image_names));
   cmd->add_option("--size", args->size, "Frame size N (N x N pixels)")->capture_default_str()->check(CLI::Range(1, 8192));
   add_adaptive_options(cmd, args->adaptive);

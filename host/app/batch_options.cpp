@@ -122,12 +122,17 @@ void validate(const BatchOptions& o) {
   check_distinct_outputs(output_patterns(o), known_jobs(o));
 }
 
+bool wants_geo_map(const BatchOptions& o) {
+  if (wants_visibility_map(o.render)) return true;
+  for (const AovRequest& aov : o.aovs)
+    if (aov.aov == Aov::Geo && o.render.edges == EdgeMode::Vulkan) return true;
+  return false;
+}
+
 std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOptions& o) {
   const RenderOptions& r = o.render;
   const std::string mode = std::string("--aa ") + name_of(kAaModes, r.aa);
-  bool geo_aov = false;
-  for (const AovRequest& a : o.aovs) geo_aov |= a.aov == Aov::Geo;
-  const bool map_made = wants_visibility_map(r) || (geo_aov && r.edges == EdgeMode::Vulkan);
+  const bool map_made = wants_geo_map(o);
   const std::string no_map = r.edges == EdgeMode::Off ? "--edges off" : mode + " (only adaptive or --aov geo make it)";
   const struct {
     std::vector<const char*> names;

@@ -54,6 +54,9 @@ TileRect parse_region(const std::string& text);
 // names, placeholders, and that no two jobs write the same file. Throws zz::Error.
 void validate(const BatchOptions& o);
 
+// Whether the batch makes the visibility map: adaptive with --edges vulkan, or an --aov geo.
+bool wants_geo_map(const BatchOptions& o);
+
 // Options given on the command line that this batch's mode never reads (`--filter` with
 // --aa uniform, `--spp` with adaptive, `--edge-ss` without a visibility map), each with
 // the reason: warnings, so that a request that does nothing is not silent.

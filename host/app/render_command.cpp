@@ -39,13 +39,6 @@ namespace zz {
 
 namespace {
 
-bool wants_geo_map(const BatchOptions& o) {
-  if (wants_visibility_map(o.render)) return true;
-  for (const AovRequest& aov : o.aovs)
-    if (aov.aov == Aov::Geo && o.render.edges == EdgeMode::Vulkan) return true;
-  return false;
-}
-
 std::vector<int> select_cameras(const BatchOptions& o, const Scene& scene, const std::filesystem::path& scene_path) {
   std::vector<int> cameras;
   if (o.all_cameras()) {
@@ -79,19 +72,21 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
 int output_frame(const BatchOptions& o, const Scene& scene) {
   if (scene.frame >= 0) return scene.frame;
   const double at = scene.time * scene.fps, nearest = std::round(at);
-  if (std::abs(at - nearest) <= 1e-6 * std::max(1.0, std::abs(at))) return int(nearest);
+  const bool on_a_frame = std::abs(at - nearest) <= 1e-6 && at <= kMaxFrame;  // absolute: frames stay 1 apart
+  if (on_a_frame) return int(nearest);
   for (const OutputPattern& p : output_patterns(o))
     if (p.pattern.find("{frame") != std::string::npos) {
       char when[160];
-      std::snprintf(when, sizeof when, "--time %g is between frames (frame %.3f at %g fps)", scene.time, at, scene.fps);
+      std::snprintf(when, sizeof when, "--time %g is %s (frame %.3f at %g fps)", scene.time,
+                    at > kMaxFrame ? "past the last frame number" : "between frames", at, scene.fps);
       throw UsageError(std::string(when) + ", so {frame} in " + p.option + " " + p.pattern +
                        " names no frame: give --frame N, or an output name without {frame}");
     }
-  return int(std::lround(at));
+  return 0;  // no name holds it
 }
 
-// Rendering past either end of an animation shows the end's pose: say so, as it is
-// usually a wrong --frame or --fps, not a wish.
+// A frame outside the scene's range, or a time past its animation, shows the pose at the
+// nearest end: say so, as it is usually a wrong --frame or --fps, not a wish.
 void warn_outside_animation(const Scene& scene, bool quiet) {
   if (quiet || !scene.animated) return;
   const bool outside_range = scene.frame >= 0 && (scene.frame < scene.first_frame || scene.frame > scene.last_frame);
@@ -118,16 +113,29 @@ std::string seconds_text(double s) {
 struct JobTally {
   int jobs = 0, failed = 0, refused = 0;
 
+  // `where` names the job ("scene.json: camera 1") unless the message starts with it.
   void fail(const std::string& where, const std::exception& e) {
-    std::fprintf(stderr, "zigzag: error: %s%s\n", where.c_str(), e.what());
+    const std::string what = e.what();
+    const bool named = where.empty() || what.rfind(where, 0) == 0;
+    std::fprintf(stderr, "zigzag: error: %s%s\n", named ? "" : (where + ": ").c_str(), what.c_str());
     ++failed;
     refused += dynamic_cast<const UsageError*>(&e) != nullptr;
   }
 };
 
-void render_camera(const BatchOptions& o, const Scene& scene, const std::string& scene_name, const Shader& shader,
-                   const BvhBuildStats& bvh_stats, VulkanContext* vulkan, VisibilityPass* visibility,
-                   int camera_index, bool first_camera, double load_s, double bvh_s);
+// What a scene's cameras share: loaded, posed, its BVH built and its map pass made once.
+struct SceneJob {
+  const Scene& scene;
+  std::string name;  // the file's stem, {scene}
+  int frame;         // {frame}
+  const Shader& shader;
+  const BvhBuildStats& bvh_stats;
+  VulkanContext* vulkan;         // null: no visibility map
+  VisibilityPass* visibility;
+  double load_s, bvh_s;          // counted in the first camera's total
+};
+
+void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera);
 
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 // A camera whose job fails is reported and the scene's other cameras still render.
@@ -140,6 +148,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
   const std::vector<int> cameras = select_cameras(o, scene, scene_path);
+  const int frame = output_frame(o, scene);
   warn_outside_animation(scene, o.quiet);
 
   t = std::chrono::steady_clock::now();
@@ -151,20 +160,21 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
   std::unique_ptr<VisibilityPass> visibility;
   if (vulkan) visibility = std::make_unique<VisibilityPass>(*vulkan, scene);
 
+  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, vulkan, visibility.get(), load_s, bvh_s};
   for (int camera_index : cameras) {
     ++tally.jobs;
     try {
-      render_camera(o, scene, scene_name, shader, bvh_stats, vulkan, visibility.get(), camera_index,
-                    camera_index == cameras.front(), load_s, bvh_s);
+      render_camera(o, job, camera_index, camera_index == cameras.front());
     } catch (const std::exception& e) {
-      tally.fail(scene_path.string() + (cameras.size() > 1 ? ": camera " + std::to_string(camera_index) : "") + ": ", e);
+      tally.fail(scene_path.string() + (cameras.size() > 1 ? ": camera " + std::to_string(camera_index) : ""), e);
     }
   }
 }
 
-void render_camera(const BatchOptions& o, const Scene& scene, const std::string& scene_name, const Shader& shader,
-                   const BvhBuildStats& bvh_stats, VulkanContext* vulkan, VisibilityPass* visibility,
-                   int camera_index, bool first_camera, double load_s, double bvh_s) {
+void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera) {
+  const Scene& scene = job.scene;
+  const Shader& shader = job.shader;
+  VisibilityPass* visibility = job.visibility;
   auto t = std::chrono::steady_clock::now();
   const auto t_job = t;
   RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
@@ -191,8 +201,7 @@ void render_camera(const BatchOptions& o, const Scene& scene, const std::string&
   frame_need += layer_need;
   check_memory(frame_need, what.c_str());
   const uint64_t memory_estimate = resident_bytes() + frame_need;
-  const int frame = output_frame(o, scene);
-  const OutputKey key{scene_name, std::to_string(camera_index), frame};
+  const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
   // The map's targets, flag buffer and pipeline are allocated (on lavapipe: and their
@@ -262,13 +271,13 @@ void render_camera(const BatchOptions& o, const Scene& scene, const std::string&
   OutputSet outputs;
   t = std::chrono::steady_clock::now();
   write_film(output, film, settings.tonemap,
-             {{"scene", scene_name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
+             {{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
   const double write_s = seconds_since(t);
   for (const AovRequest& a : o.aovs)
     if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo, &outputs);
 
   JobRecord record;
-  record.scene_name = scene_name;
+  record.scene_name = job.name;
   record.camera = camera_index;
   record.output = output.string();
   record.options = &o.render;
@@ -276,19 +285,19 @@ void render_camera(const BatchOptions& o, const Scene& scene, const std::string&
   record.stats = &stats;
   record.scene = &scene;
   record.shader = &shader;
-  record.bvh = &bvh_stats;
+  record.bvh = &job.bvh_stats;
   record.memory_estimate_bytes = memory_estimate;
   record.region = region;
   for (const FilmChannel& c : film.channels) record.aov_channels.push_back(c.name);
   record.aov_rays = aov_rays;
   record.aov_seconds = aov_s;
-  record.times = {load_s, bvh_s, write_s,
-                  seconds_since(t_job) + (first_camera ? load_s + bvh_s : 0.0), frame_s};
+  record.times = {job.load_s, job.bvh_s, write_s,
+                  seconds_since(t_job) + (first_camera ? job.load_s + job.bvh_s : 0.0), frame_s};
   if (visibility) {
     record.visibility = visibility;
     record.edge_times = &edge_times;
     record.geo = &geo;
-    record.vulkan_device = vulkan->device_name();
+    record.vulkan_device = job.vulkan->device_name();
   }
   const nlohmann::json j = render_stats_json(record);
   if (!o.stats.empty())
@@ -300,16 +309,16 @@ void render_camera(const BatchOptions& o, const Scene& scene, const std::string&
     const double pixels = double(region.width()) * region.height();
     const std::string where = (film.is_region() ? " region " + o.region : std::string()) +
                               (!scene.animated      ? std::string()
-                               : scene.frame >= 0   ? " frame " + std::to_string(frame)
+                               : scene.frame >= 0   ? " frame " + std::to_string(job.frame)
                                                     : " time " + seconds_text(scene.time));
     std::fprintf(stderr,
                  "%s cam %d: %dx%d%s aa=%s %.2f rays/px (%.2f total) effects=[%s] render %.2fs (%.1f Mrays/s) "
                  "edges %.2fs load %.2fs bvh %.2fs -> %s\n",
-                 scene_name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
+                 job.name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
                  name_of(kAaModes, o.render.aa),
                  j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
                  stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
-                 load_s, bvh_s, output.string().c_str());
+                 job.load_s, job.bvh_s, output.string().c_str());
   }
 }
 
@@ -358,7 +367,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
       } catch (const std::exception& e) {  // the scene failed before its cameras: one job
         if (device_error) std::rethrow_exception(device_error);
         tally.jobs = jobs_before + 1;
-        tally.fail("", e);
+        tally.fail(scene, e);
       }
     }
     device();  // a batch whose jobs all failed before needing the device still reports it

@@ -140,7 +140,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
       ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));
   CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
                                                            "first frame of the scene's range)")
-                           ->check(CLI::Range(0, 100000000));
+                           ->check(CLI::Range(0, kMaxFrame));
   CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
   frame->excludes(time);
   cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")

@@ -36,6 +36,9 @@ inline constexpr Choice<UniformPattern> kUniformPatterns[] = {
 inline constexpr Choice<EdgeMode> kEdgeModes[] = {{"vulkan", EdgeMode::Vulkan}, {"off", EdgeMode::Off}};
 inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 
+// The largest --frame: a frame number, not a typo's worth of seconds times fps.
+inline constexpr int kMaxFrame = 100000000;
+
 // The adaptive sampler's options, shared with `zigzag analytic`. Defaults chosen by the
 // accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): the lowest
 // worst-scene display error among settings within 1.75 rays/px.

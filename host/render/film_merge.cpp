@@ -1,6 +1,7 @@
 #include "render/film_merge.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
 
 #include <nlohmann/json.hpp>
@@ -34,15 +35,22 @@ std::string attribute(const FilmFile& f, const std::string& key) {
 }
 
 // Where two parts' "settings" (JSON, render_command.cpp image_settings) differ, e.g.
-// ": /time is 1.0417 here, 1 there"; empty when either is not JSON.
-std::string setting_difference(const std::string& here, const std::string& there) {
-  const nlohmann::json a = nlohmann::json::parse(here, nullptr, false), b = nlohmann::json::parse(there, nullptr, false);
-  if (a.is_discarded() || b.is_discarded() || a == b) return "";
-  const nlohmann::json patch = nlohmann::json::diff(b, a);
-  const std::string path = patch.front().value("path", "");
+// ": /time is 1.04167 in b.exr, 1 in a.exr"; empty when either is not JSON.
+std::string setting_difference(const FilmPart& a, const FilmPart& b, const std::string& key) {
+  const nlohmann::json x = nlohmann::json::parse(attribute(a.file, key), nullptr, false);
+  const nlohmann::json y = nlohmann::json::parse(attribute(b.file, key), nullptr, false);
+  if (x.is_discarded() || y.is_discarded() || x == y) return "";
+  const std::string path = nlohmann::json::diff(y, x).front().value("path", "");
   const nlohmann::json::json_pointer at(path);
-  auto text = [&](const nlohmann::json& j) { return j.contains(at) ? j.at(at).dump() : std::string("absent"); };
-  return ": " + path + " is " + text(a) + " here, " + text(b) + " there";
+  auto text = [&](const nlohmann::json& j) {
+    if (!j.contains(at)) return std::string("absent");
+    const nlohmann::json& v = j.at(at);
+    if (!v.is_number_float()) return v.dump();
+    char number[32];  // the settings' floats are float32: 0.1, not 0.10000000149011612
+    std::snprintf(number, sizeof number, "%g", v.get<double>());
+    return std::string(number);
+  };
+  return ": " + path + " is " + text(x) + " in " + a.name + ", " + text(y) + " in " + b.name;
 }
 
 }  // namespace
@@ -70,7 +78,7 @@ FilmFile merge_films(const std::vector<FilmPart>& parts) {
       for (const auto& [k, v] : first.attributes)
         if (!p.file.attributes.count(k)) key = k;
       throw Error("merge: " + p.name + " and " + parts.front().name + " come from different renders (zigzag:" + key +
-                  " differs" + setting_difference(attribute(p.file, key), attribute(first, key)) + ")");
+                  " differs" + setting_difference(p, parts.front(), key) + ")");
     }
   }
   // Overlaps: sort by top edge; only parts starting above another's bottom can overlap it.

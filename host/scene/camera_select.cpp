@@ -24,7 +24,8 @@ size_t find_camera(const Scene& scene, const std::string& spec) {
 
 namespace {
 
-int clamped_side(double v) { return int(std::clamp(std::lround(v), 1L, long(kMaxImageSide))); }
+// Clamped before rounding: a side from an aspect of 1e-30 must not overflow lround.
+int clamped_side(double v) { return int(std::lround(std::clamp(v, 1.0, double(kMaxImageSide)))); }
 
 // The frame the scene itself asks for: the rig's sides, a side it does not set from the
 // camera's aspect, 512 on the longer side.

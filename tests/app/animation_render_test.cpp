@@ -10,6 +10,7 @@
 #include <iterator>
 
 #include "cli.h"
+#include "core/error.h"
 #include "render/image_io.h"
 
 namespace zz {
@@ -64,7 +65,7 @@ TEST_F(AnimationRender, TimeBetweenFramesNamesNoFrame) {
   const std::string base = test::zigzag_binary() + " render " + test::source_path("scenes/animated.json") +
                            " --width 16 --height 16 --edges off -q ";
   const auto between = test::run_command(base + "--time 1.01 -o " + (dir / "t{frame}.png").string());
-  EXPECT_EQ(between.exit_code, 105) << between.output;
+  EXPECT_EQ(between.exit_code, kUsageExit) << between.output;
   EXPECT_NE(between.output.find("between frames"), std::string::npos) << between.output;
   EXPECT_FALSE(fs::exists(dir / "t24.png"));
   const auto on_frame = test::run_command(base + "--time 1 -o " + (dir / "t{frame}.png").string());
