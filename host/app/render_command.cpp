@@ -273,8 +273,13 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   write_film(output, film, settings.tonemap,
              {{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
   const double write_s = seconds_since(t);
+  std::string written = output.string();  // for the summary line: the image, then the AOV images
   for (const AovRequest& a : o.aovs)
-    if (!a.layers()) write_aov(a.aov, expand_output_pattern(a.file, key, "--aov"), film, film_geo, &outputs);
+    if (!a.layers()) {
+      const std::filesystem::path file = expand_output_pattern(a.file, key, "--aov");
+      write_aov(a.aov, file, film, film_geo, &outputs);
+      written += ", " + file.string();
+    }
 
   JobRecord record;
   record.scene_name = job.name;
@@ -318,7 +323,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  name_of(kAaModes, o.render.aa),
                  j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
                  stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
-                 job.load_s, job.bvh_s, output.string().c_str());
+                 job.load_s, job.bvh_s, written.c_str());
   }
 }
 
