@@ -551,6 +551,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     }
   }
 
+  int refracted_lanes = 0;  // lanes whose refraction ray took the path tree's refraction node
   // Mirror reflection and refraction, each as one secondary packet.
   if constexpr ((kEffects & (kReflection | kRefraction)) != 0) {
     if (depth < scene_.max_depth) {  // depth = bounces taken so far
@@ -641,6 +642,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
         if (refract_lanes.any()) {
           counters.refraction += uint64_t(count_lanes(refract_lanes));
+          refracted_lanes = refract_lanes.bits();
           // A refracted ray's first hit is mostly the far side of the same glass; what the
           // glass shows is the hit after that, so a camera packet's signature keeps both.
           const bool sign = signature && depth <= 1;
@@ -704,11 +706,28 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     }
     if (blend != 0) {
       counters.continuation += uint64_t(std::popcount(unsigned(blend)));
+      // What a camera packet sees through a BLEND surface takes the refraction's node of the
+      // path tree where the surface does not refract, as glass's image does: the highlight
+      // flag probes the highlights behind the pane and the footprint its textures, which
+      // the pane's own surface does not show (1024² vase FLIP 1.489 -> 1.473x the lattice's).
+      std::optional<PathSignature4> seen_behind;
+      const int behind_node = signature ? refracted_node(signature->node) : 0;
+      const bool free_node = (blend & refracted_lanes) == 0;
+      const bool probe_behind = free_node && signature && signature->probes && probed(behind_node);
+      const bool footprint_behind = free_node && signature && signature->footprint && footprinted(behind_node);
+      if (probe_behind || footprint_behind) {
+        seen_behind.emplace();
+        seen_behind->node = behind_node;
+        if (probe_behind) seen_behind->probes = signature->probes;
+        if (footprint_behind) seen_behind->footprint = signature->footprint;
+      }
       const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
-                                           blend_layers + 1, throughput, counters, nullptr);  // bounded by kMaxBlendLayers
+                                           blend_layers + 1, throughput, counters,
+                                           seen_behind ? &*seen_behind : nullptr);  // bounded by kMaxBlendLayers
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
         const float a = sp[i].alpha;
+        if (seen_behind) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
         out[0][i] = a * out[0][i] + (1.0f - a) * c.r[i];
         out[1][i] = a * out[1][i] + (1.0f - a) * c.g[i];
         out[2][i] = a * out[2][i] + (1.0f - a) * c.b[i];

@@ -433,7 +433,7 @@ TEST(SpecularPeak, ProbesSeeThroughGlass) {
   Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
   s.materials[0].roughness = 0.0f;
   s.materials.push_back(test::glass_material(1.5f));
-  test::add_quad(s, {-10, -10, 1}, {10, -10, 1}, {10, 10, 1}, {-10, 10, 1}, 1);  // a pane facing the camera
+  test::add_quad(s, {-10, -10, 3}, {10, -10, 3}, {10, 10, 3}, {-10, 10, 3}, 1);  // above the light  // a pane facing the camera
   s.finalize_materials();
   const SceneSource::Probe probe = centre_probe(s);  // straight down: normal incidence
   const float fresnel = 0.04f;  // ((1.5 - 1) / (1.5 + 1))^2
@@ -549,6 +549,35 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughThreePanes) {
   const glm::vec3 p = camera.origin - dir * (camera.origin.z / dir.z);
   const glm::vec3 back = camera.origin - p;
   s.lights[0].position = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;  // z = 2: between the panes
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
+  EXPECT_EQ(px.off_stats.aa.hidden_pixels, 0u);
+  EXPECT_GE(px.on_stats.aa.hidden_pixels, 1u);
+  EXPECT_LE(px.on_stats.aa.hidden_pixels, 4u);
+  EXPECT_GT(px.lattice, 2.0f * px.off);
+  EXPECT_NEAR(px.on, px.lattice, 0.05f * px.lattice);
+}
+
+// The same pinpoint highlight seen through a BLEND pane (alpha 0.3, as the vase's) between
+// the camera and the light: the pane's own surface has no highlight, so only a probe of
+// what lies behind it can see that one; the pane passes 70 % of it.
+TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughABlendPane) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
+  s.materials[0].roughness = 0.0f;
+  Material pane = test::diffuse_material(glm::vec3(0.5f));
+  pane.alpha_mode = AlphaMode::Blend;
+  pane.base_alpha = 0.3f;
+  pane.roughness = 1.0f;
+  s.materials.push_back(pane);
+  test::add_quad(s, {-10, -10, 3}, {10, -10, 3}, {10, 10, 3}, {-10, 10, 3}, 1);  // above the light
+  s.finalize_materials();
+  const int size = 40;
+  const CameraRays camera(s.cameras[0], size, size);
+  const glm::vec3 dir = camera.direction(20.5f, 20.5f);
+  const glm::vec3 p = camera.origin - dir * (camera.origin.z / dir.z);
+  const glm::vec3 back = camera.origin - p;
+  s.lights[0].position = p + glm::vec3(-back.x, -back.y, back.z) * 0.5f;  // z = 2: below the pane
   const Bvh bvh = Bvh::build(s.positions);
   const Shader shader(s, bvh);
   const PeakPixel px = render_peak_pixel(shader, s.cameras[0], size);
