@@ -99,6 +99,37 @@ TEST(ZoneTables, WorkedExampleThroughTheMaskCode) {
   EXPECT_EQ(w.c1, 0b0111);   // AF 1, BH 1, CE 1, DG 0
 }
 
+// Every lane of every level-2 mask on its own: one of the eight points A..H bright, the
+// rest dark, so exactly the pairs that hold it differ. A swap of two lanes (DF and DH,
+// say) moves a bit and fails here, where the worked example's zeros would not see it.
+TEST(ZoneTables, EachMaskLaneComparesItsOwnPair) {
+  enum { A, B, C, D, E, F, G, H };
+  const int b_pairs[4][2] = {{E, F}, {F, H}, {E, G}, {G, H}};   // ALGORITHM.md §5
+  const int c0_pairs[4][2] = {{A, E}, {D, F}, {A, G}, {D, H}};
+  const int c1_pairs[4][2] = {{A, F}, {B, H}, {C, E}, {D, G}};
+  for (int bright = A; bright <= H; ++bright) {
+    float v[8] = {};
+    v[bright] = 1.0f;
+    struct Src {
+      float4 level2;
+      Rgb4 sample4(float4, float4) { return {level2, level2, level2}; }
+    } src{float4(v[E], v[F], v[G], v[H])};
+    const float4 abcd(v[A], v[B], v[C], v[D]);
+    const Rgb4 corners{abcd, abcd, abcd};
+    ToneMap tm;
+    const Level2 l2 = trace_level2(src, float4(0.0f), float4(0.0f), Orientation::Horizontal, corners,
+                                   tm.apply4(corners), int4(0), tm, float4(0.1f));
+    auto expected = [&](const int (&pairs)[4][2]) {
+      int m = 0;
+      for (int k = 0; k < 4; ++k) m |= int(v[pairs[k][0]] != v[pairs[k][1]]) << k;
+      return m;
+    };
+    EXPECT_EQ(l2.b, expected(b_pairs)) << "bright point " << "ABCDEFGH"[bright];
+    EXPECT_EQ(l2.c0, expected(c0_pairs)) << "bright point " << "ABCDEFGH"[bright];
+    EXPECT_EQ(l2.c1, expected(c1_pairs)) << "bright point " << "ABCDEFGH"[bright];
+  }
+}
+
 TEST(ZoneTables, RegistryAndAllSet) {
   EXPECT_EQ(find_table_set("nope"), nullptr);
   const auto names = table_set_names();
