@@ -60,7 +60,7 @@ def config_summary(rows: list[dict], scenes: list[str]) -> list[dict]:
 
 
 RULE = ("if some settings keep the display RMSE within 1.1x the uniform 25 lattice's in every target scene "
-        "(room, car, glass), the one with the fewest mean primary rays/px; otherwise, among the settings that meet "
+        f"({', '.join(TARGET_SCENES)}), the one with the fewest mean primary rays/px; otherwise, among the settings that meet "
         "the rays target (mean <= 1.75 rays/px), the one with the lowest worst-scene display RMSE ratio; otherwise "
         "the lowest worst-scene display RMSE ratio (ties, as when a change leaves the worst scene as it was, go to "
         "the lower mean display RMSE ratio, then the lower mean FLIP ratio). Display RMSE, not linear: the linear RMSE "
@@ -346,19 +346,19 @@ def extra_table2(extra: list[dict], chosen: str) -> list[str]:
     lines = ["", "Timing-only runs at other frame sizes (no reference there, so no error columns):", "",
              "| scene | size | setting | rays/px (primary) | all rays/px | L2 / L3 share | time, s | lattice ÷ this time |",
              "|---|---|---|---:|---:|---:|---:|---:|"]
-    lat = {(r["scene"], r["width"]): float(r["image_s"]) for r in extra if r["setting"] == LATTICE25.label}
-    lat_rays = {(r["scene"], r["width"]): float(r["rays_per_px"]) for r in extra if r["setting"] == LATTICE25.label}
+    lat = {(r["scene"], r["width"]): r for r in extra if r["setting"] == LATTICE25.label}
     for r in extra:
         if r["mode"] != "adaptive":
             continue
         t = float(r["image_s"])
-        ratio = lat.get((r["scene"], r["width"]), math.nan) / t
+        ratio = float(lat[(r["scene"], r["width"])]["image_s"]) / t if (r["scene"], r["width"]) in lat else math.nan
         mark = " (recommended)" if r["setting"] == chosen else ""
         lines.append(f"| {r['scene']} | {r['width']}² | `{r['setting']}`{mark} | {float(r['rays_per_px']):.2f} | "
                      f"{float(r['all_rays_per_px']):.1f} | {float(r['level2_fraction']):.1%} / {float(r['level3_fraction']):.1%} | "
                      f"{t:.3f} | {fmt(ratio, '.1f')}× |")
-    for (scene, w), t in lat.items():
-        lines.append(f"| {scene} | {w}² | uniform 25 lattice | {lat_rays[(scene, w)]:.2f} | – | – | {t:.3f} | 1.0× |")
+    for (scene, w), L in lat.items():
+        lines.append(f"| {scene} | {w}² | uniform 25 lattice | {float(L['rays_per_px']):.2f} | – | – | "
+                     f"{float(L['image_s']):.3f} | 1.0× |")
     return lines
 
 
