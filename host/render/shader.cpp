@@ -519,6 +519,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
             t[0][i] = through[i].r, t[1][i] = through[i].g, t[2][i] = through[i].b;
             if (signature && lanes[i] && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
               signature->shadowed[i] |= light_bit;
+            if (signature && lanes[i] && !(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f))
+              signature->blocked[i] |= light_bit;
           }
           out_r = select(lanes, out_r + contribution.x * float4::load(t[0]), out_r);
           out_g = select(lanes, out_g + contribution.y * float4::load(t[1]), out_g);
@@ -532,7 +534,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (signature) {
             const int shadowed = (lanes & blocked).bits();
             for (int i = 0; i < 4; ++i)
-              if ((shadowed >> i) & 1) signature->shadowed[i] |= light_bit;
+              if ((shadowed >> i) & 1) signature->shadowed[i] |= light_bit, signature->blocked[i] |= light_bit;
           }
           const mask4 reached = andnot(blocked, lanes);
           out_r = select(reached, out_r + contribution.x, out_r);
@@ -737,7 +739,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
 
   if (signature && signature->probes)
     for (int i = 0; i < 4; ++i)
-      if (shaded[i]) signature->probes.at(signature->node, i).shadowed = signature->shadowed[i];
+      if (shaded[i]) signature->probes.at(signature->node, i).blocked = signature->blocked[i];
 
   Rgb4 result{float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
   // NaN (e.g. from a degenerate normal) never leaves the shader; +Inf is capped.

@@ -99,6 +99,7 @@ struct FootprintLanes {
 struct PathSignature4 {
   uint32_t object[4] = {};     // the primary hit
   uint32_t shadowed[4] = {};   // bit l % 32: light l's shadow ray was blocked or attenuated
+  uint32_t blocked[4] = {};    // bit l % 32: light l's shadow ray passed nothing
   // Where the caller wants it (a camera packet only): [l % kLightSlots][lane], the largest
   // unshadowed contribution (linear RGB, per channel) of the lights in that slot.
   glm::vec3 (*light_radiance)[4] = nullptr;

@@ -178,7 +178,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
   // The largest highlight any light can make here is its peak, amplitude x 1.
   const glm::vec3 largest_peak = most_specular * phong_normalisation(most_shiny);
   const float lobe_integral = kPi / (2.0f * shininess);  // of exp(-2 s |d|^2) over the plane
-  const uint32_t shadowed_everywhere = c[0].shadowed & c[1].shadowed & c[2].shadowed & c[3].shadowed;
+  const uint32_t blocked_everywhere = c[0].blocked & c[1].blocked & c[2].blocked & c[3].blocked;
 
   // The pixel's hit points lie within `extent` of corner 0's.
   float extent = 0.0f;
@@ -187,7 +187,7 @@ glm::vec3 hidden_highlight(const Scene& scene, const SurfaceProbe c[4], glm::vec
   float normal_error = -1.0f;  // < 0: not computed yet
   glm::vec3 hidden(0.0f);
   for (size_t l = 0; l < scene.lights.size(); ++l) {
-    if ((shadowed_everywhere >> (l % 32)) & 1u) continue;
+    if ((blocked_everywhere >> (l % 32)) & 1u) continue;
     // The light's largest incident factor in the pixel, before 4 corners' worth of work: its
     // intensity, over d^2 at the nearest point of the ball around corner 0 that holds the
     // pixel's hit points (a range window and a spot cone only lower it).

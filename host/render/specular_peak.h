@@ -49,7 +49,9 @@ struct SurfaceProbe {
   glm::vec3 view{0.0f};      // unit direction back to the camera
   glm::vec3 specular{0.0f};  // Phong highlight colour; 0 where there is no highlight (a miss)
   float shininess = 1.0f;    // Phong exponent
-  uint32_t shadowed = 0;     // bit l % 32: light l's shadow ray was blocked or attenuated
+  // Bit l % 32: light l's shadow ray passed nothing. A light dimmed by a pane or glass on
+  // its way still makes a highlight here, so it is not counted.
+  uint32_t blocked = 0;
   uint32_t material = ~0u;   // index of the material hit; ~0 on a miss
   glm::vec2 uv0{0.0f}, uv1{0.0f};  // texture coordinates (TEXCOORD_0, _1) of the hit
 };

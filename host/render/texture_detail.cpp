@@ -400,7 +400,7 @@ FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& c, cons
       k.to_light[l] = glm::vec3(0.0f);
       if (!light_towards(scene.lights[size_t(l)], c.position, k.to_light[l], tmax, scale)) continue;
       const float cos_s = glm::dot(c.normal, k.to_light[l]);
-      if (!(cos_s > 0.0f) || ((c.shadowed >> (l % 32)) & 1u)) continue;
+      if (!(cos_s > 0.0f) || ((c.blocked >> (l % 32)) & 1u)) continue;
       k.strength[l] = scale * 0.318309886f;  // 1 / pi, as the shader
       irradiance += k.strength[l] * cos_s;
     }

@@ -212,10 +212,10 @@ TEST(SpecularPeak, NothingHiddenAwayFromThePeakInShadowOrBelowVisibility) {
 
   f.corners(-0.02f, 0.025f, -0.03f, 0.02f, c);
   EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e6f)), glm::vec3(0.0f));  // nothing can show
-  for (SurfaceProbe& p : c) p.shadowed = 1u;  // light 0 blocked at every corner
+  for (SurfaceProbe& p : c) p.blocked = 1u;  // light 0 blocked at every corner
   EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-3f)), glm::vec3(0.0f));
   c[0].specular = glm::vec3(0.0f);  // a corner without a highlight (or a miss): no estimate
-  c[0].shadowed = c[1].shadowed = c[2].shadowed = c[3].shadowed = 0u;
+  c[0].blocked = c[1].blocked = c[2].blocked = c[3].blocked = 0u;
   EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-3f)), glm::vec3(0.0f));
 }
 
@@ -562,6 +562,22 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughABlendPane) {
   pane.roughness = 1.0f;
   s.materials.push_back(pane);
   test::add_quad(s, {-10, -10, 3}, {10, -10, 3}, {10, 10, 3}, {-10, 10, 3}, 1);  // above the light
+  s.finalize_materials();
+  expect_hidden_peak_found(s);
+}
+
+// The same pane below the light (z = 2): the floor is lit through it at every corner, 70 %
+// of the light, and seen through it. A light counted as shadowed wherever its shadow rays
+// were dimmed would not be examined, and the peak would go unseen.
+TEST(SpecularPeak, RendererRefinesAHighlightLitThroughABlendPane) {
+  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
+  s.materials[0].roughness = 0.0f;
+  Material pane = test::diffuse_material(glm::vec3(0.5f));
+  pane.alpha_mode = AlphaMode::Blend;
+  pane.base_alpha = 0.3f;
+  pane.roughness = 1.0f;
+  s.materials.push_back(pane);
+  test::add_quad(s, {-10, -10, 1.5f}, {10, -10, 1.5f}, {10, 10, 1.5f}, {-10, 10, 1.5f}, 1);
   s.finalize_materials();
   expect_hidden_peak_found(s);
 }
