@@ -8,7 +8,7 @@
 layout(local_size_x = ZZ_PLANE_GROUP) in;
 
 layout(push_constant) uniform Push { PlanePush p; };
-layout(std430, binding = ZZ_BIND_POSITIONS) readonly buffer Positions { vec4 positions[]; };
+layout(std430, binding = ZZ_BIND_FIRST_VERTICES) readonly buffer FirstVertices { vec4 first_vertices[]; };
 layout(std430, binding = ZZ_BIND_NORMALS) readonly buffer Normals { vec4 normals[]; };
 layout(std430, binding = ZZ_BIND_PLANES) writeonly buffer Planes { vec4 planes[]; };
 
@@ -19,9 +19,10 @@ precise float dot3(vec3 a, vec3 b) {
 }
 
 void main() {
-  uint t = gl_GlobalInvocationID.x;
-  if (t >= p.triangles.x) return;
+  // Dispatches hold at most maxComputeWorkGroupCount[0] groups: a large scene takes several.
+  uint t = uint(p.triangles.y) + gl_GlobalInvocationID.x;
+  if (t >= uint(p.triangles.x)) return;
   vec3 n = normals[t].xyz;
-  precise float h = dot3(n, positions[3u * t].xyz - p.origin.xyz);
+  precise float h = dot3(n, first_vertices[t].xyz - p.origin.xyz);
   planes[t] = vec4(n, h);
 }

@@ -33,7 +33,7 @@ using mat4 = glm::mat4;
 
 // One descriptor set for both compute passes.
 #define ZZ_BIND_IDS 0        // r32ui storage image: the id attachment
-#define ZZ_BIND_POSITIONS 1  // vec4 per vertex
+#define ZZ_BIND_FIRST_VERTICES 1  // vec4 per triangle: its first vertex
 #define ZZ_BIND_NORMALS 2    // vec4 per triangle: unit geometric normal, material tag (float) in w
 #define ZZ_BIND_PLANES 3     // vec4 per triangle per frame: normal, n.(v0 - origin)
 #define ZZ_BIND_FLAGS 4      // packed flag words
@@ -63,7 +63,7 @@ struct FlagPush {
 // Per-frame triangle planes (triangle_planes.comp).
 struct PlanePush {
   vec4 origin;      // camera position
-  ivec4 triangles;  // count, 0, 0, 0
+  ivec4 triangles;  // count, first triangle of this dispatch, 0, 0
 };
 
 #ifdef __cplusplus

@@ -78,6 +78,13 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
   std::vector<glm::vec4> positions(std::max<size_t>(3 * triangles_, 1), glm::vec4(0.0f));
   std::vector<glm::vec4> normals = geometric_normals(scene);
   normals.resize(std::max<size_t>(triangles_, 1), glm::vec4(0.0f));
+  // The compute passes bind one vec4 per triangle as a storage buffer each.
+  const VkDeviceSize range = context_.properties().limits.maxStorageBufferRange;
+  if (normals.size() * sizeof(glm::vec4) > range)
+    throw Error("visibility map: " + std::to_string(triangles_) + " triangles need storage buffers of " +
+                std::to_string(normals.size() * sizeof(glm::vec4) >> 20) + " MiB, the Vulkan device binds at most " +
+                std::to_string(range >> 20) + " MiB; render with --edges off");
+  std::vector<glm::vec4> first_vertices(normals.size(), glm::vec4(0.0f));
   if (triangles_ > 0) bounds_min_ = bounds_max_ = scene.positions[0];
   for (size_t t = 0; t < triangles_; ++t) {
     // A triangle the map does not see is drawn as a point, which covers no sample; its id
@@ -89,24 +96,35 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
       bounds_min_ = glm::min(bounds_min_, p);
       bounds_max_ = glm::max(bounds_max_, p);
     }
+    first_vertices[t] = positions[3 * t];
   }
   VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
   positions_ = create_buffer(context_, positions.size() * sizeof(glm::vec4),
-                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
-                                 VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                             0, local);
+                             VK_BUFFER_USAGE_VERTEX_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0, local);
+  first_vertices_ = create_buffer(context_, first_vertices.size() * sizeof(glm::vec4),
+                                  VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0, local);
   normals_ = create_buffer(context_, normals.size() * sizeof(glm::vec4),
                            VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT, 0, local);
   upload(context_, positions_, positions.data(), positions.size() * sizeof(glm::vec4));
+  upload(context_, first_vertices_, first_vertices.data(), first_vertices.size() * sizeof(glm::vec4));
   upload(context_, normals_, normals.data(), normals.size() * sizeof(glm::vec4));
   planes_ = create_buffer(context_, normals.size() * sizeof(glm::vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, 0, local);
-  create_pipelines();
+  try {
+    create_pipelines();
+  } catch (...) {
+    destroy_objects();  // the destructor does not run for a constructor that throws
+    throw;
+  }
   upload_s_ = seconds_since(t0);
 }
 
 VisibilityPass::~VisibilityPass() {
-  VkDevice d = context_.device();
   context_.wait_idle_noexcept();
+  destroy_objects();
+}
+
+void VisibilityPass::destroy_objects() noexcept {
+  VkDevice d = context_.device();
   if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
   if (descriptor_pool_) vkDestroyDescriptorPool(d, descriptor_pool_, nullptr);
   for (auto& [s, pipeline] : flag_pipelines_) vkDestroyPipeline(d, pipeline, nullptr);
@@ -153,15 +171,19 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   for (int y = 0; y < height; y += tile_h)
     for (int x = 0; x < width; x += tile_w)
       f.tiles.push_back({x, y, std::min(tile_w, width - x), std::min(tile_h, height - y)});
-  f.image_w = uint32_t(tile_w * f.s + 2);
+  f.image_w = target_width(tile_w, f.s);
   f.image_h = uint32_t(tile_h * f.s + 2);
   return f;
 }
 
 std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings) const {
   const int s = settings.supersample;
-  int max_dim = settings.max_tile_dim > 0 ? settings.max_tile_dim
-                                          : int(context_.properties().limits.maxImageDimension2D);
+  const VkPhysicalDeviceLimits& limits = context_.properties().limits;
+  // The target is an image, a framebuffer and a viewport: the least of their limits.
+  int max_dim = settings.max_tile_dim > 0
+                    ? settings.max_tile_dim
+                    : int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
+                                    limits.maxViewportDimensions[0], limits.maxViewportDimensions[1]}));
   int max_px = (max_dim - 2) / s;
   int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
   if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
@@ -174,13 +196,18 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
 
 uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings) const {
   const auto [tile_w, tile_h] = tile_size(width, height, settings);
-  const uint64_t samples = uint64_t(tile_w * settings.supersample + 2) * uint64_t(tile_h * settings.supersample + 2);
+  const uint64_t samples = uint64_t(target_width(tile_w, settings.supersample)) * uint64_t(tile_h * settings.supersample + 2);
   const uint64_t words = uint64_t((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * uint64_t(height);
   return samples * 8 + words * 4;
 }
 
 void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
   if (flags_.size >= bytes) return;
+  const VkDeviceSize range = context_.properties().limits.maxStorageBufferRange;
+  if (bytes > range)
+    throw Error("visibility map: the frame's flags need a storage buffer of " + std::to_string(bytes >> 20) +
+                " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) +
+                " MiB; render a smaller frame, in regions (--region), or with --edges off");
   flags_.reset();
   flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
@@ -189,26 +216,28 @@ void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
 void VisibilityPass::prepare(int width, int height, const VisibilitySettings& settings) {
   if (width <= 0 || height <= 0 || settings.supersample < 1 || settings.supersample > ZZ_MAX_SUPERSAMPLE) return;
   const auto [tile_w, tile_h] = tile_size(width, height, settings);
-  ensure_targets(uint32_t(tile_w * settings.supersample + 2), uint32_t(tile_h * settings.supersample + 2));
+  ensure_targets(target_width(tile_w, settings.supersample), uint32_t(tile_h * settings.supersample + 2));
   ensure_flags(VkDeviceSize((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * height * sizeof(uint32_t));
   flag_pipeline(settings.supersample);
 }
 
 void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
-  if (ids_.image && ids_.width >= width && ids_.height >= height) return;
+  if (ids_.image && depth_.image && ids_.width >= width && ids_.height >= height) return;
   context_.wait_idle();
-  width = std::max(width, ids_.width);
-  height = std::max(height, ids_.height);
+  // The size this frame needs, not the largest of each side ever asked: a wide frame then a
+  // tall one would otherwise keep a target that is both, past the tile memory budget.
   depth_.reset();
   ids_.reset();
   // The compute pass reads the attachment itself (storage image); TRANSFER_SRC only for
-  // render_ids.
-  ids_ = create_image_2d(context_, width, height, kIdFormat,
-                         VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                             VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-                         VK_IMAGE_ASPECT_COLOR_BIT);
-  depth_ = create_image_2d(context_, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
-                           VK_IMAGE_ASPECT_DEPTH_BIT);
+  // render_ids. Both are made before either is kept, so a failed allocation leaves none.
+  Image ids = create_image_2d(context_, width, height, kIdFormat,
+                              VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                                  VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+                              VK_IMAGE_ASPECT_COLOR_BIT);
+  Image depth = create_image_2d(context_, width, height, kDepthFormat, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
+                                VK_IMAGE_ASPECT_DEPTH_BIT);
+  ids_ = std::move(ids);
+  depth_ = std::move(depth);
 }
 
 void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Tile& tile, const Tile& area) {
@@ -317,7 +346,7 @@ void VisibilityPass::record_id_copy(VkCommandBuffer cmd, const Tile& tile, VkBuf
 
 void VisibilityPass::bind_descriptors() {
   VkDescriptorImageInfo image_info{VK_NULL_HANDLE, ids_.view, VK_IMAGE_LAYOUT_GENERAL};
-  VkDescriptorBufferInfo buffer_info[4] = {{positions_.buffer, 0, VK_WHOLE_SIZE},
+  VkDescriptorBufferInfo buffer_info[4] = {{first_vertices_.buffer, 0, VK_WHOLE_SIZE},
                                            {normals_.buffer, 0, VK_WHOLE_SIZE},
                                            {planes_.buffer, 0, VK_WHOLE_SIZE},
                                            {flags_.buffer, 0, VK_WHOLE_SIZE}};
@@ -328,10 +357,10 @@ void VisibilityPass::bind_descriptors() {
   writes[0].descriptorCount = 1;
   writes[0].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_IMAGE;
   writes[0].pImageInfo = &image_info;
-  static_assert(ZZ_BIND_NORMALS == ZZ_BIND_POSITIONS + 1 && ZZ_BIND_PLANES == ZZ_BIND_POSITIONS + 2 &&
-                ZZ_BIND_FLAGS == ZZ_BIND_POSITIONS + 3);
+  static_assert(ZZ_BIND_NORMALS == ZZ_BIND_FIRST_VERTICES + 1 && ZZ_BIND_PLANES == ZZ_BIND_FIRST_VERTICES + 2 &&
+                ZZ_BIND_FLAGS == ZZ_BIND_FIRST_VERTICES + 3);
   writes[1].dstSet = flag_set_;
-  writes[1].dstBinding = ZZ_BIND_POSITIONS;
+  writes[1].dstBinding = ZZ_BIND_FIRST_VERTICES;
   writes[1].descriptorCount = 4;
   writes[1].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
   writes[1].pBufferInfo = buffer_info;
@@ -370,6 +399,7 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   if (timed && query_capacity_ < queries) {
     if (queries_) vkDestroyQueryPool(d, queries_, nullptr);
     queries_ = VK_NULL_HANDLE;
+    query_capacity_ = 0;  // until the new pool exists
     VkQueryPoolCreateInfo info{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
     info.queryType = VK_QUERY_TYPE_TIMESTAMP;
     info.queryCount = queries;
@@ -385,10 +415,15 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
     }
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, flag_layout_, 0, 1, &flag_set_, 0, nullptr);
     if (triangles_ > 0) {
-      gpu::PlanePush planes{f.flag.origin, glm::ivec4(int(triangles_), 0, 0, 0)};
       vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, plane_pipeline_);
-      vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(planes), &planes);
-      vkCmdDispatch(cmd, uint32_t((triangles_ + ZZ_PLANE_GROUP - 1) / ZZ_PLANE_GROUP), 1, 1);
+      const size_t groups = (triangles_ + ZZ_PLANE_GROUP - 1) / ZZ_PLANE_GROUP;
+      const size_t most = settings.max_plane_groups > 0 ? size_t(settings.max_plane_groups)
+                                                        : context_.properties().limits.maxComputeWorkGroupCount[0];
+      for (size_t first = 0; first < groups; first += most) {
+        gpu::PlanePush planes{f.flag.origin, glm::ivec4(int(triangles_), int(first * ZZ_PLANE_GROUP), 0, 0)};
+        vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(planes), &planes);
+        vkCmdDispatch(cmd, uint32_t(std::min(most, groups - first)), 1, 1);
+      }
       memory_barrier(cmd, VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
                      VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT, VK_ACCESS_2_SHADER_STORAGE_READ_BIT);
     }

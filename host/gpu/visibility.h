@@ -31,8 +31,11 @@ struct VisibilitySettings {
   // Budget for one tile, in supersamples (8 bytes each: the id attachment, which the
   // compute pass reads directly, and depth); larger frames are split into bands / tiles.
   int64_t max_tile_samples = int64_t(32) << 20;
-  // Largest tile image side in supersamples, ring included; 0 = maxImageDimension2D.
+  // Largest tile image side in supersamples, ring included; 0 = the device's limits.
   int max_tile_dim = 0;
+  // Work groups (ZZ_PLANE_GROUP triangles each) per dispatch of the per-frame planes pass;
+  // 0 = maxComputeWorkGroupCount[0] (65535 on lavapipe: 4.2 M triangles a dispatch).
+  int max_plane_groups = 0;
 };
 
 struct VisibilityTimings {
@@ -101,6 +104,12 @@ class VisibilityPass {
  private:
   // Tile width and height in pixels for a frame (the raster's memory budget).
   std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings) const;
+  // The id target's width for tiles `tile_w` pixels wide: their samples and ring, padded to
+  // whole flag words, since the flag shader loads every sample row of a word's 4 pixels
+  // (those beyond the tile only feed pixels it does not flag, but stay inside the image).
+  static uint32_t target_width(int tile_w, int s) {
+    return uint32_t((tile_w + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD * s + 2);
+  }
   static constexpr VkFormat kIdFormat = VK_FORMAT_R32_UINT;
   static constexpr VkFormat kDepthFormat = VK_FORMAT_D32_SFLOAT;  // reverse-Z
   struct Tile {
@@ -111,6 +120,7 @@ class VisibilityPass {
   void ensure_targets(uint32_t width, uint32_t height);
   void ensure_flags(VkDeviceSize bytes);
   void create_pipelines();  // visibility_pipelines.cpp
+  void destroy_objects() noexcept;  // the pipelines, layouts, descriptors and queries made so far
   // The flag pipeline specialised for S, made on first use.
   VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
   // Rasterises `tile` with its own projection; only `area` (pixels inside the tile) and
@@ -124,7 +134,8 @@ class VisibilityPass {
   size_t triangles_ = 0;
   glm::vec3 bounds_min_{0.0f}, bounds_max_{0.0f};
   double upload_s_ = 0;
-  Buffer positions_;  // vec4 per vertex: vertex input and compute SSBO
+  Buffer positions_;       // vec4 per vertex: the raster's vertex input
+  Buffer first_vertices_;  // vec4 per triangle: its first vertex, for the planes pass
   Buffer normals_;    // vec4 per triangle: unit geometric normal
   Buffer planes_;     // vec4 per triangle: normal, n.(v0 - camera), rewritten per frame
   Buffer flags_;      // packed flag words of the last frame (host-visible)

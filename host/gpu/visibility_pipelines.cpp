@@ -7,16 +7,16 @@ namespace zz {
 
 void VisibilityPass::create_pipelines() {
   VkDevice d = context_.device();
-  VkShaderModule vert = create_shader_module(d, shader_ids_vert());
-  VkShaderModule frag = create_shader_module(d, shader_ids_frag());
-  VkShaderModule planes = create_shader_module(d, shader_triangle_planes_comp());
-  struct Modules {
+  struct Modules {  // destroyed however this returns; null handles are ignored
     VkDevice d;
-    VkShaderModule m[3];
+    VkShaderModule m[3] = {};
     ~Modules() {
       for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
     }
-  } modules{d, {vert, frag, planes}};
+  } modules{d};
+  const VkShaderModule vert = modules.m[0] = create_shader_module(d, shader_ids_vert());
+  const VkShaderModule frag = modules.m[1] = create_shader_module(d, shader_ids_frag());
+  const VkShaderModule planes = modules.m[2] = create_shader_module(d, shader_triangle_planes_comp());
   flag_module_ = create_shader_module(d, shader_geo_flags_comp());  // specialised per S later
 
   // Raster: positions in, triangle id out, reverse-Z depth (GREATER, clear 0).
@@ -88,11 +88,11 @@ void VisibilityPass::create_pipelines() {
   vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &raster_pipeline_),
            "vkCreateGraphicsPipelines");
 
-  // Compute: ids (storage image), positions, normals, planes, packed flags; one set and
+  // Compute: ids (storage image), first vertices, normals, planes, packed flags; one set and
   // one layout for the planes pass and the flag pass.
   VkDescriptorSetLayoutBinding bindings[5] = {
       {ZZ_BIND_IDS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
-      {ZZ_BIND_POSITIONS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
+      {ZZ_BIND_FIRST_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {ZZ_BIND_NORMALS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {ZZ_BIND_PLANES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr},
       {ZZ_BIND_FLAGS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr}};

@@ -55,6 +55,18 @@ TEST_F(FlagsTest, ShaderMatchesCpuRuleInBands) {
   expect_matches_reference(context(), busy_scene(), camera, 45, 30, s);
 }
 
+// A scene of more triangles than one dispatch of the planes pass may hold (a device's
+// maxComputeWorkGroupCount, 4.2 M triangles on lavapipe) takes several, each from its own
+// first triangle: here 64 triangles a dispatch.
+TEST_F(FlagsTest, ShaderMatchesCpuRuleWithThePlanesInManyDispatches) {
+  const Scene scene = busy_scene();
+  ASSERT_GT(scene.positions.size() / 3, size_t(4 * ZZ_PLANE_GROUP));
+  Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilitySettings s;
+  s.max_plane_groups = 1;
+  expect_matches_reference(context(), scene, camera, 96, 72, s);
+}
+
 TEST_F(FlagsTest, BandingDoesNotChangeTheResult) {
   Scene scene = busy_scene();
   Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
