@@ -33,15 +33,20 @@ class Bvh {
   // can never be hit. The BVH keeps its own copy of the triangle data.
   static Bvh build(std::span<const glm::vec3> positions, BvhBuildStats* stats = nullptr);
 
-  // All queries: hits with 0 <= t <= tmax (t = 0 counts; spawn secondary rays from
-  // offset_ray_origin). Equal t goes to the lower triangle index, so a packet lane and
-  // the same ray through intersect1 give bit-identical t, u, v, prim. Rays with a NaN or
+  // All queries: hits with 0 < t <= tmax. t = 0 never counts, and neither does a hit
+  // nearer than both t's rounding bound and a few hundred ULPs of the coordinates
+  // (watertight.h, spawn_reach); spawn secondary rays from offset_ray_origin. Equal t
+  // goes to the lower triangle index, so a packet lane and the same ray through
+  // intersect1 give bit-identical t, u, v, prim. Rays with a NaN or
   // infinite origin/direction, a zero direction, or a NaN tmax never hit. Thread-safe
   // (const, no allocation).
 
   // Closest hit along each active lane's ray; misses (and inactive lanes) give
   // prim = -1, t = inf, u = v = 0. Packets whose lanes diverge (different direction
-  // octants or > ~37 degrees apart) are traced lane by lane internally.
+  // octants or > ~37 degrees apart) are traced lane by lane internally. Known limit: a
+  // ray with an exactly zero direction component whose origin lies exactly on a box face
+  // of that axis culls the box (1/0 is clamped to 1e30, so the face's distance is 0), and
+  // misses an edge lying in that face that brute force would hit.
   void intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) const;
   // Any hit: the active lanes whose rays are blocked (each lane stops at its first hit).
   mask4 occluded4(const RayPacket4& rays, mask4 active) const;

@@ -246,7 +246,13 @@ Bvh Bvh::build(std::span<const glm::vec3> positions, BvhBuildStats* stats) {
     Box box;
     box.grow(p0), box.grow(p1), box.grow(p2);
     b.tri_box[t] = box;
-    b.centroid[t] = (box.lo + box.hi) * 0.5f;
+    // (lo + hi) / 2 overflows to inf for coordinates near FLT_MAX; lo / 2 + hi / 2 does
+    // not, but may round differently for subnormal coordinates. Use it only where the
+    // first overflowed, so every other centroid (and so the tree) stays bit-identical.
+    glm::vec3 c = (box.lo + box.hi) * 0.5f;
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(c[k])) c[k] = box.lo[k] * 0.5f + box.hi[k] * 0.5f;
+    b.centroid[t] = c;
     b.refs.push_back(uint32_t(t));
   }
   if (!b.refs.empty()) {

@@ -57,8 +57,10 @@ glm::vec3 offset_ray_origin(const SurfacePosition& hit, glm::vec3 n) {
   glm::vec3 po = hit.p + offset;
   // Round away from the surface: the addition above may have rounded back towards it.
   // Stepping by the normal's sign (not the offset's, as pbrt does) also moves a point
-  // whose error bound is exactly 0 (an axis-aligned plane at 0) off the plane: the BVH
-  // accepts t = 0, so an origin on the plane would shadow itself.
+  // whose error bound is exactly 0 (an axis-aligned plane at 0) off the plane. The BVH
+  // itself refuses t = 0 (watertight.h keeps only t > delta_t or t > near, both >= 0);
+  // leaving the plane means the spawned ray does not depend on its own surface's t
+  // rounding to exactly 0.
   for (int i = 0; i < 3; ++i) {
     if (n[i] > 0.0f)
       po[i] = next_up(po[i]);

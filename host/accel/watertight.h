@@ -110,7 +110,8 @@ inline SpawnReach<F> spawn_reach(F ox, F oy, F oz, F dx, F dy, F dz) {
 // The triangle's vertices relative to the ray origin, already permuted: a* = A[kx],
 // A[ky], A[kz] and so on. sx, sy, sz from RayShear; `reach` from spawn_reach. Returns the
 // hit mask for 0 <= t and a non-degenerate, not-missed triangle, less the hits nearer than
-// both `reach` and t's rounding bound; the caller compares t against its tmax.
+// both `reach` and t's rounding bound (so t = 0 is always refused: the test is t > bound,
+// and both bounds are >= 0); the caller compares t against its tmax.
 template <class F>
 inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F cky, F ckz, F sx,
                            F sy, F sz, SpawnReach<F> reach) {
@@ -139,10 +140,12 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   auto negative = (u < zero) | (v < zero) | (w < zero);
   auto positive = (u > zero) | (v > zero) | (w > zero);
   F det = u + v + w;
-  // Outside when the signs are mixed; det == 0 means a degenerate projection.
+  // Outside when the signs are mixed; det == 0 means a degenerate projection. det is
+  // tested with ordered comparisons, false for NaN: the padded slots of a leaf block have
+  // NaN vertices, and `det != 0` (true for NaN) kept them from taking the early exit below.
   auto mixed = negative & positive;
   Result<F> r;
-  r.hit = (!mixed) & (det != zero);
+  r.hit = (!mixed) & ((det > zero) | (det < zero));
   // Most tests end here (the ray misses the triangle): skip the division.
   if (!any(r.hit)) {
     r.t = r.u = r.v = zero;

@@ -178,6 +178,15 @@ TEST(Bvh, DegenerateTrianglesNeverHit) {
     Hit h = bvh.intersect1(Ray{o, target - o, 1.5f});
     EXPECT_TRUE(!h.hit() || h.prim == 3) << h.prim;
   }
+  // Positive control: the same scene does report hits, on the real triangle.
+  const glm::vec3 inside(0.25f, 0.25f, 5.0f);
+  for (int i = 0; i < 200; ++i) {
+    glm::vec3 o = inside + 3.0f * test::random_unit(rng);
+    Ray r{o, inside - o, 1.5f};
+    Hit h = bvh.intersect1(r);
+    EXPECT_EQ(h.prim, 3);
+    EXPECT_TRUE(bvh.occluded1(r));
+  }
 }
 
 TEST(Bvh, NanAndZeroDirectionsNeverHit) {

@@ -2,6 +2,8 @@
 // bit (closest hit and occlusion), for coherent and incoherent packets and any mask.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "accel/bvh.h"
 #include "test_meshes.h"
 
@@ -45,6 +47,28 @@ int check_packet(const Bvh& bvh, const Ray r[4], mask4 active) {
   return hits;
 }
 
+// Bvh::intersect4 / occluded4 run the packet kernel only for packets that pass this test
+// (bvh_traverse4.cpp, coherent()): every active lane in one direction octant and cos > 0.8
+// to the first lane. Others are traced as single rays, so comparing them with intersect1
+// compares intersect1 with itself. The generators below build packets that pass it by
+// design, with a margin (cos > 0.85, and |d_i| > 1e-3 so that no component's sign is in
+// doubt) against rounding, and the tests assert this predicate for every packet they trace.
+bool takes_packet_path(const Ray r[4]) {
+  const glm::vec3 f = r[0].dir;
+  for (int i = 0; i < 4; ++i) {
+    const glm::vec3 d = r[i].dir;
+    for (int k = 0; k < 3; ++k)
+      if (std::signbit(d[k]) != std::signbit(f[k]) || !(std::fabs(d[k]) > 1e-3f)) return false;
+    if (!(glm::dot(d, f) > 0.85f * glm::length(d) * glm::length(f))) return false;
+  }
+  return true;
+}
+
+int dominant_axis(glm::vec3 d) {
+  glm::vec3 a = glm::abs(d);
+  return a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+}
+
 class PacketTest : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -61,7 +85,7 @@ class PacketTest : public ::testing::Test {
 TEST_F(PacketTest, CoherentPacketsMatchSingleRays) {
   std::mt19937 rng(4);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  int hits = 0;
+  int hits = 0, packets = 0;
   for (int i = 0; i < 3000; ++i) {
     glm::vec3 o = 3.0f * test::random_unit(rng);
     glm::vec3 d = glm::normalize(-o + 0.8f * glm::vec3(u(rng), u(rng), u(rng)));
@@ -70,24 +94,47 @@ TEST_F(PacketTest, CoherentPacketsMatchSingleRays) {
       glm::vec3 dk = d + 0.002f * glm::vec3(float(k & 1), float(k >> 1), 0.0f);
       r[k] = Ray{o, dk, i % 4 == 0 ? 2.5f : kInfinity};
     }
+    packets += takes_packet_path(r);  // the rest straddle an octant: lane by lane
     hits += check_packet(bvh_, r, mask4(true));
   }
+  EXPECT_GT(packets, 2700);
   EXPECT_GT(hits, 3000);
 }
 
 TEST_F(PacketTest, IncoherentPacketsMatchSingleRays) {
-  // Random origins and directions: lanes disagree on Woop's axis permutation, which
-  // takes the per-lane blend path of the kernel.
+  // Incoherent origins (each lane its own, anywhere in the scene) and directions that are
+  // just coherent enough for the packet kernel: one random octant per packet, lanes up to
+  // ~30 degrees apart, so they often disagree on Woop's axis permutation and take the
+  // kernel's per-lane blend path.
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-1.2f, 1.2f), t(0.0f, 3.0f);
-  int hits = 0;
+  int hits = 0, mixed = 0;
   for (int i = 0; i < 3000; ++i) {
+    const glm::vec3 sign(rng() % 2 ? 1.0f : -1.0f, rng() % 2 ? 1.0f : -1.0f, rng() % 2 ? 1.0f : -1.0f);
+    glm::vec3 base;
+    do base = glm::abs(test::random_unit(rng));
+    while (base.x < 0.15f || base.y < 0.15f || base.z < 0.15f);
+    base *= sign;
     Ray r[4];
-    for (auto& ray : r)
-      ray = Ray{{u(rng), u(rng), u(rng)}, test::random_unit(rng), rng() % 2 ? t(rng) : kInfinity};
+    for (int k = 0; k < 4; ++k) {
+      glm::vec3 d;
+      do d = glm::normalize(base + 0.4f * test::random_unit(rng));
+      while (!(glm::dot(d, base) > 0.87f) || d.x * sign.x < 2e-3f || d.y * sign.y < 2e-3f ||
+             d.z * sign.z < 2e-3f);
+      if (k == 0) base = d;  // lane 0 is the reference of the coherence test
+      r[k] = Ray{{u(rng), u(rng), u(rng)}, d, rng() % 2 ? t(rng) : kInfinity};
+    }
+    ASSERT_TRUE(takes_packet_path(r)) << "packet " << i;
+    int a0 = dominant_axis(r[0].dir);
+    for (int k = 1; k < 4; ++k)
+      if (dominant_axis(r[k].dir) != a0) {
+        ++mixed;
+        break;
+      }
     hits += check_packet(bvh_, r, mask4(true));
   }
   EXPECT_GT(hits, 3000);
+  EXPECT_GT(mixed, 500);  // the per-lane permutation path is exercised, not just uniform
 }
 
 TEST_F(PacketTest, MixedDominantAxesInOneOctant) {

@@ -71,8 +71,12 @@ TEST(AaFrame, EpsZeroAndHuge) {
       const glm::vec3 c = coarse.radiance[size_t(y) * 40 + x];
       ASSERT_EQ(c.r, c.g) << x << "," << y;
       ASSERT_EQ(c.r, c.b) << x << "," << y;
-      if (x <= 18) ASSERT_EQ(c.r, 0.0f) << x << "," << y;
-      if (x >= 21) ASSERT_EQ(c.r, 1e6f) << x << "," << y;
+      if (x <= 18) {
+        ASSERT_EQ(c.r, 0.0f) << x << "," << y;
+      }
+      if (x >= 21) {
+        ASSERT_EQ(c.r, 1e6f) << x << "," << y;
+      }
     }
   for (int y = 0; y < 30; ++y) {
     const float left = coarse.radiance[size_t(y) * 40 + 19].r, right = coarse.radiance[size_t(y) * 40 + 20].r;
