@@ -135,25 +135,19 @@ std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOp
   const bool map_made = wants_geo_map(o);
   const std::string no_map = r.edges == EdgeMode::Off ? "--edges off" : mode + " (only adaptive or --aov geo make it)";
   const struct {
-    std::vector<const char*> names;
+    const char* group;  // render_options.h
     bool applies;
     std::string why;
   } groups[] = {
-      {{"--eps", "--eps-specular", "--tables", "--geo-policy", "--filter", "--signature", "--highlights", "--textures",
-        "--footprint", "--curvature", "--hdr-zones", "--geo-orient", "--geo-zones", "--split-unflagged", "--fill-gaps"},
-       r.aa == AaMode::Adaptive,
-       "applies to --aa adaptive only, not " + mode},
-      {{"--spp", "--pattern"}, r.aa == AaMode::Uniform, "applies to --aa uniform only, not " + mode},
-      {{"--edge-ss", "--edge-angle", "--edge-depth", "--edge-material", "--edges-serial", "--vk-device", "--vk-validate"},
-       map_made,
-       "needs the visibility map, which is not made with " + no_map},
+      {kAdaptiveGroup, r.aa == AaMode::Adaptive, "applies to --aa adaptive only, not " + mode},
+      {kUniformGroup, r.aa == AaMode::Uniform, "applies to --aa uniform only, not " + mode},
+      {kMapGroup, map_made, "needs the visibility map, which is not made with " + no_map},
   };
   std::vector<std::string> warnings;
-  for (const auto& g : groups)
-    if (!g.applies)
-      for (const char* name : g.names)
-        if (const CLI::Option* opt = cmd.get_option_no_throw(name); opt && opt->count() > 0)
-          warnings.push_back(std::string(name) + " " + g.why + ": ignored");
+  for (const CLI::Option* opt : cmd.get_options())
+    for (const auto& g : groups)
+      if (!g.applies && opt->count() > 0 && opt->get_group() == g.group)
+        warnings.push_back(opt->get_name(false, true) + " " + g.why + ": ignored");
   return warnings;
 }
 

@@ -8,8 +8,18 @@
 #include "scene/camera_select.h"
 
 namespace zz {
+namespace {
+
+// The options `cmd` registered after its first `before` join `group`.
+void group_options_since(CLI::App* cmd, size_t before, const char* group) {
+  const std::vector<CLI::Option*> options = cmd->get_options();
+  for (size_t i = before; i < options.size(); ++i) options[i]->group(group);
+}
+
+}  // namespace
 
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
+  const size_t before = cmd->get_options().size();
   cmd->add_option("--eps", o.eps, "Adaptive: colour threshold on display values [0,1]")
       ->capture_default_str()
       ->check(number_in(0.0, 1.0));
@@ -88,6 +98,7 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
              "Adaptive: a pixel whose corners all see a mirror's or a glass's image (--eps-specular), left "
              "unrefined between two refined pixels (left and right, or above and below), is refined: the image "
              "varies faster than the corners' spacing");
+  group_options_since(cmd, before, kAdaptiveGroup);
 }
 
 void apply_adaptive_options(const AdaptiveOptions& o, AdaptiveSettings& s) {
@@ -113,9 +124,12 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--height", o.height, "Image height (default: the scene's)")->check(CLI::Range(1, kMaxImageSide));
   add_choice(cmd, "--aa", o.aa, kAaModes, "Antialiasing");
   add_adaptive_options(cmd, o.adaptive);
+  size_t before = cmd->get_options().size();
   cmd->add_option("--spp", o.spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
   add_choice(cmd, "--pattern", o.pattern, kUniformPatterns, "Uniform pattern");
+  group_options_since(cmd, before, kUniformGroup);
   add_choice(cmd, "--edges", o.edges, kEdgeModes, "Visibility map of geometric edges");
+  before = cmd->get_options().size();
   cmd->add_option("--edge-ss", o.edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
       ->check(CLI::Range(1, 16));
   cmd->add_option("--edge-angle", o.edge_angle, "Visibility map: normal angle threshold, degrees")
@@ -130,6 +144,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_flag("--vk-validate", o.vk_validate, "Vulkan validation layers; exit non-zero if they report anything");
   cmd->add_flag("--edges-serial", o.edges_serial,
                 "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");
+  group_options_since(cmd, before, kMapGroup);
   cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
   cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
   cmd->add_flag("--allow-missing-textures", o.allow_missing_textures,

@@ -112,8 +112,14 @@ struct RenderOptions {
   double fps = 0.0;            // --fps; 0 = the rig's, else 24
 };
 
+// Option groups: headings of --help, and what inapplicable_options (batch_options.h) warns
+// by: an option of a group that the run's mode never reads.
+inline constexpr const char* kAdaptiveGroup = "Adaptive antialiasing";
+inline constexpr const char* kUniformGroup = "Uniform supersampling (--aa uniform)";
+inline constexpr const char* kMapGroup = "Visibility map (--edges vulkan, with --aa adaptive or --aov geo)";
+
 // Registers --eps --eps-specular --tables --geo-policy --filter --signature --highlights --textures --curvature
-// --hdr-zones --geo-orient --geo-zones --split-unflagged --fill-gaps.
+// --hdr-zones --geo-orient --geo-zones --split-unflagged --fill-gaps, in kAdaptiveGroup.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // The adaptive sampler's settings from its options (the tone map is the frame's, set apart).
