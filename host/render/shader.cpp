@@ -712,24 +712,34 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       // path tree where the surface does not refract, as glass's image does: the highlight
       // flag probes the highlights behind the pane and the footprint its textures, which
       // the pane's own surface does not show (1024² vase FLIP 1.489 -> 1.473x the lattice's).
+      // A lane that refracts here too (a BLEND glass) keeps the node for its refraction and
+      // traces what is behind unprobed, in a packet of its own: whether a lane is probed must
+      // not depend on the other lanes of its packet.
       std::optional<PathSignature4> seen_behind;
       const int behind_node = signature ? refracted_node(signature->node) : 0;
-      const bool free_node = (blend & refracted_lanes) == 0;
-      const bool probe_behind = free_node && signature && signature->probes && probed(behind_node);
-      const bool footprint_behind = free_node && signature && signature->footprint && footprinted(behind_node);
-      if (probe_behind || footprint_behind) {
+      const bool probe_behind = signature && signature->probes && probed(behind_node);
+      const bool footprint_behind = signature && signature->footprint && footprinted(behind_node);
+      const int probed_lanes = probe_behind || footprint_behind ? blend & ~refracted_lanes : 0;
+      if (probed_lanes != 0) {
         seen_behind.emplace();
         seen_behind->node = behind_node;
         if (probe_behind) seen_behind->probes = signature->probes;
         if (footprint_behind) seen_behind->footprint = signature->footprint;
       }
-      const Rgb4 c = trace4_impl<kEffects>(behind.packet(), mask4(blend & 1, blend & 2, blend & 4, blend & 8), depth,
-                                           blend_layers + 1, throughput, counters,
-                                           seen_behind ? &*seen_behind : nullptr);  // bounded by kMaxBlendLayers
+      auto lanes_of = [](int bits) { return mask4(bits & 1, bits & 2, bits & 4, bits & 8); };
+      Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
+      if (probed_lanes != 0)
+        c = trace4_impl<kEffects>(behind.packet(), lanes_of(probed_lanes), depth, blend_layers + 1, throughput,
+                                  counters, &*seen_behind);
+      if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
+        const Rgb4 u = trace4_impl<kEffects>(behind.packet(), lanes_of(unprobed), depth, blend_layers + 1, throughput,
+                                             counters, nullptr);
+        c = select(lanes_of(unprobed), u, c);
+      }
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
         const float a = sp[i].alpha;
-        if (seen_behind) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
+        if ((probed_lanes >> i) & 1) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
         out[0][i] = a * out[0][i] + (1.0f - a) * c.r[i];
         out[1][i] = a * out[1][i] + (1.0f - a) * c.g[i];
         out[2][i] = a * out[2][i] + (1.0f - a) * c.b[i];
