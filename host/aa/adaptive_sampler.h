@@ -104,6 +104,18 @@ inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame
           std::min(frame_height, tile.y1 + m)};
 }
 
+// The pixels of the visibility map that a render of `region` reads: the refined pixels
+// (adaptive_region) and, with --fill-gaps, one more on every side, whose level-1 decisions
+// refined_around makes from the map too. A map made over less reads 0 there, and the
+// region's border pixels would decide otherwise than in the full frame.
+inline TileRect adaptive_geo_reads(const TileRect& region, int frame_width, int frame_height,
+                                   const AdaptiveSettings& settings) {
+  const TileRect r = adaptive_region(region, frame_width, frame_height, settings.filter);
+  if (!(settings.fill_gaps && settings.eps_specular >= 0.0f && !settings.refine_all)) return r;
+  return {std::max(0, r.x0 - 1), std::max(0, r.y0 - 1), std::min(frame_width, r.x1 + 1),
+          std::min(frame_height, r.y1 + 1)};
+}
+
 // Where a tile's corner grid lies: the region's (w+1) x (h+1) pixel corners, grown by a
 // ring of one corner on every side when the curvature correction (adaptive_pixel.h) or the
 // highlight flag (the normals' curvature, render/specular_peak.h) needs its neighbours'

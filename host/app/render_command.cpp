@@ -217,9 +217,9 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   const bool film_is_region = !o.region.empty();
   if (visibility) {
     auto make_map = [&, camera_index] {
-      // A region's sampler reads the map over the region grown by its filter margin.
+      // A region's sampler reads the map beyond the region: its filter margin and the gaps' ring.
       std::optional<TileRect> map_region;
-      if (film_is_region) map_region = adaptive_region(region, settings.width, settings.height, o.render.adaptive.filter);
+      if (film_is_region) map_region = adaptive_geo_reads(region, settings.width, settings.height, settings.adaptive);
       return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
                              make_visibility_settings(o.render), &edge_times, map_region);
     };
