@@ -314,10 +314,14 @@ void flag_hidden_block(const S& source, const typename S::Probe* probes, ptrdiff
       flags[j * flag_stride + i] = flag | (specular ? kSpecularCorners : 0u);
       if constexpr (FootprintSource<S>) {
         if (!footprint) continue;
-        const bool refined =
-            decide_level1(pixel_corners(corners.display + at, cs), pixel_corners(corners.signature + at, cs), eps,
-                          flagged, false)
-                .refine;
+        // At the pixel's own threshold, as refine_tile decides: a mirror's or a glass's image
+        // pixel at eps_specular (at eps, one between the two thresholds computed a delta that
+        // refine_tile then refined away, or, with eps_specular above eps, stayed unrefined
+        // without its delta).
+        const bool refined = decide_level1(pixel_corners(corners.display + at, cs),
+                                           pixel_corners(corners.signature + at, cs),
+                                           specular ? float4(settings.eps_specular) : eps, flagged, false)
+                                 .refine;
         if (refined) {
           footprint[j * flag_stride + i] = float4(0.0f);
           continue;

@@ -453,6 +453,29 @@ TEST(Renderer, TextureFootprintFollowsTheCameraRayIntoAMirror) {
   expect_footprint_closer_deterministically(textured_ceiling_in_a_mirror());
 }
 
+// A mirror's image pixel is decided at eps_specular, also where the footprint asks whether
+// the pixel will be refined anyway: with eps_specular above eps, the pixels whose corners
+// differ by an amount between the two stay unrefined and must still take their delta (they
+// were given none, decided at eps).
+TEST(Renderer, TextureFootprintInAMirrorUsesTheMirrorsThreshold) {
+  const Scene scene = textured_ceiling_in_a_mirror();
+  RenderSettings s;
+  s.width = 96;
+  s.height = 64;
+  s.aa = AaMode::Uniform;
+  s.uniform = {UniformPattern::Stratified, 256};
+  const Film reference = render(scene, s);
+  s.aa = AaMode::Adaptive;
+  s.adaptive.eps = 0.005f;
+  s.adaptive.eps_specular = 0.2f;
+  RenderStats off_stats, on_stats;
+  const Film off = render(scene, s, &off_stats);
+  s.adaptive.footprint = true;
+  const Film on = render(scene, s, &on_stats);
+  EXPECT_EQ(on_stats.rays.primary, off_stats.rays.primary);
+  EXPECT_LT(rmse(on, reference), 0.6 * rmse(off, reference)) << rmse(on, reference) << " " << rmse(off, reference);
+}
+
 TEST(Renderer, PendingMapFailureIsRethrown) {
   const Scene scene = box_scene();
   const Bvh bvh = Bvh::build(scene.positions);
