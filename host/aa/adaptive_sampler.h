@@ -140,7 +140,7 @@ inline bool curvature_applies(const AdaptiveSettings& settings) {
 // extra with the corner field beyond its outer edge).
 inline bool corner_ring(const AdaptiveSettings& settings) {
   return curvature_applies(settings) ||
-         ((settings.highlights || settings.textures || settings.footprint || settings.eps_specular >= 0.0f) &&
+         ((settings.highlights || settings.textures || footprint_applies(settings) || settings.eps_specular >= 0.0f) &&
           !settings.refine_all);
 }
 inline CornerLayout corner_layout(const TileTarget& target, const AdaptiveSettings& settings) {
@@ -161,7 +161,7 @@ inline uint64_t own_corners(const TileRect& r) { return uint64_t(r.width() + 1) 
 template <SampleSource S>
 constexpr bool flags_hidden(const AdaptiveSettings& settings) {
   if constexpr (HiddenDetailSource<S>)
-    return (settings.highlights || settings.textures || (FootprintSource<S> && settings.footprint) ||
+    return (settings.highlights || settings.textures || (FootprintSource<S> && footprint_applies(settings)) ||
             settings.eps_specular >= 0.0f) &&
            !settings.refine_all;
   return false;
@@ -170,7 +170,7 @@ constexpr bool flags_hidden(const AdaptiveSettings& settings) {
 // Whether unrefined pixels of a source of `S` under `settings` take the footprint delta.
 template <class S>
 constexpr bool corrects_footprint(const AdaptiveSettings& settings) {
-  if constexpr (FootprintSource<S>) return settings.footprint && !settings.refine_all;
+  if constexpr (FootprintSource<S>) return footprint_applies(settings);
   return false;
 }
 

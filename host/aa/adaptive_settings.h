@@ -38,7 +38,8 @@ struct AdaptiveSettings {
   bool highlights = false;
   bool textures = false;
   // Unrefined pixels take the texture's mean over the pixel instead of at its corners
-  // (FootprintSource in hidden_detail.h); only sources with probes can.
+  // (FootprintSource in hidden_detail.h); only sources with probes can, and only under the
+  // box filter (footprint_applies).
   bool footprint = false;
   // Unrefined pixels take the box integral to second order (curvature_corrected in
   // adaptive_pixel.h) instead of the corners' mean; needs a ring of corners around the tile.
@@ -67,6 +68,13 @@ struct AdaptiveSettings {
   // run through the same level 1–3 code (orientation and sums as the adaptive path).
   bool refine_all = false;
 };
+
+// Whether the footprint correction runs: it corrects an unrefined pixel's box mean of its
+// corners, and Mitchell weighs the corners as they are (the delta went unread there, its
+// probes and texture reads spent for nothing).
+inline bool footprint_applies(const AdaptiveSettings& s) {
+  return s.footprint && s.filter == Filter::Box && !s.refine_all;
+}
 
 // Parse user-facing names; throw zz::Error listing the valid names.
 GeoPolicy parse_geo_policy(std::string_view name);

@@ -78,7 +78,7 @@ void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o) {
   add_choice(cmd, "--footprint", o.footprint, kOnOff,
              "Adaptive: unrefined pixels on one textured surface, or seeing one in a mirror or through glass, take "
              "the texture's mean over the pixel (2x2 points between the corners' texture coordinates, else the "
-             "25-point lattice's, each lit at its normal-mapped normal), not the corners' mean");
+             "25-point lattice's, each lit at its normal-mapped normal), not the corners' mean; box filter only");
   add_choice(cmd, "--curvature", o.curvature, kOnOff,
              "Adaptive: unrefined pixels corrected for the shading's curvature (reads a ring of corners around "
              "each tile)");

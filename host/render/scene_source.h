@@ -92,7 +92,7 @@ struct HiddenDetail {
 
   HiddenDetail() = default;
   HiddenDetail(const Scene& scene, const AdaptiveSettings& s)
-      : highlights(s.highlights), textures(s.textures), footprint(s.footprint) {
+      : highlights(s.highlights), textures(s.textures), footprint(footprint_applies(s)) {
     if (s.map_crease > 0.0f) step_limit = s.map_crease;
     if (textures) pyramids = texture_pyramids(scene);
     if (highlights) normal_spreads = normal_map_spreads(scene);

@@ -476,6 +476,24 @@ TEST(Renderer, TextureFootprintInAMirrorUsesTheMirrorsThreshold) {
   EXPECT_LT(rmse(on, reference), 0.6 * rmse(off, reference)) << rmse(on, reference) << " " << rmse(off, reference);
 }
 
+// The footprint corrects an unrefined pixel's box mean of its corners; Mitchell weighs the
+// corners as they are, so under it the correction neither runs nor takes memory (its delta
+// had been computed and never read).
+TEST(Renderer, TextureFootprintIsTheBoxFiltersOnly) {
+  const Scene scene = textured_floor();
+  RenderSettings s;
+  s.width = 96;
+  s.height = 64;
+  s.adaptive.filter = Filter::Mitchell;
+  const CornerFieldPlan off_plan = corner_field_plan(s);
+  const Film off = render(scene, s);
+  s.adaptive.footprint = true;
+  EXPECT_EQ(corner_field_plan(s).bytes, off_plan.bytes);
+  EXPECT_TRUE(bit_identical(off, render(scene, s)));
+  s.adaptive.filter = Filter::Box;
+  EXPECT_GT(corner_field_plan(s).bytes, off_plan.bytes);  // the box filter's correction takes memory
+}
+
 TEST(Renderer, PendingMapFailureIsRethrown) {
   const Scene scene = box_scene();
   const Bvh bvh = Bvh::build(scene.positions);
