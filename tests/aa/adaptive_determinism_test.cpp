@@ -28,12 +28,16 @@ TEST(AdaptiveDeterminism, BitIdenticalAcrossTilesAndThreads) {
         s.tables = find_table_set("tuned");
         const AnalyticSource source{&star, sig};
         const Film ref = test::render(source, 90, 90, s, 64, 1, geo);
-        for (int tile : {64, 13, 1, 90, 7})
-          for (int threads : {1, 2}) {
-            SCOPED_TRACE(testing::Message() << to_string(f) << " " << to_string(gp) << " signature "
-                                            << signature_name(sig) << " tile " << tile << " threads " << threads);
-            EXPECT_TRUE(same(ref, test::render(source, 90, 90, s, tile, threads, geo)));
-          }
+        // Level 1 traced once for the frame (the corner field) or per tile (the viewer's path,
+        // and frames whose field is over budget): the same image.
+        for (bool field : {true, false})
+          for (int tile : {64, 13, 1, 90, 7})
+            for (int threads : {1, 2}) {
+              SCOPED_TRACE(testing::Message() << to_string(f) << " " << to_string(gp) << " signature "
+                                              << signature_name(sig) << " tile " << tile << " threads " << threads
+                                              << (field ? " corner field" : " per-tile corners"));
+              EXPECT_TRUE(same(ref, test::render(source, 90, 90, s, tile, threads, geo, nullptr, field)));
+            }
       }
 }
 

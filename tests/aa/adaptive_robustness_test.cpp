@@ -74,7 +74,13 @@ TEST(AdaptiveRobustness, OddFrameSizes) {
       const Film b = test::render(src, w, h, s, 5, 1);
       EXPECT_EQ(st.pixels, uint64_t(w) * h);
       expect_finite_nonnegative(a);
-      for (uint8_t r : a.rays) EXPECT_GE(r, 1);
+      ASSERT_EQ(a.rays.size(), size_t(w) * h);  // every pixel rendered, with 1 to 25 rays
+      for (uint8_t r : a.rays) {
+        EXPECT_GE(r, 1);
+        EXPECT_LE(r, 25);
+      }
+      EXPECT_EQ(a.rays, b.rays);  // 5-pixel tiles on one thread decide every pixel alike
+      EXPECT_EQ(a.level, b.level);
       EXPECT_EQ(0, std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)));
     }
   }
