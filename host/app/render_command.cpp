@@ -305,6 +305,11 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
     record.vulkan_device = job.vulkan->device_name();
   }
   const nlohmann::json j = render_stats_json(record);
+  if (stats.rays.nan_radiance > 0)
+    std::fprintf(stderr,
+                 "zigzag: warning: %s camera %d: %llu traced samples came out NaN and were set to black; "
+                 "this is a renderer bug, please report it with the scene\n",
+                 job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.nan_radiance));
   if (!o.stats.empty())
     write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
   outputs.commit();

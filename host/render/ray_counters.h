@@ -15,6 +15,10 @@ struct RayCounters {
   // Rays that continue a camera, mirror or refraction ray past an alpha-masked or blended
   // surface (shadow rays continuing through see-through surfaces count as shadow rays).
   uint64_t continuation = 0;
+  // Not rays: the traced lanes whose radiance came out NaN and was set to 0 before leaving
+  // the shader (a shading bug: 0 in a healthy render; what tests of finiteness read, since
+  // the image itself cannot show it).
+  uint64_t nan_radiance = 0;
 
   uint64_t total() const { return primary + shadow + reflection + refraction + continuation; }
   RayCounters& operator+=(const RayCounters& o) {
@@ -23,6 +27,7 @@ struct RayCounters {
     reflection += o.reflection;
     refraction += o.refraction;
     continuation += o.continuation;
+    nan_radiance += o.nan_radiance;
     return *this;
   }
 };

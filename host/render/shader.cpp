@@ -752,7 +752,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       if (shaded[i]) signature->probes.at(signature->node, i).blocked = signature->blocked[i];
 
   Rgb4 result{float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
-  // NaN (e.g. from a degenerate normal) never leaves the shader; +Inf is capped.
+  // NaN (e.g. from a degenerate normal) never leaves the shader, but is counted; +Inf is capped.
+  counters.nan_radiance += uint64_t(count_lanes((isnan(result.r) | isnan(result.g) | isnan(result.b)) & active));
   auto sanitize = [&](float4 x) {
     return select(isnan(x) | !active, float4(0.0f), min(max(x, float4(0.0f)), float4(kRadianceMax)));
   };

@@ -73,6 +73,7 @@ def real_shaped(i, pixels, x0, x1):
         "effects": ["shadows", "reflection"], "rays_per_pixel": 4.0 + i,
         "rays": {"primary": 1000 * (i + 1), "shadow": 500, "reflection": 20 * i,
                  "refraction": 3, "continuation": 0, "total": 1523 + 1020 * i},
+        "nan_radiance": i % 2,
         "bvh": {"nodes": 278, "leaves": 532, "max_depth": 11, "sah_cost": 12.75, "build_s": 0.001},
         "time_s": {"load": 0.1, "bvh": 0.001, "render": 0.5 + i, "frame": 0.6 + i, "write": 0.01,
                    "total": 0.8 + i, "edges": {"upload": 0.001, "raster": 0.01, "compute": 0.003,

@@ -40,6 +40,7 @@ Image render_scene(const Scene& scene) {
   render_frame(shader, scene.cameras[0], GeoMap{}, s, image.film, stats);
   for (const glm::vec3& c : image.film.radiance)
     EXPECT_TRUE(std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b));
+  EXPECT_EQ(stats.rays.nan_radiance, 0u);  // the shader sets NaN to 0: the count is what shows it
   return image;
 }
 
@@ -418,6 +419,7 @@ TEST(SharedScenes, RenderWithoutNanOrInf) {
       sum += c.r + c.g + c.b;
     }
     EXPECT_GT(sum, 0.0) << file;
+    EXPECT_EQ(stats.rays.nan_radiance, 0u) << file;
   }
 }
 

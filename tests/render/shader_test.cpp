@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "render/scene_source.h"
 #include "test_scenes.h"
@@ -156,12 +157,27 @@ TEST(Shader, GlassBoxSpawnsRefractionButOpaqueSceneDoesNot) {
   EXPECT_GT(counters.refraction, 0u);
   EXPECT_GT(counters.reflection, 0u);
   EXPECT_TRUE(std::isfinite(l.r) && l.r >= 0.0f);
+  EXPECT_EQ(counters.nan_radiance, 0u);  // the output is finite by construction; no NaN made it
+}
+
+// The count the finiteness checks read: a NaN the shading makes (here from a Whitted
+// material of NaN emission, which neither loading nor the glTF conversion would give)
+// leaves the shader as 0 and is counted.
+TEST(Shader, NanRadianceIsCountedAndLeavesAsZero) {
+  Scene s = test::lit_floor(0.5f, 1.0f, 3.0f);
+  s.whitted[0].emission = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+  RayCounters counters;
+  const glm::vec3 l = centre_radiance(s, &counters);
+  EXPECT_EQ(l, glm::vec3(0.0f));
+  EXPECT_GE(counters.nan_radiance, 1u);
 }
 
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
-    const glm::vec3 l = centre_radiance(test::lit_floor(1.0f, intensity, 1e-3f));
+    RayCounters counters;
+    const glm::vec3 l = centre_radiance(test::lit_floor(1.0f, intensity, 1e-3f), &counters);
     EXPECT_TRUE(std::isfinite(l.r)) << intensity;
+    EXPECT_EQ(counters.nan_radiance, 0u) << intensity;
     EXPECT_GE(l.r, 0.0f);
   }
 }
