@@ -29,7 +29,7 @@ bool light_towards(const Light& light, glm::vec3 p, glm::vec3& to_light, float& 
   if (light.type == Light::Type::Spot) {
     float cd = glm::dot(glm::normalize(light.direction), -to_light);
     float cos_outer = std::cos(light.outer_cone), cos_inner = std::cos(light.inner_cone);
-    float scale = 1.0f / std::max(0.001f, cos_inner - cos_outer);
+    float scale = spot_scale(cos_inner, cos_outer);
     float t = std::clamp((cd - cos_outer) * scale, 0.0f, 1.0f);
     falloff *= t * t;
   }

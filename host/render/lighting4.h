@@ -40,7 +40,7 @@ struct LightConstants {
       spot_axis = glm::normalize(light.direction);
       cos_outer = std::cos(light.outer_cone);
       const float cos_inner = std::cos(light.inner_cone);
-      spot_scale = 1.0f / std::max(0.001f, cos_inner - cos_outer);
+      spot_scale = zz::spot_scale(cos_inner, cos_outer);
     }
   }
 };

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -27,11 +28,33 @@ std::vector<Light> every_kind_of_light() {
   spot.direction = {0.1f, -1.0f, 0.2f};
   spot.inner_cone = 0.3f;
   spot.outer_cone = 0.6f;  // lanes inside, in the penumbra and outside
+  Light narrow = spot;  // a hard-edged 1-degree cone (inner = outer, as Blender writes)
+  narrow.inner_cone = narrow.outer_cone = 0.01745f;
   Light sun;
   sun.type = Light::Type::Directional;
   sun.direction = {0.2f, -1.0f, -0.3f};
   sun.intensity = {3.0f, 3.0f, 2.5f};
-  return {point, ranged, spot, sun};
+  return {point, ranged, spot, narrow, sun};
+}
+
+// A spot's axis gets its full intensity, however narrow and hard-edged the cone: the glTF
+// sample code's fixed 1 / max(0.001, cos_inner - cos_outer) left a 1-degree hard spot at
+// 1/43 of it and a half-degree one at 1/690. Just outside the cone: nothing.
+TEST(LightTowards, ANarrowHardSpotIsFullyBrightOnItsAxis) {
+  for (float degrees : {0.5f, 1.0f, 5.0f, 45.0f}) {
+    Light spot;
+    spot.type = Light::Type::Spot;
+    spot.position = {0.0f, 0.0f, 2.0f};
+    spot.direction = {0.0f, 0.0f, -1.0f};
+    spot.inner_cone = spot.outer_cone = glm::radians(degrees);
+    glm::vec3 to_light, scale;
+    float distance;
+    ASSERT_TRUE(light_towards(spot, {0.0f, 0.0f, 0.0f}, to_light, distance, scale)) << degrees;
+    EXPECT_FLOAT_EQ(scale.r, 0.25f) << degrees;  // intensity 1 over d^2 = 4
+    const float outside = 2.0f * std::tan(glm::radians(degrees) * 1.01f);
+    light_towards(spot, {outside, 0.0f, 0.0f}, to_light, distance, scale);
+    EXPECT_EQ(scale.r, 0.0f) << degrees;
+  }
 }
 
 TEST(LightTowards4, EqualsTheScalarLightTowardsBitForBitInEveryLane) {
