@@ -208,15 +208,22 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
     chosen = options.device_index;
   } else {
     int best_rank = 1 << 30;
+    std::string rejected;  // the devices present but unusable, and why
     for (uint32_t i = 0; i < count; ++i) {
       VkPhysicalDeviceProperties p;
       vkGetPhysicalDeviceProperties(devices[i], &p);
-      if (usable(devices[i], nullptr) && type_rank(p.deviceType) < best_rank) {
+      std::string why;
+      if (!usable(devices[i], &why)) {
+        rejected += std::string(rejected.empty() ? "" : "; ") + "device " + std::to_string(i) + " (" +
+                    p.deviceName + "): " + why;
+      } else if (type_rank(p.deviceType) < best_rank) {
         best_rank = type_rank(p.deviceType);
         chosen = int(i);
       }
     }
-    if (chosen < 0) throw Error(kNoDevice);
+    // Devices that exist but cannot run the map: say why, beside the usual remedy (a newer
+    // Mesa's lavapipe, or --edges off), rather than only "no device".
+    if (chosen < 0) throw Error(std::string(kNoDevice) + " (" + rejected + ")");
   }
 
   physical_ = devices[chosen];

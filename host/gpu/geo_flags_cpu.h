@@ -1,7 +1,10 @@
 // The flag rule of shaders/geo_flags.comp on the host, with SSE id compares: the test
 // oracle for the compute shader and a benchmark baseline (bench_visibility), not the
 // production path. Same float operations as the shader (the build disables FMA
-// contraction, the shader marks its arithmetic `precise`), so the flags match bit for bit.
+// contraction, the shader marks its arithmetic `precise`), so the flags match bit for bit
+// on lavapipe, whose division is IEEE and which keeps denormals here. A GPU may divide to
+// 2.5 ULP and flush denormals (SPIR-V's precision rules allow both), so there a pair right
+// at the angle or distance threshold may flag differently: compare with a tolerance there.
 #pragma once
 
 #include <glm/glm.hpp>
