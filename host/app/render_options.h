@@ -116,10 +116,10 @@ struct RenderOptions {
 // by: an option of a group that the run's mode never reads.
 inline constexpr const char* kAdaptiveGroup = "Adaptive antialiasing";
 inline constexpr const char* kUniformGroup = "Uniform supersampling (--aa uniform)";
-inline constexpr const char* kMapGroup = "Visibility map (--edges vulkan, with --aa adaptive or --aov geo)";
+inline constexpr const char* kMapGroup = "Visibility map and Vulkan";
 
-// Registers --eps --eps-specular --tables --geo-policy --filter --signature --highlights --textures --curvature
-// --hdr-zones --geo-orient --geo-zones --split-unflagged --fill-gaps, in kAdaptiveGroup.
+// Registers --eps --eps-specular --tables --geo-policy --filter --signature --highlights --textures --footprint
+// --curvature --hdr-zones --geo-orient --geo-zones --split-unflagged --fill-gaps, in kAdaptiveGroup.
 void add_adaptive_options(CLI::App* cmd, AdaptiveOptions& o);
 
 // The adaptive sampler's settings from its options (the tone map is the frame's, set apart).

@@ -221,9 +221,13 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
         chosen = int(i);
       }
     }
-    // Devices that exist but cannot run the map: say why, beside the usual remedy (a newer
-    // Mesa's lavapipe, or --edges off), rather than only "no device".
-    if (chosen < 0) throw Error(std::string(kNoDevice) + " (" + rejected + ")");
+    // Devices that exist but cannot run the map: say why, and that a newer driver is the
+    // remedy; "install lavapipe" misled where an old one was installed.
+    if (chosen < 0 && !rejected.empty())
+      throw Error("no usable Vulkan device (" + rejected +
+                  "); install a newer driver (Debian 12's mesa-vulkan-drivers gives a lavapipe with "
+                  "Vulkan 1.3) or run with --edges off");
+    if (chosen < 0) throw Error(kNoDevice);
   }
 
   physical_ = devices[chosen];

@@ -207,7 +207,7 @@ void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
   if (bytes > range)
     throw Error("visibility map: the frame's flags need a storage buffer of " + std::to_string(bytes >> 20) +
                 " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) +
-                " MiB; render a smaller frame, in regions (--region), or with --edges off");
+                " MiB; render a smaller frame or with --edges off");
   flags_.reset();
   flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

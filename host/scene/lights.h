@@ -38,12 +38,12 @@ bool can_light(const Light& light);
 
 // The spot cone's factor is clamp((cos - cos_outer) * scale, 0, 1)^2 (the glTF spec's sample
 // code); scale = 1 / (cos_inner - cos_outer), floored as the spec's 1 / max(0.001, ...) for
-// a hard-edged cone, but at most a hundredth of (1 - cos_outer): a narrow cone (outer under
-// 2.6 degrees) must still reach 1 on its axis, where the fixed floor left a 1-degree hard
-// spot at 1/43 of its intensity (cones under 0.03 degrees, whose cosine rounds to 1, stay
-// dark, as before).
+// a hard-edged cone, but at most half of (1 - cos_outer): a narrow cone must still reach 1
+// on its axis, where the fixed floor left a 1-degree hard spot at 1/43 of its intensity.
+// Cones whose outer angle is over 3.6 degrees (1 - cos_outer >= 0.002) keep the spec's floor
+// and their edge; cones under 0.03 degrees, whose cosine rounds to 1, stay dark, as before.
 inline float spot_scale(float cos_inner, float cos_outer) {
-  const float floor = std::max(std::min(0.001f, 0.01f * (1.0f - cos_outer)), 1e-7f);  // 1e-7: cos_outer rounded to 1
+  const float floor = std::max(std::min(0.001f, 0.5f * (1.0f - cos_outer)), 1e-7f);  // 1e-7: cos_outer rounded to 1
   return 1.0f / std::max(floor, cos_inner - cos_outer);
 }
 

@@ -109,7 +109,7 @@ def test_four_real_shaped_regions_merge_by_the_class_of_each_field():
     assert m["pixels"] == 64 * 64
     for path in ["rays.primary", "rays.reflection", "rays.total", "adaptive.zones_traced",
                  "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s.level1_corners",
-                 "time_s.render", "time_s.edges.raster", "bvh.build_s"]:
+                 "time_s.render", "time_s.edges.raster", "bvh.build_s", "nan_radiance"]:
         assert merged[path] == pytest.approx(sum(p[path] for p in by_path)), path
     # Pixel-weighted: per-pixel values and fractions.
     for path in ["rays_per_pixel", "geo_fraction", "adaptive.padded", "adaptive.level2_fraction",

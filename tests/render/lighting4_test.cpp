@@ -57,6 +57,15 @@ TEST(LightTowards, ANarrowHardSpotIsFullyBrightOnItsAxis) {
   }
 }
 
+// Cones over 3.6 degrees keep the glTF sample code's floor, and so their edge's width: a
+// hard 10-degree spot's scale is 1 / 0.001 as before; a 1-degree one's is 2 / (1 - cos).
+TEST(LightTowards, OnlyNarrowSpotsLeaveTheSpecsFloor) {
+  const float c10 = std::cos(glm::radians(10.0f)), c1 = std::cos(glm::radians(1.0f));
+  EXPECT_FLOAT_EQ(spot_scale(c10, c10), 1000.0f);
+  EXPECT_FLOAT_EQ(spot_scale(std::cos(glm::radians(5.0f)), c10), 1.0f / (std::cos(glm::radians(5.0f)) - c10));
+  EXPECT_FLOAT_EQ(spot_scale(c1, c1), 2.0f / (1.0f - c1));
+}
+
 TEST(LightTowards4, EqualsTheScalarLightTowardsBitForBitInEveryLane) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> coord(-2.0f, 2.0f);
@@ -67,6 +76,10 @@ TEST(LightTowards4, EqualsTheScalarLightTowardsBitForBitInEveryLane) {
       glm::vec3 p[4];
       for (glm::vec3& q : p) q = {coord(rng), coord(rng), coord(rng)};
       if (round == 0) p[2] = light.position;  // at the light: no direction
+      if (light.type == Light::Type::Spot && round % 2 == 1)  // on and near the axis: the cone and its edge
+        for (int i = 0; i < 4; ++i)
+          p[i] = light.position + glm::normalize(light.direction) * (1.0f + float(i)) +
+                 glm::vec3(coord(rng), coord(rng), coord(rng)) * (0.01f * float(i));
       alignas(16) float x[4], y[4], z[4];
       for (int i = 0; i < 4; ++i) x[i] = p[i].x, y[i] = p[i].y, z[i] = p[i].z;
       const LightSample4 s =

@@ -218,8 +218,8 @@ TEST(Renderer, PendingMapIsBitIdenticalToAFinishedOne) {
 // (the path tree's refraction node) in the lanes where the surface does not refract too; a
 // BLEND glass's lane keeps that node for its refraction. The choice is each lane's own: a
 // region render, whose packets hold other neighbours, gives the same pixels bit for bit
-// (it did not while one refracting lane withdrew the probes of its whole packet: 19 pixels
-// of this region differed). The glass scene with its glass alpha-blended too, as exporters
+// (it did not while one refracting lane withdrew the probes of its whole packet: 14 pixels
+// of each region differed). The glass scene with its glass alpha-blended too, as exporters
 // write glass with both alpha and transmission.
 TEST(Renderer, ProbesBehindBlendSurfacesDoNotDependOnThePacket) {
   Scene scene = load_scene(std::filesystem::path(ZZ_SOURCE_DIR) / "scenes" / "glass.json");
@@ -228,7 +228,7 @@ TEST(Renderer, ProbesBehindBlendSurfacesDoNotDependOnThePacket) {
     if (m.transmission > 0.0f) m.alpha_mode = AlphaMode::Blend, m.base_alpha = 0.6f, ++blended;
   ASSERT_GT(blended, 0);
   scene.finalize_materials();
-  RenderSettings s;  // the CLI's defaults (without the visibility map)
+  RenderSettings s;  // set below to the CLI's defaults (without the visibility map)
   s.width = 96;
   s.height = 96;
   s.threads = 2;
