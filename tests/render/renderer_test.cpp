@@ -400,7 +400,10 @@ double rmse(const Film& a, const Film& b) {
 // The texture footprint correction on `scene`: closer to a 256-sample reference than the
 // corners' mean, at the same rays, and bit-identical whatever the threads, tiles and
 // corner field.
-void expect_footprint_closer_deterministically(const Scene& scene) {
+// `scene` at 96 x 64 with `adaptive` (footprint off, then on, one thread) and its 256-sample
+// reference: the correction adds no ray and takes the error below 0.6 of what it was.
+// Returns the settings of the render with it.
+RenderSettings expect_footprint_closer(const Scene& scene, const AdaptiveSettings& adaptive, Film& on) {
   RenderSettings s;
   s.width = 96;
   s.height = 64;
@@ -408,14 +411,25 @@ void expect_footprint_closer_deterministically(const Scene& scene) {
   s.uniform = {UniformPattern::Stratified, 256};
   const Film reference = render(scene, s);
   s.aa = AaMode::Adaptive;
-  s.adaptive.highlights = s.adaptive.curvature = true;
+  s.adaptive = adaptive;
+  s.adaptive.footprint = false;
   RenderStats off_stats, on_stats;
   const Film off = render(scene, s, &off_stats);
   s.adaptive.footprint = true;
   s.threads = 1;
-  const Film on = render(scene, s, &on_stats);
+  on = render(scene, s, &on_stats);
   EXPECT_EQ(on_stats.rays.primary, off_stats.rays.primary);
   EXPECT_LT(rmse(on, reference), 0.6 * rmse(off, reference)) << rmse(on, reference) << " " << rmse(off, reference);
+  return s;
+}
+
+// The same, then the image with the correction bit-identical across threads, tiles and the
+// per-tile corners.
+void expect_footprint_closer_deterministically(const Scene& scene) {
+  AdaptiveSettings adaptive;
+  adaptive.highlights = adaptive.curvature = true;
+  Film on;
+  RenderSettings s = expect_footprint_closer(scene, adaptive, on);
   s.threads = 2;
   s.tile_size = 7;
   EXPECT_TRUE(bit_identical(on, render(scene, s)));
@@ -458,22 +472,11 @@ TEST(Renderer, TextureFootprintFollowsTheCameraRayIntoAMirror) {
 // differ by an amount between the two stay unrefined and must still take their delta (they
 // were given none, decided at eps).
 TEST(Renderer, TextureFootprintInAMirrorUsesTheMirrorsThreshold) {
-  const Scene scene = textured_ceiling_in_a_mirror();
-  RenderSettings s;
-  s.width = 96;
-  s.height = 64;
-  s.aa = AaMode::Uniform;
-  s.uniform = {UniformPattern::Stratified, 256};
-  const Film reference = render(scene, s);
-  s.aa = AaMode::Adaptive;
-  s.adaptive.eps = 0.005f;
-  s.adaptive.eps_specular = 0.2f;
-  RenderStats off_stats, on_stats;
-  const Film off = render(scene, s, &off_stats);
-  s.adaptive.footprint = true;
-  const Film on = render(scene, s, &on_stats);
-  EXPECT_EQ(on_stats.rays.primary, off_stats.rays.primary);
-  EXPECT_LT(rmse(on, reference), 0.6 * rmse(off, reference)) << rmse(on, reference) << " " << rmse(off, reference);
+  AdaptiveSettings adaptive;
+  adaptive.eps = 0.005f;
+  adaptive.eps_specular = 0.2f;
+  Film on;
+  expect_footprint_closer(textured_ceiling_in_a_mirror(), adaptive, on);
 }
 
 // The footprint corrects an unrefined pixel's box mean of its corners; Mitchell weighs the

@@ -550,10 +550,9 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughThreePanes) {
   expect_hidden_peak_found(s);
 }
 
-// A BLEND pane (alpha 0.3, as the vase's) between the camera and the light: the pane's own
-// surface has no highlight, so only a probe of what lies behind it can see the floor's;
-// the pane passes 70 % of it.
-TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughABlendPane) {
+// The glossy floor with a BLEND pane (alpha 0.3, as the vase's) filling the plane z =
+// `pane_z`; the pane has no highlight of its own.
+Scene floor_under_a_blend_pane(float pane_z) {
   Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
   s.materials[0].roughness = 0.0f;
   Material pane = test::diffuse_material(glm::vec3(0.5f));
@@ -561,25 +560,22 @@ TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughABlendPane) {
   pane.base_alpha = 0.3f;
   pane.roughness = 1.0f;
   s.materials.push_back(pane);
-  test::add_quad(s, {-10, -10, 3}, {10, -10, 3}, {10, 10, 3}, {-10, 10, 3}, 1);  // above the light
+  test::add_quad(s, {-10, -10, pane_z}, {10, -10, pane_z}, {10, 10, pane_z}, {-10, 10, pane_z}, 1);
   s.finalize_materials();
-  expect_hidden_peak_found(s);
+  return s;
 }
 
-// The same pane below the light (z = 2): the floor is lit through it at every corner, 70 %
-// of the light, and seen through it. A light counted as shadowed wherever its shadow rays
-// were dimmed would not be examined, and the peak would go unseen.
+// The pane between the camera and the light (z = 2): only a probe of what lies behind the
+// pane can see the floor's highlight; the pane passes 70 % of it.
+TEST(SpecularPeak, RendererRefinesAHighlightSeenThroughABlendPane) {
+  expect_hidden_peak_found(floor_under_a_blend_pane(3.0f));
+}
+
+// The pane below the light: the floor is lit through it at every corner, 70 % of the light,
+// and seen through it. A light counted as shadowed wherever its shadow rays were dimmed
+// would not be examined, and the peak would go unseen.
 TEST(SpecularPeak, RendererRefinesAHighlightLitThroughABlendPane) {
-  Scene s = test::lit_floor(0.3f, 1.0f, 2.0f);
-  s.materials[0].roughness = 0.0f;
-  Material pane = test::diffuse_material(glm::vec3(0.5f));
-  pane.alpha_mode = AlphaMode::Blend;
-  pane.base_alpha = 0.3f;
-  pane.roughness = 1.0f;
-  s.materials.push_back(pane);
-  test::add_quad(s, {-10, -10, 1.5f}, {10, -10, 1.5f}, {10, 10, 1.5f}, {-10, 10, 1.5f}, 1);
-  s.finalize_materials();
-  expect_hidden_peak_found(s);
+  expect_hidden_peak_found(floor_under_a_blend_pane(1.5f));
 }
 
 }  // namespace
