@@ -95,25 +95,35 @@ Probe* corner_probes(size_t n) {
   return probes.data();
 }
 
-// The pixels a tile's sampler covers: the tile grown by the filter's margin (Mitchell
-// reads its neighbours' lattices), clipped to the frame. The visibility map is read
-// there too, so a caller rendering part of a frame needs the map over this rect.
+// `r` grown by `m` pixels on every side, clipped to the frame.
+inline TileRect grown_in_frame(const TileRect& r, int m, int frame_width, int frame_height) {
+  return {std::max(0, r.x0 - m), std::max(0, r.y0 - m), std::min(frame_width, r.x1 + m),
+          std::min(frame_height, r.y1 + m)};
+}
+// Pixels beyond a tile whose samples the filter weighs (Mitchell reads its neighbours' lattices).
+inline int filter_margin(Filter filter) { return filter == Filter::Mitchell ? kMitchellRadius : 0; }
+
+// The pixels a tile's sampler covers: the tile grown by the filter's margin, clipped to the
+// frame.
 inline TileRect adaptive_region(const TileRect& tile, int frame_width, int frame_height, Filter filter) {
-  const int m = filter == Filter::Mitchell ? kMitchellRadius : 0;
-  return {std::max(0, tile.x0 - m), std::max(0, tile.y0 - m), std::min(frame_width, tile.x1 + m),
-          std::min(frame_height, tile.y1 + m)};
+  return grown_in_frame(tile, filter_margin(filter), frame_width, frame_height);
 }
 
-// The pixels of the visibility map that a render of `region` reads: the refined pixels
-// (adaptive_region) and, with --fill-gaps, one more on every side, whose level-1 decisions
-// refined_around makes from the map too. A map made over less reads 0 there, and the
-// region's border pixels would decide otherwise than in the full frame.
+// Whether --fill-gaps runs: its gaps are image pixels, decided at eps_specular (and only a
+// source with probes tells them: refine_tile's `hidden`).
+inline bool gaps_apply(const AdaptiveSettings& settings) {
+  return settings.fill_gaps && settings.eps_specular >= 0.0f && !settings.refine_all;
+}
+
+// The pixels of the visibility map that a render of `region` reads, so a caller rendering
+// part of a frame needs the map over them: the refined pixels (adaptive_region) and, with
+// --fill-gaps, one more on every side, whose level-1 decisions refined_around makes from the
+// map too. A map made over less reads 0 there, and the region's border pixels would decide
+// otherwise than in the full frame.
 inline TileRect adaptive_geo_reads(const TileRect& region, int frame_width, int frame_height,
                                    const AdaptiveSettings& settings) {
-  const TileRect r = adaptive_region(region, frame_width, frame_height, settings.filter);
-  if (!(settings.fill_gaps && settings.eps_specular >= 0.0f && !settings.refine_all)) return r;
-  return {std::max(0, r.x0 - 1), std::max(0, r.y0 - 1), std::min(frame_width, r.x1 + 1),
-          std::min(frame_height, r.y1 + 1)};
+  const int m = filter_margin(settings.filter) + (gaps_apply(settings) ? 1 : 0);
+  return grown_in_frame(region, m, frame_width, frame_height);
 }
 
 // Where a tile's corner grid lies: the region's (w+1) x (h+1) pixel corners, grown by a
@@ -426,8 +436,7 @@ void refine_tile(S& source, const TileTarget& target, const GeoMap& geo, const A
   const float4 eps_surface(settings.eps), eps_specular(settings.eps_specular);
   const ToneMap& tonemap = settings.tonemap;
   const TableSet& tables = settings.tables ? *settings.tables : paper_table_set();
-  // Gaps are image pixels, which only sources with probes tell, at eps_specular.
-  const bool gaps = settings.fill_gaps && hidden && settings.eps_specular >= 0.0f && !settings.refine_all;
+  const bool gaps = gaps_apply(settings) && hidden;
   const size_t around_pitch = size_t(rw) + 2;
   if (gaps)
     refined_around(layout, grid, geo, eps_specular, target.frame_width, target.frame_height, scratch.around);

@@ -50,6 +50,8 @@ struct alignas(16) mask4 {
   bool all() const { return bits() == 0xF; }
   bool none() const { return bits() == 0; }
   bool operator[](int i) const { return (bits() >> i) & 1; }
+  // The mask whose bits() are `b` (lane i active where bit i is set).
+  static mask4 from_bits(int b) { return mask4(b & 1, b & 2, b & 4, b & 8); }
 };
 
 // Four 32-bit integers (primitive ids, lane indices).

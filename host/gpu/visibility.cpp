@@ -79,11 +79,8 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
   std::vector<glm::vec4> normals = geometric_normals(scene);
   normals.resize(std::max<size_t>(triangles_, 1), glm::vec4(0.0f));
   // The compute passes bind one vec4 per triangle as a storage buffer each.
-  const VkDeviceSize range = context_.properties().limits.maxStorageBufferRange;
-  if (normals.size() * sizeof(glm::vec4) > range)
-    throw Error("visibility map: " + std::to_string(triangles_) + " triangles need storage buffers of " +
-                std::to_string(normals.size() * sizeof(glm::vec4) >> 20) + " MiB, the Vulkan device binds at most " +
-                std::to_string(range >> 20) + " MiB; render with --edges off");
+  check_storage_range(normals.size() * sizeof(glm::vec4), std::to_string(triangles_) + " triangles",
+                      "render with --edges off");
   std::vector<glm::vec4> first_vertices(normals.size(), glm::vec4(0.0f));
   if (triangles_ > 0) bounds_min_ = bounds_max_ = scene.positions[0];
   for (size_t t = 0; t < triangles_; ++t) {
@@ -201,13 +198,16 @@ uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySett
   return samples * 8 + words * 4;
 }
 
-void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
-  if (flags_.size >= bytes) return;
+void VisibilityPass::check_storage_range(VkDeviceSize bytes, const std::string& what, const char* remedy) const {
   const VkDeviceSize range = context_.properties().limits.maxStorageBufferRange;
   if (bytes > range)
-    throw Error("visibility map: the frame's flags need a storage buffer of " + std::to_string(bytes >> 20) +
-                " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) +
-                " MiB; render a smaller frame or with --edges off");
+    throw Error("visibility map: " + what + " need a storage buffer of " + std::to_string(bytes >> 20) +
+                " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) + " MiB; " + remedy);
+}
+
+void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
+  if (flags_.size >= bytes) return;
+  check_storage_range(bytes, "the frame's flags", "render a smaller frame or with --edges off");
   flags_.reset();
   flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

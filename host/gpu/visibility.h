@@ -8,6 +8,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -119,6 +120,9 @@ class VisibilityPass {
   Frame plan(const Camera& camera, int width, int height, const VisibilitySettings& settings) const;
   void ensure_targets(uint32_t width, uint32_t height);
   void ensure_flags(VkDeviceSize bytes);
+  // Throws zz::Error naming `what` and `remedy` when `bytes` exceed one storage-buffer
+  // binding (maxStorageBufferRange).
+  void check_storage_range(VkDeviceSize bytes, const std::string& what, const char* remedy) const;
   void create_pipelines();  // visibility_pipelines.cpp
   void destroy_objects() noexcept;  // the pipelines, layouts, descriptors and queries made so far
   // The flag pipeline specialised for S, made on first use.

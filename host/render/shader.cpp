@@ -235,7 +235,7 @@ void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, in
     if (again == 0) break;
     counters.continuation += uint64_t(std::popcount(unsigned(again)));
     HitPacket4 next;
-    bvh.intersect4(behind.packet(), mask4(again & 1, again & 2, again & 4, again & 8), next);
+    bvh.intersect4(behind.packet(), mask4::from_bits(again), next);
     for (int i = 0; i < 4; ++i)
       if ((again >> i) & 1) hits.take(next, i);
   }
@@ -253,7 +253,7 @@ void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light
   for (int layer = 0; layer <= kMaxSeeThroughLayers && lanes != 0; ++layer) {
     counters.shadow += uint64_t(std::popcount(unsigned(lanes)));
     HitPacket4 packet_hits;
-    bvh.intersect4(rays.packet(), mask4(lanes & 1, lanes & 2, lanes & 4, lanes & 8), packet_hits);
+    bvh.intersect4(rays.packet(), mask4::from_bits(lanes), packet_hits);
     const LaneHits hits(packet_hits);
     int next = 0;
     for (int i = 0; i < 4; ++i) {
@@ -726,15 +726,14 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         if (probe_behind) seen_behind->probes = signature->probes;
         if (footprint_behind) seen_behind->footprint = signature->footprint;
       }
-      auto lanes_of = [](int bits) { return mask4(bits & 1, bits & 2, bits & 4, bits & 8); };
       Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
       if (probed_lanes != 0)
-        c = trace4_impl<kEffects>(behind.packet(), lanes_of(probed_lanes), depth, blend_layers + 1, throughput,
+        c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
                                   counters, &*seen_behind);
       if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
-        const Rgb4 u = trace4_impl<kEffects>(behind.packet(), lanes_of(unprobed), depth, blend_layers + 1, throughput,
+        const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1, throughput,
                                              counters, nullptr);
-        c = select(lanes_of(unprobed), u, c);
+        c = select(mask4::from_bits(unprobed), u, c);
       }
       for (int i = 0; i < 4; ++i) {
         if (!((blend >> i) & 1)) continue;
