@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <cstring>
+#include <mutex>
 
 #include "core/error.h"
 
@@ -12,6 +13,22 @@ constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 constexpr const char* kNoDevice =
     "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` "
     "(lavapipe, CPU) or run with --edges off";
+
+constexpr const char* kNoLoader =
+    "the Vulkan loader (libvulkan.so.1) could not be opened; install it and a driver with "
+    "`apt-get install libvulkan1 mesa-vulkan-drivers` (lavapipe, CPU) or run with --edges off";
+
+// volk's function pointers are process-wide: libvulkan is opened once, and each new
+// instance (re)loads them under this lock. They are the loader's trampolines, which
+// dispatch on the handle, so one context's pointers serve every other one alive.
+std::mutex volk_lock;
+
+void load_vulkan() {
+  static std::once_flag once;
+  static VkResult loaded = VK_ERROR_INITIALIZATION_FAILED;
+  std::call_once(once, [] { loaded = volkInitialize(); });
+  if (loaded != VK_SUCCESS) throw Error(kNoLoader);
+}
 
 bool has_layer(const char* name) {
   uint32_t count = 0;
@@ -132,6 +149,7 @@ void VulkanContext::init(const VulkanOptions& options) {
 }
 
 void VulkanContext::create_instance(const VulkanOptions& options) {
+  load_vulkan();
   std::vector<const char*> layers;
   std::vector<const char*> extensions = options.instance_extensions;
   if (options.validate) {
@@ -165,6 +183,10 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
   VkResult r = vkCreateInstance(&info, nullptr, &instance_);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) throw Error(kNoDevice);
   vk_check(r, "vkCreateInstance");
+  {
+    const std::lock_guard<std::mutex> lock(volk_lock);
+    volkLoadInstance(instance_);  // instance and device entry points (load_vulkan)
+  }
 
   if (options.validate) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(

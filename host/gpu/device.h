@@ -4,7 +4,7 @@
 // callers on any thread submit, present and wait only through it.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include <volk.h>  // the Vulkan API, its functions loaded at run time (load_vulkan in device.cpp)
 
 #include <atomic>
 #include <functional>

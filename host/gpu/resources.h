@@ -1,7 +1,7 @@
 // Buffers and images with their memory: plain move-only structs that free themselves.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include <volk.h>
 
 #include <cstddef>
 

@@ -1,7 +1,7 @@
 // SPIR-V compiled from shaders/*.{vert,frag,comp} at build time and linked into the binary.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include <volk.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -4,7 +4,7 @@
 // only when the picture changed, so there is nothing to overlap.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include <volk.h>
 
 #include <cstdint>
 #include <vector>

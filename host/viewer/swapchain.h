@@ -4,7 +4,7 @@
 // buffer-to-image copy. Recreated on resize and on VK_ERROR_OUT_OF_DATE_KHR.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include <volk.h>
 
 #include <vector>
 

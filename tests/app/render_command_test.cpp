@@ -192,6 +192,26 @@ TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   fs::remove_all(dir);
 }
 
+TEST(RenderCommand, RunsWithoutTheVulkanLoader) {
+  // Files named as the loader that are no library, found first on LD_LIBRARY_PATH: as a
+  // machine without libvulkan1. A binary that linked libvulkan would not start at all.
+  const fs::path dir = temp_dir();
+  for (const char* name : {"libvulkan.so.1", "libvulkan.so"}) std::ofstream(dir / name) << "not a library\n";
+  const std::string no_loader = "LD_LIBRARY_PATH=" + dir.string() + " ";
+  const std::string render = no_loader + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                             " --width 32 --height 32 -q ";
+  auto r = test::run_command(render + "--edges off -o " + (dir / "a.png").string());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir / "a.png"));
+  r = test::run_command(render + "-o " + (dir / "b.png").string());
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("Vulkan loader"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("apt-get install libvulkan1 mesa-vulkan-drivers"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--edges off"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "b.png"));
+  fs::remove_all(dir);
+}
+
 TEST(RenderCommand, MissingDeviceIsReportedAlsoAfterAFailedLoad) {
   // The device is created while the first scene loads; a load failure must not hide it.
   const fs::path dir = temp_dir();
