@@ -9,8 +9,10 @@
 namespace zz {
 namespace {
 
-// Integer lattice coordinates (in 1/25) of physical point k.
-std::pair<int, int> cell(int k) { return {k, (7 * k) % 25}; }
+// Integer lattice coordinates (in 1/25) of physical point k, read from the table.
+std::pair<int, int> cell(int k) {
+  return {int(std::lround(kLattice[k].u * 25.0f)), int(std::lround(kLattice[k].v * 25.0f))};
+}
 
 TEST(Lattice, PointsAreTheRank1Lattice) {
   for (int k = 0; k < kLatticePoints; ++k) {
@@ -31,9 +33,15 @@ TEST(Lattice, TwentyFiveDistinctColumnsAndRows) {
 TEST(Lattice, InvariantUnder90And180Degrees) {
   std::set<std::pair<int, int>> pts;
   for (int k = 0; k < kLatticePoints; ++k) pts.insert(cell(k));
+  ASSERT_EQ(pts.size(), 25u);
   for (auto [a, b] : pts) {
     EXPECT_TRUE(pts.count({b, (25 - a) % 25})) << "90: " << a << "," << b;           // (u,v) -> (v, 1-u)
     EXPECT_TRUE(pts.count({(25 - a) % 25, (25 - b) % 25})) << "180: " << a << "," << b;
+  }
+  // The vertical orientation's map is that rotation: canonical k sits on physical_k's point.
+  for (int k = 1; k < kLatticePoints; ++k) {
+    const auto [a, b] = cell(k);
+    EXPECT_EQ(cell(physical_k(Orientation::Vertical, k)), std::make_pair(b, (25 - a) % 25)) << k;
   }
 }
 
