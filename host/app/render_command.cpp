@@ -10,6 +10,7 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -123,6 +124,65 @@ struct JobTally {
   }
 };
 
+// The batch's Vulkan device, created on a thread of its own from the start, so that it
+// overlaps the first scene's load; get() waits for it. A failure to create it ends the
+// whole batch (failed()), even after a job failed to load: it says what to install.
+class DeviceSource {
+ public:
+  // An invalid future: no map wanted, get() is null.
+  explicit DeviceSource(std::future<std::unique_ptr<VulkanContext>> creating) : creating_(std::move(creating)) {}
+
+  VulkanContext* get() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
+    if (creating_.valid()) {
+      try {
+        context_ = creating_.get();
+      } catch (...) {
+        error_ = std::current_exception();
+        throw;
+      }
+    }
+    return context_.get();
+  }
+  bool failed() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return error_ != nullptr;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::future<std::unique_ptr<VulkanContext>> creating_;
+  std::unique_ptr<VulkanContext> context_;
+  std::exception_ptr error_;
+};
+
+// A scene's visibility pass, made by its first frame's map thread: the scene's upload then
+// runs beside level 1's corner rays instead of before them. The device is waited for
+// before the frame (render_job), so that the memory estimate holds what it made resident.
+class SceneMap {
+ public:
+  SceneMap(VulkanContext& vulkan, const Scene& scene) : vulkan_(vulkan), scene_(scene) {}
+
+  struct Use {
+    VisibilityPass& pass;
+    double upload_s;  // the upload this call made (0 once made)
+  };
+  Use get() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    if (pass_) return {*pass_, 0.0};
+    pass_ = std::make_unique<VisibilityPass>(vulkan_, scene_);
+    return {*pass_, pass_->upload_seconds()};
+  }
+  const VulkanContext& vulkan() const { return vulkan_; }
+
+ private:
+  VulkanContext& vulkan_;
+  const Scene& scene_;
+  std::mutex mutex_;
+  std::unique_ptr<VisibilityPass> pass_;
+};
+
 // What a scene's cameras share: loaded, posed, its BVH built and its map pass made once.
 struct SceneJob {
   const Scene& scene;
@@ -130,17 +190,17 @@ struct SceneJob {
   int frame;         // {frame}
   const Shader& shader;
   const BvhBuildStats& bvh_stats;
-  VulkanContext* vulkan;         // null: no visibility map
-  VisibilityPass* visibility;
+  SceneMap* map;                 // null: no visibility map
   double load_s, bvh_s;          // counted in the first camera's total
+  double device_wait_s;          // the wait for the device that the load and BVH did not hide (idem)
 };
 
 void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera);
 
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 // A camera whose job fails is reported and the scene's other cameras still render.
-void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
-                const std::function<VulkanContext*()>& device, JobTally& tally) {
+void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, DeviceSource& device,
+                JobTally& tally) {
   const LoadOptions load = load_options(o.render, o.quiet);
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
@@ -156,11 +216,13 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
   const Bvh bvh = Bvh::build(scene.positions, &bvh_stats);
   const double bvh_s = seconds_since(t);
   const Shader shader(scene, bvh);
-  VulkanContext* vulkan = device();
-  std::unique_ptr<VisibilityPass> visibility;
-  if (vulkan) visibility = std::make_unique<VisibilityPass>(*vulkan, scene);
+  t = std::chrono::steady_clock::now();
+  VulkanContext* vulkan = device.get();
+  const double device_wait_s = seconds_since(t);
+  std::optional<SceneMap> map;
+  if (vulkan) map.emplace(*vulkan, scene);
 
-  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, vulkan, visibility.get(), load_s, bvh_s};
+  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s};
   for (int camera_index : cameras) {
     ++tally.jobs;
     try {
@@ -174,7 +236,6 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path,
 void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera) {
   const Scene& scene = job.scene;
   const Shader& shader = job.shader;
-  VisibilityPass* visibility = job.visibility;
   auto t = std::chrono::steady_clock::now();
   const auto t_job = t;
   RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
@@ -189,7 +250,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   // of what the process holds now (libraries, Vulkan, scene, BVH).
   uint64_t frame_need =
       render_bytes(settings, region, scene) +
-      (visibility ? visibility->frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+      (job.map ? VisibilityPass::frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
   // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
   // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
   size_t layer_count = 0;
@@ -204,24 +265,34 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
 
-  // The map's targets, flag buffer and pipeline are allocated (on lavapipe: and their
-  // pages touched) before the frame's clock starts: one-off work, like the upload.
-  if (visibility) visibility->prepare(settings.width, settings.height, make_visibility_settings(o.render));
-
   // The map is made on its own thread while level 1 traces (render_frame awaits it
-  // before classifying); --edges-serial makes it first. The image is the same.
+  // before classifying); --edges-serial makes it first. The image is the same. The map's
+  // one-off set-up runs on that thread too, inside the frame's clock: a scene's first
+  // frame uploads the scene, and a frame of a new size allocates the targets and the
+  // flag pipeline (prepare; room 1024^2: 0.1 s that preceded the frame on one core).
   const auto t_frame = std::chrono::steady_clock::now();
   GeoMap geo;
   VisibilityTimings edge_times;
+  MapSetup setup;
+  bool map_made = false;  // this frame has the map (a failed one throws before the stats)
   std::shared_future<GeoMap> pending;
   const bool film_is_region = !o.region.empty();
-  if (visibility) {
+  if (job.map) {
     auto make_map = [&, camera_index] {
+      const auto t_map = std::chrono::steady_clock::now();
+      const SceneMap::Use use = job.map->get();
+      setup.upload_s = use.upload_s;
+      const auto t_prepare = std::chrono::steady_clock::now();
+      use.pass.prepare(settings.width, settings.height, make_visibility_settings(o.render));
+      setup.prepare_s = seconds_since(t_prepare);
       // A region's sampler reads the map beyond the region: its filter margin and the gaps' ring.
       std::optional<TileRect> map_region;
       if (film_is_region) map_region = adaptive_geo_reads(region, settings.width, settings.height, settings.adaptive);
-      return visibility->run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                             make_visibility_settings(o.render), &edge_times, map_region);
+      GeoMap made = use.pass.run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
+                                 make_visibility_settings(o.render), &edge_times, map_region);
+      setup.total_s = seconds_since(t_map);
+      map_made = true;
+      return made;
     };
     if (o.render.edges_serial) geo = make_map();
     else pending = std::async(std::launch::async, make_map).share();
@@ -297,12 +368,13 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   record.aov_rays = aov_rays;
   record.aov_seconds = aov_s;
   record.times = {job.load_s, job.bvh_s, write_s,
-                  seconds_since(t_job) + (first_camera ? job.load_s + job.bvh_s : 0.0), frame_s};
-  if (visibility) {
-    record.visibility = visibility;
+                  seconds_since(t_job) + (first_camera ? job.load_s + job.bvh_s + job.device_wait_s : 0.0), frame_s};
+  if (map_made) {
+    setup.device_wait_s = first_camera ? job.device_wait_s : 0.0;
+    record.map_setup = setup;
     record.edge_times = &edge_times;
     record.geo = &geo;
-    record.vulkan_device = job.vulkan->device_name();
+    record.vulkan_device = job.map->vulkan().device_name();
   }
   const nlohmann::json j = render_stats_json(record);
   if (stats.rays.nan_radiance > 0)
@@ -327,7 +399,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  job.name.c_str(), camera_index, settings.width, settings.height, where.c_str(),
                  name_of(kAaModes, o.render.aa),
                  j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
-                 stats.render_seconds, j["mrays_per_s"].get<double>(), visibility ? edge_times.total_s : 0.0,
+                 stats.render_seconds, j["mrays_per_s"].get<double>(), map_made ? setup.total_s : 0.0,
                  job.load_s, job.bvh_s, written.c_str());
   }
 }
@@ -349,42 +421,30 @@ void add_render_command(CLI::App& app, int& exit_code) {
     // first job that needs the device waits for it. Creation errors (no device: the
     // install hint) end the whole batch as before, even after a job failed to load.
     std::future<std::unique_ptr<VulkanContext>> creating;
-    std::unique_ptr<VulkanContext> vulkan;
-    std::exception_ptr device_error;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
       vo.device_index = o->render.vk_device;
       vo.validate = o->render.vk_validate;
       creating = std::async(std::launch::async, [vo] { return VulkanContext::create(vo); });
     }
-    auto device = [&]() -> VulkanContext* {
-      if (device_error) std::rethrow_exception(device_error);
-      if (creating.valid()) {
-        try {
-          vulkan = creating.get();
-        } catch (...) {
-          device_error = std::current_exception();
-          throw;
-        }
-      }
-      return vulkan.get();
-    };
+    DeviceSource device(std::move(creating));
     JobTally tally;
     for (const std::string& scene : o->scenes) {
       const int jobs_before = tally.jobs;
       try {
         render_job(*o, scene, device, tally);
-      } catch (const std::exception& e) {  // the scene failed before its cameras: one job
-        if (device_error) std::rethrow_exception(device_error);
-        tally.jobs = jobs_before + 1;
+      } catch (const std::exception& e) {
+        if (device.failed()) device.get();  // rethrows: no device ends the batch
+        tally.jobs = jobs_before + 1;  // the scene failed before its cameras: one job
         tally.fail(scene, e);
       }
     }
-    device();  // a batch whose jobs all failed before needing the device still reports it
+    VulkanContext* vulkan = device.get();  // a batch whose jobs all failed before needing the device still reports it
     if (tally.failed > 0 && tally.jobs > 1)
       std::fprintf(stderr, "zigzag: %d of %d jobs failed\n", tally.failed, tally.jobs);
     // Only refusals: the usage exit code, so a farm does not run the jobs again.
     exit_code = tally.failed == 0 ? 0 : tally.refused == tally.failed ? kUsageExit : 1;
+    if (vulkan) vulkan->close();  // objects left alive on the device are reported now, and counted
     if (vulkan && vulkan->validation_enabled() && vulkan->validation_message_count() > 0) {
       std::fprintf(stderr, "zigzag: %d Vulkan validation message(s)\n", vulkan->validation_message_count());
       exit_code = 1;

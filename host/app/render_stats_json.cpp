@@ -93,15 +93,17 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                  {"total", r.times.total}};
   j["memory_estimate_bytes"] = r.memory_estimate_bytes;
   j["edges"] = name_of(kEdgeModes, o.edges);
-  if (r.visibility) {
+  if (r.edge_times) {
     size_t flagged = 0;
     for (int y = region.y0; y < region.y1; ++y)
       for (int x = region.x0; x < region.x1; ++x) flagged += r.geo->at(x, y);
-    j["time_s"]["edges"] = {{"upload", r.visibility->upload_seconds()},
+    j["time_s"]["edges"] = {{"device_wait", r.map_setup.device_wait_s},
+                            {"upload", r.map_setup.upload_s},
+                            {"prepare", r.map_setup.prepare_s},
                             {"raster", r.edge_times->raster_s},
                             {"compute", r.edge_times->compute_s},
                             {"readback", r.edge_times->readback_s},
-                            {"total", r.edge_times->total_s}};
+                            {"total", r.map_setup.total_s}};
     j["geo_fraction"] = double(flagged) / pixels;
     j["edge_settings"] = {{"supersample", o.edge_ss}, {"normal_angle_deg", o.edge_angle}, {"depth_rel", o.edge_depth}, {"material", o.edge_material}};
     j["vulkan_device"] = r.vulkan_device;

@@ -21,7 +21,16 @@ struct StageTimes {
   double frame = 0;  // visibility map + render, wall (they overlap unless --edges-serial)
 };
 
-// Everything one job reports; the visibility fields are used when `visibility` is set.
+// The visibility map's one-off set-up and its thread's time in one frame (render_command.cpp):
+// device_wait, before the frame (a scene's first), the wait for the Vulkan device that the
+// load and BVH did not hide; on the map's thread, inside the frame, the scene's upload (a
+// scene's first frame) and prepare (the targets and flag pipeline: a new frame size), then
+// VisibilityPass::run; total: the map thread's wall, upload and prepare included.
+struct MapSetup {
+  double device_wait_s = 0, upload_s = 0, prepare_s = 0, total_s = 0;
+};
+
+// Everything one job reports; the visibility fields are used when `edge_times` is set.
 struct JobRecord {
   std::string scene_name;
   int camera = 0;
@@ -34,8 +43,8 @@ struct JobRecord {
   const BvhBuildStats* bvh = nullptr;
   StageTimes times;
   uint64_t memory_estimate_bytes = 0;  // peak resident memory expected for the job
-  const VisibilityPass* visibility = nullptr;
   const VisibilityTimings* edge_times = nullptr;
+  MapSetup map_setup;
   const GeoMap* geo = nullptr;
   std::string vulkan_device;
   TileRect region;  // the pixels rendered (the whole frame unless --region)

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/error.h"
 
@@ -174,13 +175,17 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
 }
 
 std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings) const {
-  const int s = settings.supersample;
   const VkPhysicalDeviceLimits& limits = context_.properties().limits;
   // The target is an image, a framebuffer and a viewport: the least of their limits.
-  int max_dim = settings.max_tile_dim > 0
-                    ? settings.max_tile_dim
-                    : int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
-                                    limits.maxViewportDimensions[0], limits.maxViewportDimensions[1]}));
+  return tile_size(width, height, settings,
+                   int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
+                                 limits.maxViewportDimensions[0], limits.maxViewportDimensions[1],
+                                 uint32_t(std::numeric_limits<int>::max())})));
+}
+
+std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings, int max_dim) {
+  const int s = settings.supersample;
+  if (settings.max_tile_dim > 0) max_dim = settings.max_tile_dim;
   int max_px = (max_dim - 2) / s;
   int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
   if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
@@ -191,8 +196,8 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
   return {tile_w, tile_h};
 }
 
-uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings) const {
-  const auto [tile_w, tile_h] = tile_size(width, height, settings);
+uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings) {
+  const auto [tile_w, tile_h] = tile_size(width, height, settings, std::numeric_limits<int>::max());
   const uint64_t samples = uint64_t(target_width(tile_w, settings.supersample)) * uint64_t(tile_h * settings.supersample + 2);
   const uint64_t words = uint64_t((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * uint64_t(height);
   return samples * 8 + words * 4;

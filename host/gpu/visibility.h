@@ -99,11 +99,14 @@ class VisibilityPass {
 
   // Device memory run() allocates for a frame (on lavapipe: host memory): the tile's id
   // and depth attachments (8 bytes per supersample, the tile plan of run()) plus the flag
-  // buffer the map is read back from (one 32-bit word per 4 pixels).
-  uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings) const;
+  // buffer the map is read back from (one 32-bit word per 4 pixels). An upper bound known
+  // before any device exists: a device's image limits can only make the tiles smaller.
+  static uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings);
 
  private:
-  // Tile width and height in pixels for a frame (the raster's memory budget).
+  // Tile width and height in pixels for a frame: the raster's memory budget, and the
+  // device's image, framebuffer and viewport limits (max_dim; settings.max_tile_dim first).
+  static std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings, int max_dim);
   std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings) const;
   // The id target's width for tiles `tile_w` pixels wide: their samples and ring, padded to
   // whole flag words, since the flag shader loads every sample row of a word's 4 pixels

@@ -148,6 +148,21 @@ TEST(RenderCommand, StatsHaveTheDocumentedFields) {
   EXPECT_EQ(j["height"], 48);
   EXPECT_EQ(j["aa"], "adaptive");
   EXPECT_GE(j["rays_per_pixel"].get<double>(), 1.0);
+  // The wait for the device is outside the frame and inside the job's total; the scene's
+  // upload and the map's allocations run on the map's thread, inside its time and the frame's.
+  const nlohmann::json& t = j["time_s"];
+  const nlohmann::json& e = t["edges"];
+  for (const char* key : {"device_wait", "upload", "prepare", "raster", "compute", "readback", "total"}) {
+    ASSERT_TRUE(e.contains(key)) << key;
+    EXPECT_GE(e[key].get<double>(), 0.0) << key;
+  }
+  EXPECT_GT(e["upload"].get<double>(), 0.0);
+  EXPECT_GT(e["prepare"].get<double>(), 0.0);
+  EXPECT_LE(e["upload"].get<double>() + e["prepare"].get<double>(), e["total"].get<double>());
+  EXPECT_LE(e["total"].get<double>(), t["frame"].get<double>());
+  double stages = e["device_wait"].get<double>();
+  for (const char* key : {"load", "bvh", "frame", "write"}) stages += t[key].get<double>();
+  EXPECT_LE(stages, t["total"].get<double>());
   fs::remove_all(dir);
 }
 
