@@ -9,5 +9,6 @@ if [ ! -x "$PY" ]; then
   exit 77
 fi
 OUT="$BUILD/report-quick"
+rm -rf "$OUT"  # the check reads this run's outputs, not an earlier run's
 "$PY" "$ROOT/tools/report/report.py" --build "$BUILD" --quick --out "$OUT"
 "$PY" "$ROOT/tests/report/check_quick.py" "$BUILD" "$ROOT" "$OUT"

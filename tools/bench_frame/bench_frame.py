@@ -4,7 +4,9 @@ drifts hit all of them alike; the order rotates by repetition), medians of --rep
 path (times from its --stats JSON). The adaptive frame runs twice: as zigzag renders it
 (the map alongside level 1; frame = wall of both) and with --edges-serial (map, then
 render: the split). Prints the ratios of issue 11: the map's share of the serial adaptive
-frame, lattice / adaptive frame, adaptive 2 threads vs 1 (`--threads 1`, whose map still runs on
+frame, lattice / adaptive frame (the map's thread holds its one-off set-up, the scene's upload
+and the targets' allocation; both also with the wait for the Vulkan device that loading did
+not hide, which precedes a scene's first frame: a single image pays it, a sequence once), adaptive 2 threads vs 1 (`--threads 1`, whose map still runs on
 its own thread and lavapipe's) and vs the same run confined to one core (sched_setaffinity: what
 a second core buys), and the frame's distance to the
 ray-throughput limit: its rays by type / bench_traversal's 4-ray-packet throughput for
@@ -42,8 +44,9 @@ def render(zigzag, scene, size, threads, options, workdir, cpus=None):
     subprocess.run(cmd, check=True, env=env, preexec_fn=pin)
     with open(stats) as f:
         j = json.load(f)
-    edges = j["time_s"].get("edges", {}).get("total", 0.0)
-    return {"render": j["time_s"]["render"], "map": edges, "frame": j["time_s"]["frame"], "rays": j["rays"]}
+    edges = j["time_s"].get("edges", {})
+    return {"render": j["time_s"]["render"], "map": edges.get("total", 0.0), "wait": edges.get("device_wait", 0.0),
+            "frame": j["time_s"]["frame"], "rays": j["rays"]}
 
 
 def traversal_rates(bench, scenes, threads, workdir):
@@ -100,7 +103,8 @@ def main():
     print(f"\nframe benchmark: {a.size}x{a.size}, {a.threads} threads (adaptive_1t: 1 thread; adaptive_1core: 1 thread"
           f" on 1 core, map and lavapipe included), medians of {a.reps}, seconds")
     head = ("scene", "1 ray/px", "serial: render", "serial: map", "map share", "adaptive frame",
-            "lattice", "lattice/frame", "frame 1t", "2t speed-up", "frame 1 core", "vs 1 core")
+            "lattice", "lattice/frame", "frame 1t", "2t speed-up", "frame 1 core", "vs 1 core",
+            "device wait", "share with wait", "lattice/(frame + wait)")
     print("| " + " | ".join(head) + " |")
     print("|" + "---|" * len(head))
     for n in names:
@@ -108,10 +112,14 @@ def main():
         core = med(n, "adaptive_1core", "frame")
         lattice = med(n, "lattice", "frame")  # frame against frame: the same clock as the adaptive's
         share = statistics.median(r["map"] / (r["render"] + r["map"]) for r in runs[(n, "serial")])
+        wait = med(n, "adaptive", "wait")
+        share_wait = statistics.median((r["map"] + r["wait"]) / (r["render"] + r["map"] + r["wait"])
+                                       for r in runs[(n, "serial")])
+        single = statistics.median(r["frame"] + r["wait"] for r in runs[(n, "adaptive")])
         print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'serial', 'render'):.3f} | "
               f"{med(n, 'serial', 'map'):.3f} | {100 * share:.0f} % | {adaptive:.3f} | "
               f"{lattice:.3f} | {lattice / adaptive:.1f}x | {one:.3f} | {one / adaptive:.2f}x | {core:.3f} | "
-              f"{core / adaptive:.2f}x |")
+              f"{core / adaptive:.2f}x | {wait:.3f} | {100 * share_wait:.0f} % | {lattice / single:.1f}x |")
     if not rates:
         return
     print(f"\nray-throughput limit ({a.threads} threads): rays by type / bench_traversal ours4 Mrays/s;"
@@ -122,7 +130,7 @@ def main():
         for config in ("1rpp", "serial", "lattice"):
             rays = runs[(n, config)][0]["rays"]  # deterministic: the same in every run
             counts = {"primary": rays["primary"], "shadow": rays["shadow"],
-                      "secondary": rays["reflection"] + rays["refraction"]}
+                      "secondary": rays["reflection"] + rays["refraction"] + rays.get("continuation", 0)}
             if any((n, k) not in rates for k in counts):
                 print(f"| {n} | {config} | (no traversal rates for this scene) |")
                 continue

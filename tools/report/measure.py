@@ -63,6 +63,10 @@ def stage_times(stats: dict) -> dict:
            "render_s": t.get("render", 0.0), "write_s": t.get("write", 0.0),
            "total_s": t.get("total", 0.0)}
     out["image_s"] = t.get("frame", out["edges_s"] + out["render_s"])
+    # The wait for the Vulkan device that loading did not hide: before a scene's first frame,
+    # outside image_s (a single image pays it, a sequence once).
+    e = t.get("edges", {}) if isinstance(t.get("edges"), dict) else {}
+    out["device_wait_s"] = e.get("device_wait", 0.0)
     return out
 
 
@@ -75,6 +79,7 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference |
     folder = ctx.work / scene.stem
     folder.mkdir(parents=True, exist_ok=True)
     exr = folder / f"{setting.label}.exr"
+    (folder / f"{setting.label}.png").unlink(missing_ok=True)  # a failed run leaves no older image for the crops
     aov = folder / f"{setting.label}_rays.png" if setting.mode == "adaptive" else None
     args = [*setting.render_args(), "--assets", str(ctx.assets)]
     timings = []

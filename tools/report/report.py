@@ -127,7 +127,9 @@ class RowStore:
         self.rows += rows
 
 
-def measure_scenes(ctx, scenes, points, store: RowStore) -> dict:
+def measure_scenes(ctx, scenes, points, store: RowStore, failed: list[str]) -> dict:
+    """Measures every point not in the store; a point that fails is logged and named in `failed`
+    (REPORT.md lists them and the run exits 1: its row is missing from every table)."""
     refs_stats = {}
     for scene in scenes:
         t0 = time.time()
@@ -143,6 +145,7 @@ def measure_scenes(ctx, scenes, points, store: RowStore) -> dict:
                 row = measure.measure_render(ctx, scene, s, ref)
             except (RuntimeError, OSError, ValueError) as e:
                 log(f"{scene.stem}: {s.label} FAILED: {e}")
+                failed.append(f"{scene.stem}: `{s.label}` failed ({e}); its row is missing from every table")
                 continue
             store.add([row])
             log(f"{scene.stem}: {s.label:55s} {row['rays_per_px']:6.2f} rays/px "
@@ -208,6 +211,7 @@ def main(argv: list[str]) -> int:
     if args.only:
         points = [p for p in points if p.label in args.only]
     scenes, skipped = available_scenes(args)
+    failed: list[str] = []
     store = RowStore(work / "rows.jsonl", args.resume or args.report_only,
                      None if args.report_only else (env["binary_digest"], args.ref_spp))
     if args.report_only:
@@ -215,7 +219,7 @@ def main(argv: list[str]) -> int:
         refs = {n: json.loads(p.read_text()) for n, k in keys.items()
                 for p in [ctx.cache / f"{n}_{args.size}_{args.ref_spp}_{k}.json"] if p.exists()}
     else:
-        refs = measure_scenes(ctx, scenes, points, store)
+        refs = measure_scenes(ctx, scenes, points, store, failed)
         if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
             measure_star(ctx, settings.star_settings(args.quick), store)
     env["loadavg_end"] = os.getloadavg()
@@ -232,9 +236,12 @@ def main(argv: list[str]) -> int:
     figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
     figures += crops.all_crops(rows, work, args.out, choice)
     extra = [r for f in args.table2_extra for r in csv.DictReader(open(f))]
-    markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped, choice, figures,
-                          settings.__doc__, extra)
+    markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped + [f"FAILED: {f}" for f in failed],
+                          choice, figures, settings.__doc__, extra)
     log(f"wrote {args.out / 'REPORT.md'} and {len(figures)} figures")
+    if failed:
+        log(f"{len(failed)} point(s) failed: " + "; ".join(failed))
+        return 1
     return 0
 
 
