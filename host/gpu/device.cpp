@@ -263,13 +263,20 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
   timestamp_bits_ = properties_.limits.timestampComputeAndGraphics ? props[queue_family_].timestampValidBits : 0;
 }
 
-VulkanContext::~VulkanContext() {
+void VulkanContext::close() noexcept {
   if (device_) {
     wait_idle_noexcept();
     if (command_pool_) vkDestroyCommandPool(device_, command_pool_, nullptr);
     vkDestroyDevice(device_, nullptr);
+    command_pool_ = VK_NULL_HANDLE;
+    device_ = VK_NULL_HANDLE;
   }
   if (surface_) vkDestroySurfaceKHR(instance_, surface_, nullptr);
+  surface_ = VK_NULL_HANDLE;
+}
+
+VulkanContext::~VulkanContext() {
+  close();
   if (messenger_) {
     auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkDestroyDebugUtilsMessengerEXT"));

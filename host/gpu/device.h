@@ -69,6 +69,13 @@ class VulkanContext {
   // For destructors: waits, and on failure prints the reason instead of throwing.
   void wait_idle_noexcept() noexcept;
 
+  // Destroys the device, its pool and the surface, keeping the instance and the validation
+  // messenger: objects still alive on the device are reported at vkDestroyDevice, so a
+  // validation_message_count() read after close() includes them. Everything made on the
+  // device must be gone; nothing but the count may be used afterwards. The destructor
+  // closes a context that is still open.
+  void close() noexcept;
+
  private:
   VulkanContext() = default;
   void init(const VulkanOptions& options);

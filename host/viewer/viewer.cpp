@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <deque>
+#include <exception>
 #include <memory>
 
 #include "core/error.h"
@@ -47,12 +48,21 @@ class Viewer {
   void on_cursor(double x, double y);
   void on_scroll(double steps);
   void on_framebuffer(int width, int height);
+  void on_refresh();
+
+  // Runs a GLFW callback's body: nothing may unwind through GLFW's C frames, so any
+  // exception (zz::Interrupted is not a std::exception) is kept for run() to rethrow
+  // after the loop, and the window is asked to close.
+  template <class F>
+  static void guarded(GLFWwindow* w, F&& body) noexcept;
 
   void restart();
   void camera_moved();
   void save_screenshot(const std::filesystem::path& path);
   void update_title(bool force);
   bool frame_done() const;
+  // A scripted resize the window manager did not grant within 5 s is given up on.
+  void expire_pending_resize();
   // Runs script events until one must wait; false once the viewer should close.
   void step_script();
 
@@ -82,17 +92,33 @@ class Viewer {
   Clock::time_point wait_start_;
   bool waiting_ = false;
   int pending_width_ = 0, pending_height_ = 0;  // a scripted resize not yet seen
+  Clock::time_point pending_since_;
   int exit_code_ = 0;
   double first_frame_since_start_ = -1.0;
 
   uint64_t presented_version_ = ~uint64_t(0);
   ViewMode presented_mode_ = ViewMode::Image;
   int presented_fb_w_ = 0, presented_fb_h_ = 0;
+  // The window lost its contents (exposed, restored) or the last present failed: the
+  // picture may be unchanged, but it must be presented again.
+  bool needs_present_ = false;
+  std::exception_ptr callback_error_;  // the first exception a GLFW callback caught
   Clock::time_point title_time_;
   std::string title_;
 };
 
 Viewer* self(GLFWwindow* w) { return static_cast<Viewer*>(glfwGetWindowUserPointer(w)); }
+
+template <class F>
+void Viewer::guarded(GLFWwindow* w, F&& body) noexcept {
+  Viewer* v = self(w);
+  try {
+    body(v);
+  } catch (...) {
+    if (!v->callback_error_) v->callback_error_ = std::current_exception();
+    glfwSetWindowShouldClose(w, GLFW_TRUE);
+  }
+}
 
 Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
     : shader_(shader), options_(options), camera_(options.camera), settings_(options.settings), tweaks_(options.tweaks) {
@@ -129,20 +155,31 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
   renderer_ = std::make_unique<ProgressiveRenderer>(shader_, display_, std::move(geo));
 
   glfwSetKeyCallback(window, [](GLFWwindow* w, int key, int, int action, int) {
-    // Held down, only eps steps repeat: a held S wrote 22 screenshots in 1.5 s.
-    const bool steps = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET;
-    if (action == GLFW_PRESS || (action == GLFW_REPEAT && steps)) self(w)->on_key(key);
+    guarded(w, [&](Viewer* v) {
+      // Held down, only eps steps repeat: a held S wrote 22 screenshots in 1.5 s.
+      const bool steps = key == GLFW_KEY_LEFT_BRACKET || key == GLFW_KEY_RIGHT_BRACKET;
+      if (action == GLFW_PRESS || (action == GLFW_REPEAT && steps)) v->on_key(key);
+    });
   });
   glfwSetMouseButtonCallback(window, [](GLFWwindow* w, int button, int action, int) {
-    double x, y;
-    glfwGetCursorPos(w, &x, &y);
-    self(w)->on_button(button, action == GLFW_PRESS, x, y);
+    guarded(w, [&](Viewer* v) {
+      double x, y;
+      glfwGetCursorPos(w, &x, &y);
+      v->on_button(button, action == GLFW_PRESS, x, y);
+    });
   });
-  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) { self(w)->on_cursor(x, y); });
-  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) { self(w)->on_scroll(dy); });
+  glfwSetCursorPosCallback(window, [](GLFWwindow* w, double x, double y) {
+    guarded(w, [&](Viewer* v) { v->on_cursor(x, y); });
+  });
+  glfwSetScrollCallback(window, [](GLFWwindow* w, double, double dy) {
+    guarded(w, [&](Viewer* v) { v->on_scroll(dy); });
+  });
   glfwSetFramebufferSizeCallback(window, [](GLFWwindow* w, int width, int height) {
-    self(w)->on_framebuffer(width, height);
+    guarded(w, [&](Viewer* v) { v->on_framebuffer(width, height); });
   });
+  // Uncovered or restored: the finished picture must be shown again although it did not change.
+  glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { guarded(w, [](Viewer* v) { v->on_refresh(); }); });
+  glfwSetWindowIconifyCallback(window, [](GLFWwindow* w, int) { guarded(w, [](Viewer* v) { v->on_refresh(); }); });
 
   orbit_ = OrbitCamera(camera_, focus_distance(camera_, options.scene_centre, options.scene_radius));
   render_width_ = settings_.width;
@@ -257,6 +294,8 @@ void Viewer::on_framebuffer(int width, int height) {
   restart();
 }
 
+void Viewer::on_refresh() { needs_present_ = true; }
+
 void Viewer::save_screenshot(const std::filesystem::path& path) {
   // The composed view (not a swapchain read-back): in the image view these are exactly
   // the bytes `zigzag render` writes for the same camera and size.
@@ -283,6 +322,15 @@ bool Viewer::frame_done() const {
   return s.completed == request_ && pending_width_ == 0;
 }
 
+void Viewer::expire_pending_resize() {
+  if (pending_width_ == 0 || since(pending_since_) <= 5.0) return;
+  int fb_w = 0, fb_h = 0;
+  glfwGetFramebufferSize(window_.get(), &fb_w, &fb_h);
+  std::fprintf(stderr, "zigzag view: the window stayed %dx%d (script asked for %dx%d)\n", fb_w, fb_h, pending_width_,
+               pending_height_);
+  pending_width_ = pending_height_ = 0;
+}
+
 void Viewer::step_script() {
   while (!script_.empty()) {
     ScriptEvent& e = script_.front();
@@ -291,7 +339,6 @@ void Viewer::step_script() {
         waiting_ = true;
         wait_start_ = Clock::now();
       }
-      if (pending_width_ != 0 && since(wait_start_) > 5.0) pending_width_ = pending_height_ = 0;  // WM refused the size
       if (!frame_done()) {
         if (since(wait_start_) > options_.script_timeout_seconds) {
           std::fprintf(stderr, "zigzag view: script 'wait' timed out after %.0f s\n", options_.script_timeout_seconds);
@@ -321,7 +368,9 @@ void Viewer::step_script() {
           {"]", GLFW_KEY_RIGHT_BRACKET}, {"ESC", GLFW_KEY_ESCAPE}};
       int key = -1;
       for (const auto& [name, code] : keys)
-        if (e.text == name || (e.text.size() == 1 && std::toupper(e.text[0]) == name[0] && name[1] == 0)) key = code;
+        if (e.text == name ||
+            (e.text.size() == 1 && std::toupper(static_cast<unsigned char>(e.text[0])) == name[0] && name[1] == 0))
+          key = code;
       if (key < 0) {
         std::fprintf(stderr, "zigzag view: script key '%s' is unknown\n", e.text.c_str());
         exit_code_ = 1;
@@ -329,9 +378,15 @@ void Viewer::step_script() {
         on_key(key);
       }
     } else if (e.kind == ScriptEvent::Kind::Resize) {
-      pending_width_ = int(e.x0);
-      pending_height_ = int(e.y0);
-      glfwSetWindowSize(window_.get(), pending_width_, pending_height_);
+      // X11 reports a framebuffer size only when it changes: asking for the current size
+      // must not wait for a report that never comes (it hung --exit-after-frame).
+      int fb_w = 0, fb_h = 0;
+      glfwGetFramebufferSize(window_.get(), &fb_w, &fb_h);
+      const bool same = int(e.x0) == fb_w && int(e.y0) == fb_h;
+      pending_width_ = same ? 0 : int(e.x0);
+      pending_height_ = same ? 0 : int(e.y0);
+      pending_since_ = Clock::now();
+      glfwSetWindowSize(window_.get(), int(e.x0), int(e.y0));
     } else if (e.kind == ScriptEvent::Kind::Screenshot) {
       save_screenshot(e.text);
     } else if (e.kind == ScriptEvent::Kind::Quit) {
@@ -375,6 +430,8 @@ int Viewer::run() {
   while (!glfwWindowShouldClose(window)) {
     // Wake at ~60 Hz to show finished tiles; input wakes it earlier.
     glfwWaitEventsTimeout(1.0 / 60.0);
+    if (callback_error_) break;
+    expire_pending_resize();
     step_script();
     if (const std::string error = renderer_->status().error; !error.empty()) {
       std::fprintf(stderr, "zigzag view: error: %s\n", error.c_str());
@@ -392,13 +449,17 @@ int Viewer::run() {
     int fb_w = 0, fb_h = 0;
     glfwGetFramebufferSize(window, &fb_w, &fb_h);
     const uint64_t version = display_.version();
-    if (version != presented_version_ || mode_ != presented_mode_ || fb_w != presented_fb_w_ ||
+    if (needs_present_ || version != presented_version_ || mode_ != presented_mode_ || fb_w != presented_fb_w_ ||
         fb_h != presented_fb_h_) {
-      if (presenter_->present(display_, mode_, uint32_t(std::max(fb_w, 0)), uint32_t(std::max(fb_h, 0)))) {
+      // Minimised (0x0) or out of date: nothing was shown, so the next usable size presents
+      // even when it is the size presented last.
+      needs_present_ = true;
+      if (fb_w > 0 && fb_h > 0 && presenter_->present(display_, mode_, uint32_t(fb_w), uint32_t(fb_h))) {
         presented_version_ = version;
         presented_mode_ = mode_;
         presented_fb_w_ = fb_w;
         presented_fb_h_ = fb_h;
+        needs_present_ = false;
       }
     }
     update_title(false);
@@ -406,6 +467,7 @@ int Viewer::run() {
 
   // Closing mid-render: cancel the tiles in flight and join before tearing down Vulkan.
   renderer_->stop();
+  if (callback_error_) std::rethrow_exception(callback_error_);  // ~Viewer tears down
   const ProgressStatus s = renderer_->status();
   if (s.first_full_seconds >= 0)
     std::fprintf(stderr,
@@ -413,7 +475,11 @@ int Viewer::run() {
                  "thread started); last full frame %.3f s, %.2f rays/px, %d frame(s)\n",
                  first_frame_since_start_, s.first_full_seconds, s.last_full_seconds, s.rays_per_pixel,
                  s.frames_completed);
-  presenter_.reset();  // its objects are destroyed before counting, so leaks would be reported
+  // Everything on the device is destroyed, then the device (close): misuse while destroying
+  // and objects left alive, which vkDestroyDevice reports, are in the count.
+  renderer_.reset();  // holds the visibility pass
+  presenter_.reset();
+  context_->close();
   if (options_.validate) {
     const int messages = context_->validation_message_count();
     std::fprintf(stderr, "zigzag view: %d Vulkan validation message(s)\n", messages);

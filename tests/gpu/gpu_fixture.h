@@ -1,5 +1,6 @@
 // Shared Vulkan context for the gpu tests: validation always on, and every test must
-// leave the validation message count unchanged. Skips only when no device exists.
+// leave the validation message count unchanged, objects left alive on the device too
+// (reported when the suite closes the context). Skips only when no device exists.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -25,6 +26,13 @@ class GpuTest : public ::testing::Test {
       if (std::string(e.what()).rfind("no Vulkan device", 0) == 0) skip_reason_ = e.what();
       else throw;
     }
+  }
+  static void TearDownTestSuite() {
+    if (!context_) return;
+    const int before = context_->validation_message_count();
+    context_->close();  // vkDestroyDevice reports every object still alive
+    EXPECT_EQ(context_->validation_message_count(), before) << "objects left alive on the device";
+    context_.reset();
   }
   void SetUp() override {
     if (!context_) GTEST_SKIP() << skip_reason_;

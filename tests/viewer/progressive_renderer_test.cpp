@@ -73,10 +73,14 @@ TEST_F(Progressive, ANewRequestCancelsTheOldOneAndWins) {
   FrameRequest slow = request(800, 600, AaMode::Uniform);
   slow.settings.uniform = {UniformPattern::Stratified, 64};
   const uint64_t a = renderer.request(slow);
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  // Only once the render thread has taken `a` does `b` cancel a frame in flight (before,
+  // it would merely replace a pending request). Up to 30 s on a loaded machine.
+  for (int i = 0; i < 3000 && renderer.status().request != a; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(renderer.status().request, a);
+  ASSERT_NE(renderer.status().completed, a);  // 800 x 600 x 64 samples: far from done
   const uint64_t b = renderer.request(request(64, 48));
   EXPECT_GT(b, a);
-  EXPECT_TRUE(renderer.wait_for(a, 120.0));  // returns: a newer request replaced it
   ASSERT_TRUE(renderer.wait_for(b, 120.0));
   const ProgressStatus s = renderer.status();
   EXPECT_EQ(s.completed, b);
@@ -117,11 +121,14 @@ TEST_F(Progressive, PreviewIsFullyReplacedByTheFullFrame) {
   r.preview_scale = 4;
   const uint64_t id = renderer.request(r);
   ASSERT_TRUE(renderer.wait_for(id, 120.0));
+  // The preview ran (set only when it finished): otherwise there was nothing to replace.
+  EXPECT_GT(renderer.status().last_preview_seconds, 0.0);
   // The full frame overwrote every preview pixel: the result equals a run without preview.
   DisplayFrame direct;
   ProgressiveRenderer renderer2(*shader_, direct);
   r.preview_scale = 1;
   ASSERT_TRUE(renderer2.wait_for(renderer2.request(r), 120.0));
+  EXPECT_EQ(renderer2.status().last_preview_seconds, 0.0);
   EXPECT_EQ(display.rgb(ViewMode::Image), direct.rgb(ViewMode::Image));
   EXPECT_EQ(display.rgb(ViewMode::Rays), direct.rgb(ViewMode::Rays));
 }
