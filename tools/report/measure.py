@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import json
 import statistics
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -24,7 +24,10 @@ class Context:
     work: Path          # scratch: EXRs, stats, display PNGs of every point
     cache: Path         # references, kept across report runs
     ref_spp: int
-    binary: str = ""    # the zigzag binary's digest: a resumed row measured by another is dropped
+    binary: str = ""    # the zigzag binary's digest
+    # What a row was measured under, per scene stem (report.py's conditions): a resumed row
+    # measured under others is dropped and measured again.
+    conditions: dict = field(default_factory=dict)
 
 
 @dataclass
@@ -97,7 +100,7 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference |
     row.update({k: median_of(timings, k) for k in timings[0]})
     row["maxrss_mb"] = max(t["maxrss_mb"] for t in timings)
     row.update({"rmse": np.nan, "psnr": np.nan, "rmse_display": np.nan, "flip": np.nan,
-                "binary": ctx.binary, "ref_spp": ctx.ref_spp})
+                "binary": ctx.binary, "ref_spp": ctx.ref_spp, "conditions": ctx.conditions.get(scene.stem, "")})
     if ref is not None:  # None: a timing-only run (--no-reference)
         err = metrics.rmse(linear, ref.linear)
         row.update({"rmse": err, "psnr": metrics.psnr(err), "rmse_display": metrics.rmse(disp, ref.display),
@@ -163,6 +166,6 @@ def measure_star(ctx: Context, setting: Setting, geo_ss: int) -> list[dict]:
                     "geo_fraction": run.get("geo_pixels", 0) / ctx.size ** 2 if method == "adaptive" else "",
                     "rmse": run["rmse"], "psnr": metrics.psnr(run["rmse"]), "flip": np.nan,
                     "rmse_display": np.nan, "pixels_off": run.get("pixels_off"),
-                    "binary": ctx.binary, "ref_spp": ctx.ref_spp})
+                    "binary": ctx.binary, "ref_spp": ctx.ref_spp, "conditions": ctx.conditions.get("star", "")})
         rows.append(row)
     return rows

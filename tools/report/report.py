@@ -100,19 +100,21 @@ def snapshot(scene: Path, args) -> Path:
 class RowStore:
     """Rows appended to a JSONL file as they are measured, so a long run can --resume.
 
-    `measured_by` (binary digest, reference rays/px): a resumed row measured with another binary
-    or reference is dropped and measured again, so one report never mixes two renderers.
-    None keeps every row (--report-only rewrites the outputs of the run that measured them)."""
+    `conditions` (scene stem -> what its rows are measured under: the reference's key, i.e. the
+    binary, the scene's files, the size and the reference's rays/px, and the threads and runs):
+    a resumed row measured under others is dropped and measured again, so one report never mixes
+    two renderers, references or settings. None keeps every row (--report-only rewrites the
+    outputs of the run that measured them)."""
 
-    def __init__(self, path: Path, resume: bool, measured_by: tuple[str, int] | None = None):
+    def __init__(self, path: Path, resume: bool, conditions: dict[str, str] | None = None):
         self.path = path
         self.rows = []
         if resume and path.exists():
             rows = [json.loads(line) for line in path.read_text().splitlines() if line]
-            self.rows = [r for r in rows if measured_by is None or (r.get("binary"), r.get("ref_spp")) == measured_by]
+            self.rows = [r for r in rows if conditions is None or r.get("conditions") == conditions.get(r["scene"])]
             if len(self.rows) < len(rows):
                 log(f"--resume: {len(rows) - len(self.rows)} of {len(rows)} rows were measured with another "
-                    "zigzag binary or reference; measuring them again")
+                    "zigzag binary, scene file, size, reference, thread or run count; measuring them again")
                 path.write_text("".join(json.dumps(r, default=float) + "\n" for r in self.rows))
         elif path.exists():
             path.unlink()
@@ -212,8 +214,10 @@ def main(argv: list[str]) -> int:
         points = [p for p in points if p.label in args.only]
     scenes, skipped = available_scenes(args)
     failed: list[str] = []
-    store = RowStore(work / "rows.jsonl", args.resume or args.report_only,
-                     None if args.report_only else (env["binary_digest"], args.ref_spp))
+    how = f":{args.threads}t:{args.runs}r"
+    ctx.conditions = {s.stem: zzrun.reference_key(zigzag, s, args.assets, args.size, args.ref_spp) + how for s in scenes}
+    ctx.conditions["star"] = f"{env['binary_digest']}:{args.size}" + how
+    store = RowStore(work / "rows.jsonl", args.resume or args.report_only, None if args.report_only else ctx.conditions)
     if args.report_only:
         keys = {s.stem: zzrun.reference_key(zigzag, s, args.assets, args.size, args.ref_spp) for s in scenes}
         refs = {n: json.loads(p.read_text()) for n, k in keys.items()
