@@ -125,15 +125,15 @@ struct JobTally {
 };
 
 // The batch's Vulkan device, created on a thread of its own from the start, so that it
-// overlaps the first scene's load; get() waits for it. A failure to create it ends the
-// whole batch (failed()), even after a job failed to load: it says what to install.
+// overlaps the first scene's load; get() waits for it (main thread only). A failure to
+// create it ends the whole batch (failed()), even after a job failed to load: it says what
+// to install.
 class DeviceSource {
  public:
   // An invalid future: no map wanted, get() is null.
   explicit DeviceSource(std::future<std::unique_ptr<VulkanContext>> creating) : creating_(std::move(creating)) {}
 
   VulkanContext* get() {
-    const std::lock_guard<std::mutex> lock(mutex_);
     if (error_) std::rethrow_exception(error_);
     if (creating_.valid()) {
       try {
@@ -145,13 +145,9 @@ class DeviceSource {
     }
     return context_.get();
   }
-  bool failed() {
-    const std::lock_guard<std::mutex> lock(mutex_);
-    return error_ != nullptr;
-  }
+  bool failed() const { return error_ != nullptr; }
 
  private:
-  std::mutex mutex_;
   std::future<std::unique_ptr<VulkanContext>> creating_;
   std::unique_ptr<VulkanContext> context_;
   std::exception_ptr error_;
