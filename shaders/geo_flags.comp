@@ -164,5 +164,5 @@ void main() {
   // Image sample u sits at frame supersample tile.x*S - 1 + u (the ring is u = 0).
   ivec2 c = (px - p.tile.xy) * S;
   ivec2 g0 = p.tile.xy * S - ivec2(1);
-  words[px.y * p.frame.w + px.x / P] = word_flags(c, g0, npix);
+  words[(px.y - p.out_y0) * p.frame.w + (px.x - p.out_x0) / P] = word_flags(c, g0, npix);
 }

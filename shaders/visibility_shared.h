@@ -6,8 +6,10 @@
 #ifdef __cplusplus
 #include <glm/glm.hpp>
 
+#include <cstddef>
 #include <cstdint>
 namespace zz::gpu {
+using vec3 = glm::vec3;
 using vec4 = glm::vec4;
 using ivec4 = glm::ivec4;
 using mat4 = glm::mat4;
@@ -49,13 +51,17 @@ struct RasterPush {
 // direction dir00 + gx*du + gy*dv (unnormalised), i.e. CameraRays at image point
 // ((gx + 0.5)/S, (gy + 0.5)/S). The id image of a tile holds supersamples
 // gx in [tile.x*S - 1, (tile.x + tile.z)*S], gy likewise: the tile plus a one-sample ring.
+// The flag buffer holds the rows of the flagged pixels only (a region's, not the frame's):
+// pixel (x, y) is byte (x - out_x0) % 4 of uint (y - out_y0) * frame.w + (x - out_x0) / 4.
 struct FlagPush {
-  vec4 origin;   // camera position
-  vec4 dir00;    // ray direction through supersample (0, 0)
+  vec3 origin;   // camera position
+  int out_x0;    // the flag buffer's first pixel column (a multiple of 4)
+  vec3 dir00;    // ray direction through supersample (0, 0)
+  int out_y0;    // the flag buffer's first row
   vec4 du;       // direction step per supersample to the right
   vec4 dv;       // direction step per supersample downwards
   ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
-  ivec4 frame;   // frame width, height in pixels, S, uints per output row
+  ivec4 frame;   // frame width, height in pixels, S, uints per flag buffer row
   vec4 limits;   // cos(normal angle threshold), relative distance threshold, material rule (1 on, 0 off), 0
   ivec4 area;    // frame pixels x0, y0, width, height flagged by this dispatch (x0 % 4 == 0)
 };
@@ -69,6 +75,7 @@ struct PlanePush {
 #ifdef __cplusplus
 static_assert(sizeof(RasterPush) == 80);
 static_assert(sizeof(FlagPush) == 128);  // the 128-byte push-constant minimum
+static_assert(offsetof(FlagPush, out_x0) == 12 && offsetof(FlagPush, out_y0) == 28);  // std430: an int after a vec3
 static_assert(sizeof(PlanePush) <= sizeof(FlagPush));
 }  // namespace zz::gpu
 #endif

@@ -164,11 +164,24 @@ class SceneMap {
     VisibilityPass& pass;
     double upload_s;  // the upload this call made (0 once made)
   };
+  // A failed upload (a scene past the storage-buffer range, say) fails every camera with
+  // the same error, without uploading again.
   Use get() {
     const std::lock_guard<std::mutex> lock(mutex_);
+    if (error_) std::rethrow_exception(error_);
     if (pass_) return {*pass_, 0.0};
-    pass_ = std::make_unique<VisibilityPass>(vulkan_, scene_);
+    try {
+      pass_ = std::make_unique<VisibilityPass>(vulkan_, scene_);
+    } catch (...) {
+      error_ = std::current_exception();
+      throw;
+    }
     return {*pass_, pass_->upload_seconds()};
+  }
+  // Memory the pass will take that is not resident yet (the memory estimate's share).
+  uint64_t bytes_to_come() {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return pass_ || error_ ? 0 : VisibilityPass::scene_bytes(scene_.positions.size() / 3);
   }
   const VulkanContext& vulkan() const { return vulkan_; }
 
@@ -177,6 +190,7 @@ class SceneMap {
   const Scene& scene_;
   std::mutex mutex_;
   std::unique_ptr<VisibilityPass> pass_;
+  std::exception_ptr error_;
 };
 
 // What a scene's cameras share: loaded, posed, its BVH built and its map pass made once.
@@ -237,16 +251,21 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   RenderSettings settings = make_render_settings(o.render, scene, scene.cameras[size_t(camera_index)]);
   if (!o.region.empty()) settings.region = parse_region(o.region);
   const TileRect region = render_region(settings);
+  // A region's sampler reads the map beyond the region: its filter margin and the gaps' ring.
+  std::optional<TileRect> map_region;
+  if (!o.region.empty()) map_region = adaptive_geo_reads(region, settings.width, settings.height, settings.adaptive);
   const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +
                                                    std::to_string(settings.height) + " frame"
                                              : "a " + std::to_string(region.width()) + "x" +
                                                    std::to_string(region.height()) + " region";
   // The film's own memory (region-sized; display image, scratch), the visibility raster
-  // and readback (full-frame tiles, a full-size map) and the level-1 corner field on top
-  // of what the process holds now (libraries, Vulkan, scene, BVH).
-  uint64_t frame_need =
-      render_bytes(settings, region, scene) +
-      (job.map ? VisibilityPass::frame_bytes(settings.width, settings.height, make_visibility_settings(o.render)) : 0);
+  // and readback (full-frame tiles, the region's flags, a full-size map), the scene's
+  // upload on its first frame (the map's thread makes it), and the level-1 corner field
+  // on top of what the process holds now (libraries, Vulkan, scene, BVH).
+  uint64_t frame_need = render_bytes(settings, region, scene);
+  if (job.map)
+    frame_need += job.map->bytes_to_come() + VisibilityPass::frame_bytes(settings.width, settings.height,
+                                                                         make_visibility_settings(o.render), map_region);
   // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
   // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
   size_t layer_count = 0;
@@ -272,18 +291,14 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   MapSetup setup;
   bool map_made = false;  // this frame has the map (a failed one throws before the stats)
   std::shared_future<GeoMap> pending;
-  const bool film_is_region = !o.region.empty();
   if (job.map) {
     auto make_map = [&, camera_index] {
       const auto t_map = std::chrono::steady_clock::now();
       const SceneMap::Use use = job.map->get();
       setup.upload_s = use.upload_s;
       const auto t_prepare = std::chrono::steady_clock::now();
-      use.pass.prepare(settings.width, settings.height, make_visibility_settings(o.render));
+      use.pass.prepare(settings.width, settings.height, make_visibility_settings(o.render), map_region);
       setup.prepare_s = seconds_since(t_prepare);
-      // A region's sampler reads the map beyond the region: its filter margin and the gaps' ring.
-      std::optional<TileRect> map_region;
-      if (film_is_region) map_region = adaptive_geo_reads(region, settings.width, settings.height, settings.adaptive);
       GeoMap made = use.pass.run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
                                  make_visibility_settings(o.render), &edge_times, map_region);
       setup.total_s = seconds_since(t_map);

@@ -25,10 +25,32 @@ struct VisibilityPass::Frame {
   glm::vec3 origin{0.0f};
   double znear = 1e-6;       // in units of t (the forward component: t = depth)
   gpu::FlagPush flag{};
-  int words_per_row = 0;
   std::vector<Tile> tiles;
   uint32_t image_w = 0, image_h = 0;  // largest tile image, ring included
 };
+
+// The pixels a run flags (the region clamped to the frame, or the whole frame) and the
+// flag buffer's rectangle: those pixels widened to whole flag words (the extra pixels are
+// flagged exactly too). The buffer holds these rows only, so a region of a frame too big
+// for one storage buffer still fits (a farm's 16384^2 frame: 256 MiB of flags).
+struct FlagArea {
+  TileRect want, buffer;
+  int words_per_row() const { return buffer.width() / ZZ_PIXELS_PER_WORD + (buffer.width() % ZZ_PIXELS_PER_WORD != 0); }
+  VkDeviceSize bytes() const { return VkDeviceSize(words_per_row()) * VkDeviceSize(buffer.height()) * sizeof(uint32_t); }
+};
+
+FlagArea flag_area(int width, int height, const std::optional<TileRect>& region) {
+  FlagArea a;
+  a.want = {0, 0, width, height};
+  if (region) {
+    a.want = {std::clamp(region->x0, 0, width), std::clamp(region->y0, 0, height), std::clamp(region->x1, 0, width),
+              std::clamp(region->y1, 0, height)};
+    if (a.want.width() <= 0 || a.want.height() <= 0) return {};  // empty: nothing to flag
+  }
+  a.buffer = {a.want.x0 / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD, a.want.y0,
+              std::min(width, (a.want.x1 + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD), a.want.y1};
+  return a;
+}
 
 float material_tag(const Scene& scene, size_t triangle) {
   const uint32_t m = triangle < scene.material_of.size() ? scene.material_of[triangle] : 0u;
@@ -62,8 +84,8 @@ gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
   gpu::FlagPush p{};
   // Supersample (gx, gy) sits at image point ((gx + 0.5)/S, (gy + 0.5)/S).
   glm::vec3 du = rays.du / s, dv = rays.dv / s;
-  p.origin = glm::vec4(rays.origin, 0.0f);
-  p.dir00 = glm::vec4(rays.dir00 + 0.5f * du + 0.5f * dv, 0.0f);
+  p.origin = rays.origin;
+  p.dir00 = rays.dir00 + 0.5f * du + 0.5f * dv;
   p.du = glm::vec4(du, 0.0f);
   p.dv = glm::vec4(dv, 0.0f);
   p.frame = glm::ivec4(width, height, settings.supersample,
@@ -161,7 +183,6 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   }
   f.znear = std::max(dmax * 1e-15, 1e-30);
   f.flag = make_flag_push(camera, width, height, settings);
-  f.words_per_row = f.flag.frame.w;
 
   // Tiles: full rows when they fit, else bands / columns. Widths are multiples of 4
   // pixels (one flag word each), the image holds the tile plus a one-sample ring.
@@ -196,11 +217,11 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
   return {tile_w, tile_h};
 }
 
-uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings) {
+uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings,
+                                     const std::optional<TileRect>& region) {
   const auto [tile_w, tile_h] = tile_size(width, height, settings, std::numeric_limits<int>::max());
   const uint64_t samples = uint64_t(target_width(tile_w, settings.supersample)) * uint64_t(tile_h * settings.supersample + 2);
-  const uint64_t words = uint64_t((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * uint64_t(height);
-  return samples * 8 + words * 4;
+  return samples * 8 + flag_area(width, height, region).bytes();
 }
 
 void VisibilityPass::check_storage_range(VkDeviceSize bytes, const std::string& what, const char* remedy) const {
@@ -218,11 +239,14 @@ void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
 }
 
-void VisibilityPass::prepare(int width, int height, const VisibilitySettings& settings) {
+void VisibilityPass::prepare(int width, int height, const VisibilitySettings& settings,
+                             const std::optional<TileRect>& region) {
   if (width <= 0 || height <= 0 || settings.supersample < 1 || settings.supersample > ZZ_MAX_SUPERSAMPLE) return;
+  const FlagArea flagged = flag_area(width, height, region);
+  if (flagged.want.width() <= 0 || flagged.want.height() <= 0) return;
   const auto [tile_w, tile_h] = tile_size(width, height, settings);
   ensure_targets(target_width(tile_w, settings.supersample), uint32_t(tile_h * settings.supersample + 2));
-  ensure_flags(VkDeviceSize((width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD) * height * sizeof(uint32_t));
+  ensure_flags(flagged.bytes());
   flag_pipeline(settings.supersample);
 }
 
@@ -376,22 +400,19 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
                            VisibilityTimings* timings, const std::optional<TileRect>& region) {
   auto t0 = Clock::now();
   Frame f = plan(camera, width, height, settings);
-  // The pixels to flag, widened to whole flag words (those extra pixels are exact too).
-  TileRect want{0, 0, width, height};
-  if (region) {
-    want = {std::clamp(region->x0, 0, width), std::clamp(region->y0, 0, height), std::clamp(region->x1, 0, width),
-            std::clamp(region->y1, 0, height)};
-    if (want.width() <= 0 || want.height() <= 0) throw Error("visibility map: empty region");
-  }
-  const int area_x0 = want.x0 / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD;
-  const int area_x1 = std::min(width, (want.x1 + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
-  const Tile area{area_x0, want.y0, area_x1 - area_x0, want.height()};
+  const FlagArea flagged = flag_area(width, height, region);
+  const TileRect& want = flagged.want;
+  if (want.width() <= 0 || want.height() <= 0) throw Error("visibility map: empty region");
+  const Tile area{flagged.buffer.x0, flagged.buffer.y0, flagged.buffer.width(), flagged.buffer.height()};
+  f.flag.out_x0 = flagged.buffer.x0;
+  f.flag.out_y0 = flagged.buffer.y0;
+  f.flag.frame.w = flagged.words_per_row();
   ensure_targets(f.image_w, f.image_h);
   frame_s_ = f.s;
   VkDevice d = context_.device();
   const VkPipeline flags_pipeline = flag_pipeline(f.s);
 
-  ensure_flags(VkDeviceSize(f.words_per_row) * height * sizeof(uint32_t));
+  ensure_flags(flagged.bytes());
   // The tiles' parts inside the area; tile edges are multiples of 4 pixels (but the last).
   std::vector<std::pair<Tile, Tile>> work;  // tile, area within it
   for (const Tile& tile : f.tiles) {
@@ -425,7 +446,7 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
       const size_t most = settings.max_plane_groups > 0 ? size_t(settings.max_plane_groups)
                                                         : context_.properties().limits.maxComputeWorkGroupCount[0];
       for (size_t first = 0; first < groups; first += most) {
-        gpu::PlanePush planes{f.flag.origin, glm::ivec4(int(triangles_), int(first * ZZ_PLANE_GROUP), 0, 0)};
+        gpu::PlanePush planes{glm::vec4(f.flag.origin, 0.0f), glm::ivec4(int(triangles_), int(first * ZZ_PLANE_GROUP), 0, 0)};
         vkCmdPushConstants(cmd, flag_layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(planes), &planes);
         vkCmdDispatch(cmd, uint32_t(std::min(most, groups - first)), 1, 1);
       }
@@ -464,9 +485,11 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   static_assert(ZZ_GEO_EDGE == kGeoEdge && ZZ_GEO_ALONG_X == kGeoAlongX && ZZ_GEO_ZONE_SHIFT == kGeoZoneShift,
                 "one flag byte layout");
   const auto* bytes = static_cast<const uint8_t*>(flags_.mapped);
-  size_t row_bytes = size_t(f.words_per_row) * sizeof(uint32_t);
+  const size_t row_bytes = size_t(flagged.words_per_row()) * sizeof(uint32_t);
   for (int y = want.y0; y < want.y1; ++y)
-    std::memcpy(&map.flags[size_t(y) * width + want.x0], bytes + y * row_bytes + want.x0, size_t(want.width()));
+    std::memcpy(&map.flags[size_t(y) * width + want.x0],
+                bytes + size_t(y - flagged.buffer.y0) * row_bytes + size_t(want.x0 - flagged.buffer.x0),
+                size_t(want.width()));
 
   if (timings) {
     *timings = VisibilityTimings{};

@@ -4,6 +4,7 @@
 // in a GeoMap (core/geo_map.h).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -81,12 +82,13 @@ class VisibilityPass {
   GeoMap run(const Camera& camera, int width, int height, const VisibilitySettings& settings = {},
              VisibilityTimings* timings = nullptr, const std::optional<TileRect>& region = std::nullopt);
 
-  // Allocates (and on a CPU device touches) what run() needs for a frame of this size and
-  // these settings: the tile targets, the flag buffer and the flag pipeline. Optional:
-  // run() does it itself when needed; calling it before the frame keeps that one-off
-  // work (allocation, first-touch page faults, pipeline creation) out of the frame's time.
-  // Invalid settings are left for run() to report.
-  void prepare(int width, int height, const VisibilitySettings& settings = {});
+  // Allocates (and on a CPU device touches) what run() needs for a frame of this size,
+  // these settings and this region: the tile targets, the flag buffer (the region's rows
+  // only) and the flag pipeline. Optional: run() does it itself when needed; calling it
+  // ahead keeps that one-off work (allocation, first-touch page faults, pipeline creation)
+  // out of run()'s time. Invalid settings are left for run() to report.
+  void prepare(int width, int height, const VisibilitySettings& settings = {},
+               const std::optional<TileRect>& region = std::nullopt);
 
   // The raw supersampled id image with its one-sample ring, (width*S + 2) x (height*S + 2)
   // row-major: entry [(gy + 1) * (width*S + 2) + gx + 1] is the triangle index + 1
@@ -97,11 +99,19 @@ class VisibilityPass {
 
   double upload_seconds() const { return upload_s_; }
 
+  // Memory the constructor takes for a scene of this many triangles, at its peak: the
+  // device buffers (positions, first vertices, normals, planes: 96 bytes per triangle;
+  // on lavapipe host memory) with, while they upload, the host copies (80) and the
+  // largest staging buffer (48).
+  static uint64_t scene_bytes(size_t triangles) { return uint64_t(96 + 80 + 48) * std::max<size_t>(triangles, 1); }
+
   // Device memory run() allocates for a frame (on lavapipe: host memory): the tile's id
   // and depth attachments (8 bytes per supersample, the tile plan of run()) plus the flag
-  // buffer the map is read back from (one 32-bit word per 4 pixels). An upper bound known
-  // before any device exists: a device's image limits can only make the tiles smaller.
-  static uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings);
+  // buffer the map is read back from (one 32-bit word per 4 pixels of the region). Known
+  // before any device exists: the tile plan without the device's image limits, whose
+  // narrower tiles are taller and hold as many samples within a row of the budget.
+  static uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings,
+                              const std::optional<TileRect>& region = std::nullopt);
 
  private:
   // Tile width and height in pixels for a frame: the raster's memory budget, and the

@@ -61,6 +61,33 @@ TEST_F(VisibilityRegionTest, RegionEqualsCropOfTheFullMap) {
   }
 }
 
+TEST_F(VisibilityRegionTest, ARegionOfAFrameTooBigForOneFlagBufferIsMade) {
+  // 16384 x 8200 pixels need 134.3 M flag bytes, past lavapipe's 128 MiB storage-buffer
+  // range: the whole frame is refused, but the flag buffer holds a region's rows only, so a
+  // farm's region of it is made. Two overlapping regions agree where they overlap.
+  const Scene scene = busy_scene();
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  VisibilitySettings s;
+  s.supersample = 1;
+  s.max_tile_dim = 258;  // 256-pixel tiles keep the targets small
+  const int w = 16384, h = 8200;
+  const TileRect a{8002, 4001, 8258, 4257}, b{8130, 4100, 8400, 4300};
+  const GeoMap ma = pass.run(camera, w, h, s, nullptr, a), mb = pass.run(camera, w, h, s, nullptr, b);
+  size_t flagged_a = 0, differ = 0;
+  for (int y = a.y0; y < a.y1; ++y)
+    for (int x = a.x0; x < a.x1; ++x) {
+      flagged_a += ma.at(x, y) != 0;
+      if (x >= b.x0 && y >= b.y0 && x < b.x1 && y < b.y1) differ += ma.at(x, y) != mb.at(x, y);
+    }
+  EXPECT_GT(flagged_a, 20u) << "a region without flags proves nothing";
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(ma.at(a.x0 - 1, a.y0), 0);  // nothing outside
+  if (context().properties().limits.maxStorageBufferRange < uint64_t(w) * h) {
+    EXPECT_THROW(pass.run(camera, w, h, s), Error);
+  }
+}
+
 TEST_F(VisibilityRegionTest, RegionIsClampedAndAnEmptyOneIsAnError) {
   const Scene scene = busy_scene();
   const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
