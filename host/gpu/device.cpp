@@ -19,8 +19,11 @@ constexpr const char* kNoLoader =
     "`apt-get install libvulkan1 mesa-vulkan-drivers` (lavapipe, CPU) or run with --edges off";
 
 // volk's function pointers are process-wide: libvulkan is opened once, and each new
-// instance (re)loads them under this lock. They are the loader's trampolines, which
-// dispatch on the handle, so one context's pointers serve every other one alive.
+// instance reloads them under this lock. The loader's core entry points are trampolines
+// that dispatch on the handle, the same for every instance, but an instance extension's
+// (VK_KHR_surface) is null for an instance that did not enable it: a headless context
+// made while a windowed one lives would blank the latter's. zigzag makes one context per
+// process (render, view); the tests' extra ones are headless and use no surface.
 std::mutex volk_lock;
 
 void load_vulkan() {

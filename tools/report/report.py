@@ -111,7 +111,9 @@ class RowStore:
         self.rows = []
         if resume and path.exists():
             rows = [json.loads(line) for line in path.read_text().splitlines() if line]
-            self.rows = [r for r in rows if conditions is None or r.get("conditions") == conditions.get(r["scene"])]
+            # Scenes this run does not measure keep their rows (a --scenes subset, missing assets).
+            self.rows = [r for r in rows if conditions is None or r["scene"] not in conditions
+                         or r.get("conditions") == conditions[r["scene"]]]
             if len(self.rows) < len(rows):
                 log(f"--resume: {len(rows) - len(self.rows)} of {len(rows)} rows were measured with another "
                     "zigzag binary, scene file, size, reference, thread or run count; measuring them again")
