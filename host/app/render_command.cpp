@@ -258,14 +258,17 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                                                    std::to_string(settings.height) + " frame"
                                              : "a " + std::to_string(region.width()) + "x" +
                                                    std::to_string(region.height()) + " region";
-  // The film's own memory (region-sized; display image, scratch), the visibility raster
-  // and readback (full-frame tiles, the region's flags, a full-size map), the scene's
-  // upload on its first frame (the map's thread makes it), and the level-1 corner field
-  // on top of what the process holds now (libraries, Vulkan, scene, BVH).
+  // The film's own memory (region-sized; display image, scratch, the region's map), the
+  // visibility raster and readback (full-frame tiles, the region's flags, and for a region
+  // the full-size map run() returns beside it), the scene's upload on its first frame (the
+  // map's thread makes it), and the level-1 corner field on top of what the process holds
+  // now (libraries, Vulkan, scene, BVH).
   uint64_t frame_need = render_bytes(settings, region, scene);
   if (job.map)
-    frame_need += job.map->bytes_to_come() + VisibilityPass::frame_bytes(settings.width, settings.height,
-                                                                         make_visibility_settings(o.render), map_region);
+    frame_need += job.map->bytes_to_come() +
+                  VisibilityPass::frame_bytes(settings.width, settings.height, make_visibility_settings(o.render),
+                                              map_region) +
+                  (map_region ? uint64_t(settings.width) * uint64_t(settings.height) : 0);
   // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
   // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
   size_t layer_count = 0;
@@ -291,6 +294,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   MapSetup setup;
   bool map_made = false;  // this frame has the map (a failed one throws before the stats)
   std::shared_future<GeoMap> pending;
+  const GeoMap* map = &geo;  // the frame's map: geo, or the one pending made
   if (job.map) {
     auto make_map = [&, camera_index] {
       const auto t_map = std::chrono::steady_clock::now();
@@ -322,7 +326,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
     CancellableScope cancellable;  // SIGINT/SIGTERM stop the tiles; nothing is written
     if (pending.valid()) {
       render_frame(shader, scene.cameras[size_t(camera_index)], pending, settings, film, stats, callbacks);
-      geo = pending.get();
+      map = &pending.get();  // not a copy: a 16384^2 frame's map is 256 MiB
     } else {
       render_frame(shader, scene.cameras[size_t(camera_index)], geo, settings, film, stats, callbacks);
     }
@@ -332,8 +336,8 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
 
   // The AOV layers of the -o EXR (render/aov_layers.h); the centre rays only when
   // depth, normal or albedo is among them.
-  const GeoMap region_geo = film.is_region() ? crop(geo, region) : GeoMap{};
-  const GeoMap& film_geo = film.is_region() ? region_geo : geo;
+  const GeoMap region_geo = film.is_region() ? crop(*map, region) : GeoMap{};
+  const GeoMap& film_geo = film.is_region() ? region_geo : *map;
   RayCounters aov_rays;
   double aov_s = 0.0;
   if (!o.layer_aovs().empty()) {
@@ -384,7 +388,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
     setup.device_wait_s = first_camera ? job.device_wait_s : 0.0;
     record.map_setup = setup;
     record.edge_times = &edge_times;
-    record.geo = &geo;
+    record.geo = map;
     record.vulkan_device = job.map->vulkan().device_name();
   }
   const nlohmann::json j = render_stats_json(record);

@@ -88,6 +88,15 @@ TEST_F(VisibilityRegionTest, ARegionOfAFrameTooBigForOneFlagBufferIsMade) {
   }
 }
 
+TEST(VisibilityFrameBytes, ARegionsFlagsAreItsOwnRowsOnly) {
+  // Device-free: the flag buffer of a region is its word-aligned columns times its rows.
+  VisibilitySettings s;
+  s.supersample = 4;
+  const uint64_t full = VisibilityPass::frame_bytes(16384, 16384, s);
+  const uint64_t part = VisibilityPass::frame_bytes(16384, 16384, s, TileRect{8190, 100, 8254, 164});
+  EXPECT_EQ(full - part, uint64_t(16384) / 4 * 16384 * 4 - 17 * 64 * 4);  // x 8188..8256: 17 words
+}
+
 TEST_F(VisibilityRegionTest, RegionIsClampedAndAnEmptyOneIsAnError) {
   const Scene scene = busy_scene();
   const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);

@@ -284,5 +284,23 @@ TEST_F(Outputs, MemoryEstimateIsWithin15PercentOfThePeakRss) {
   }
 }
 
+TEST_F(Outputs, MemoryEstimateOfARegionHoldsTheFullFrameMap) {
+  if (robust::kSanitized) GTEST_SKIP() << "ASan inflates RSS: the estimate is for normal builds";
+  // A region of a 16384^2 frame: the visibility pass returns a 256 MiB map of the whole
+  // frame beside the region's, which the estimate must count.
+  const robust::ChildResult r = robust::run_child(
+      {kZigzag, "render", path("good.json").string(), "--aa", "none", "--aov", "geo", path("geo.png").string(),
+       "--width", "16384", "--height", "16384", "--region", "8192,8192,8704,8704", "-q", "-o",
+       path("m.png").string(), "--stats", path("m.json").string()},
+      {{}, 240.0});
+  ASSERT_TRUE(r.exited && r.exit_code == 0) << r.err;
+  std::ifstream f(path("m.json"));
+  const double estimate = double(nlohmann::json::parse(f)["memory_estimate_bytes"].get<uint64_t>());
+  const double peak = double(r.max_rss_kb) * 1024.0;
+  std::printf("[ memory ] region of 16384^2: estimate %.1f MiB, peak RSS %.1f MiB (%+.1f %%)\n",
+              estimate / 1048576.0, peak / 1048576.0, 100.0 * (estimate - peak) / peak);
+  EXPECT_NEAR(estimate, peak, 0.15 * peak);
+}
+
 }  // namespace
 }  // namespace zz
