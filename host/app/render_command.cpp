@@ -254,6 +254,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   // A region's sampler reads the map beyond the region: its filter margin and the gaps' ring.
   std::optional<TileRect> map_region;
   if (!o.region.empty()) map_region = adaptive_geo_reads(region, settings.width, settings.height, settings.adaptive);
+  const VisibilitySettings map_settings = make_visibility_settings(o.render);
   const std::string what = o.region.empty() ? "a " + std::to_string(settings.width) + "x" +
                                                    std::to_string(settings.height) + " frame"
                                              : "a " + std::to_string(region.width()) + "x" +
@@ -266,8 +267,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   uint64_t frame_need = render_bytes(settings, region, scene);
   if (job.map)
     frame_need += job.map->bytes_to_come() +
-                  VisibilityPass::frame_bytes(settings.width, settings.height, make_visibility_settings(o.render),
-                                              map_region) +
+                  VisibilityPass::frame_bytes(settings.width, settings.height, map_settings, map_region) +
                   (map_region ? uint64_t(settings.width) * uint64_t(settings.height) : 0);
   // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
   // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
@@ -301,10 +301,10 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
       const SceneMap::Use use = job.map->get();
       setup.upload_s = use.upload_s;
       const auto t_prepare = std::chrono::steady_clock::now();
-      use.pass.prepare(settings.width, settings.height, make_visibility_settings(o.render), map_region);
+      use.pass.prepare(settings.width, settings.height, map_settings, map_region);
       setup.prepare_s = seconds_since(t_prepare);
-      GeoMap made = use.pass.run(scene.cameras[size_t(camera_index)], settings.width, settings.height,
-                                 make_visibility_settings(o.render), &edge_times, map_region);
+      GeoMap made = use.pass.run(scene.cameras[size_t(camera_index)], settings.width, settings.height, map_settings,
+                                 &edge_times, map_region);
       setup.total_s = seconds_since(t_map);
       map_made = true;
       return made;

@@ -233,7 +233,7 @@ void VisibilityPass::check_storage_range(VkDeviceSize bytes, const std::string& 
 
 void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
   if (flags_.size >= bytes) return;
-  check_storage_range(bytes, "the frame's flags", "render a smaller frame or with --edges off");
+  check_storage_range(bytes, "the frame's flags", "render a smaller frame, in regions (--region), or with --edges off");
   flags_.reset();
   flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

@@ -4,13 +4,13 @@ drifts hit all of them alike; the order rotates by repetition), medians of --rep
 path (times from its --stats JSON). The adaptive frame runs twice: as zigzag renders it
 (the map alongside level 1; frame = wall of both) and with --edges-serial (map, then
 render: the split). Prints the ratios of issue 11: the map's share of the serial adaptive
-frame, lattice / adaptive frame (the map's thread holds its one-off set-up, the scene's upload
-and the targets' allocation; both also with the wait for the Vulkan device that loading did
-not hide, which precedes a scene's first frame: a single image pays it, a sequence once), adaptive 2 threads vs 1 (`--threads 1`, whose map still runs on
-its own thread and lavapipe's) and vs the same run confined to one core (sched_setaffinity: what
-a second core buys), and the frame's distance to the
-ray-throughput limit: its rays by type / bench_traversal's 4-ray-packet throughput for
-that type at the same thread count.
+frame and lattice / adaptive frame (the map's thread holds its one-off set-up, the scene's
+upload and the targets' allocation; both also with the wait for the Vulkan device that
+loading did not hide, which precedes a scene's first frame: a single image pays it, a
+sequence once), adaptive 2 threads vs 1 (`--threads 1`, whose map still runs on its own
+thread and lavapipe's) and vs the same run confined to one core (sched_setaffinity: what a
+second core buys), and the frame's distance to the ray-throughput limit: its rays by type /
+bench_traversal's 4-ray-packet throughput for that type at the same thread count.
 
 usage: bench_frame.py --build BUILD [--size 1024] [--reps 5] [--threads 2] [--no-traversal] [scene.json ...]
 """

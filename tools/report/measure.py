@@ -61,15 +61,14 @@ def stage_times(stats: dict) -> dict:
     render, which overlap: zigzag makes the map on its own thread while level 1 traces, so their
     sum would count the overlap twice); `edges_s` is the map's own wall time beside level 1."""
     t = stats.get("time_s", {})
-    edges = t.get("edges", {}).get("total", 0.0) if isinstance(t.get("edges"), dict) else 0.0
-    out = {"load_s": t.get("load", 0.0), "bvh_s": t.get("bvh", 0.0), "edges_s": edges,
+    edges = t.get("edges") if isinstance(t.get("edges"), dict) else {}
+    out = {"load_s": t.get("load", 0.0), "bvh_s": t.get("bvh", 0.0), "edges_s": edges.get("total", 0.0),
            "render_s": t.get("render", 0.0), "write_s": t.get("write", 0.0),
            "total_s": t.get("total", 0.0)}
     out["image_s"] = t.get("frame", out["edges_s"] + out["render_s"])
     # The wait for the Vulkan device that loading did not hide: before a scene's first frame,
     # outside image_s (a single image pays it, a sequence once).
-    e = t.get("edges", {}) if isinstance(t.get("edges"), dict) else {}
-    out["device_wait_s"] = e.get("device_wait", 0.0)
+    out["device_wait_s"] = edges.get("device_wait", 0.0)
     return out
 
 
