@@ -8,6 +8,7 @@
 // Box filter over the pixel. Samples are streamed to the source 4 at a time.
 #pragma once
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 
@@ -88,12 +89,15 @@ class SampleStream {
 }  // namespace detail
 
 // Renders one tile with a uniform pattern. `scratch` must hold (w+1)*(h+1) + w*h vec3
-// (only the lattice pattern uses the corner part).
+// (only the lattice pattern uses the corner part). With `cancel` set by another thread it
+// stops at the next row of pixels and returns false, leaving the target untouched: a tile
+// of 256 points per pixel is a million rays, too long to wait for when a viewer closes.
 template <SampleSource S>
-void render_tile_uniform(S& source, const TileTarget& target, const UniformSettings& settings,
-                         glm::vec3* scratch, UniformStats& stats) {
+bool render_tile_uniform(S& source, const TileTarget& target, const UniformSettings& settings,
+                         glm::vec3* scratch, UniformStats& stats, const std::atomic<bool>* cancel = nullptr) {
   const TileRect& r = target.rect;
   const int w = r.width(), h = r.height();
+  auto cancelled = [cancel] { return cancel && cancel->load(std::memory_order_relaxed); };
   glm::vec3* pixels = scratch;
   glm::vec3* corners = scratch + size_t(w) * h;
   for (int i = 0; i < w * h; ++i) pixels[i] = glm::vec3(0.0f);
@@ -101,15 +105,18 @@ void render_tile_uniform(S& source, const TileTarget& target, const UniformSetti
     detail::SampleStream<S> stream(source, pixels, stats);
     switch (settings.pattern) {
       case UniformPattern::Center:
-        for (int y = 0; y < h; ++y)
+        for (int y = 0; y < h; ++y) {
+          if (cancelled()) return false;
           for (int x = 0; x < w; ++x) stream.add(r.x0 + x + 0.5f, r.y0 + y + 0.5f, y * w + x, 1.0f);
+        }
         break;
       case UniformPattern::Grid:
       case UniformPattern::Stratified: {
         const int n = int(std::lround(std::sqrt(float(settings.spp))));
         const float weight = 1.0f / float(n * n);
         const bool jitter = settings.pattern == UniformPattern::Stratified;
-        for (int y = 0; y < h; ++y)
+        for (int y = 0; y < h; ++y) {
+          if (cancelled()) return false;
           for (int x = 0; x < w; ++x) {
             const uint32_t pixel_key = hash32(uint32_t(r.x0 + x) * 0x9E3779B1u ^ hash32(uint32_t(r.y0 + y)));
             for (int j = 0; j < n; ++j)
@@ -123,20 +130,25 @@ void render_tile_uniform(S& source, const TileTarget& target, const UniformSetti
                 stream.add(r.x0 + x + (i + jx) / n, r.y0 + y + (j + jy) / n, y * w + x, weight);
               }
           }
+        }
         break;
       }
       case UniformPattern::Lattice: {
         // The shared corner grid first (the tile's ring included), then 24 inner points.
         detail::SampleStream<S> corner_stream(source, corners, stats);
         for (int i = 0; i < (w + 1) * (h + 1); ++i) corners[i] = glm::vec3(0.0f);
-        for (int y = 0; y <= h; ++y)
+        for (int y = 0; y <= h; ++y) {
+          if (cancelled()) return false;
           for (int x = 0; x <= w; ++x) corner_stream.add(float(r.x0 + x), float(r.y0 + y), y * (w + 1) + x, 1.0f);
+        }
         corner_stream.flush();
         const float weight = 1.0f / 25.0f;
-        for (int y = 0; y < h; ++y)
+        for (int y = 0; y < h; ++y) {
+          if (cancelled()) return false;
           for (int x = 0; x < w; ++x)
             for (int k = 1; k < kLatticePoints; ++k)
               stream.add(r.x0 + x + kLattice[k].u, r.y0 + y + kLattice[k].v, y * w + x, weight);
+        }
         stream.flush();
         for (int y = 0; y < h; ++y)
           for (int x = 0; x < w; ++x) {
@@ -157,6 +169,7 @@ void render_tile_uniform(S& source, const TileTarget& target, const UniformSetti
       }
       if (target.level) target.level[target.index(r.x0 + x, r.y0 + y)] = 1;
     }
+  return true;
 }
 
 }  // namespace zz

@@ -141,8 +141,10 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
       render_tile_adaptive(source, target, geo, adaptive, result.aa);
     } else {
       UniformStats uniform_stats;
-      render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats);
+      const bool finished = render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats,
+                                                callbacks.cancel);
       result.samples = uniform_stats.samples;
+      if (!finished) return;  // not done: the frame reports itself cancelled
     }
     result.rays += source.counters;
     result.done = true;

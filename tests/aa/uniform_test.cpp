@@ -1,0 +1,92 @@
+// Uniform supersampling (aa/uniform.h): the baselines' weights, sample counts and cancel.
+#include "aa/uniform.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <vector>
+
+#include "core/film.h"
+#include "test_sources.h"
+
+namespace zz {
+namespace {
+
+// A constant colour that raises `cancel` once it has traced `after` points.
+struct CancellingSource {
+  std::atomic<bool>* cancel = nullptr;
+  uint64_t after = 0;
+  uint64_t traced = 0;
+  Rgb4 sample4(float4, float4) {
+    traced += 4;
+    if (traced >= after) cancel->store(true);
+    return {float4(0.5f), float4(0.5f), float4(0.5f)};
+  }
+};
+
+struct Tile {
+  Film film{8, 8};
+  std::vector<glm::vec3> scratch = std::vector<glm::vec3>(9 * 9 + 8 * 8);
+  TileTarget target() { return film.target({0, 0, 8, 8}); }
+};
+
+TEST(Uniform, EveryPatternAveragesAConstantToItselfWithItsSampleCount) {
+  const struct {
+    UniformSettings settings;
+    uint64_t samples;  // for the 8 x 8 tile
+  } cases[] = {
+      {{UniformPattern::Center, 1}, 64},
+      {{UniformPattern::Grid, 16}, 64 * 16},
+      {{UniformPattern::Stratified, 9}, 64 * 9},
+      {{UniformPattern::Lattice, 25}, 9 * 9 + 64 * 24},  // shared corners once, 24 inner points each
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(int(c.settings.pattern));
+    Tile tile;
+    test::ConstantSource source;
+    UniformStats stats;
+    EXPECT_TRUE(render_tile_uniform(source, tile.target(), c.settings, tile.scratch.data(), stats));
+    EXPECT_EQ(stats.samples, c.samples);
+    for (const glm::vec3& p : tile.film.radiance) {
+      EXPECT_NEAR(p.x, 0.25f, 1e-6f);
+      EXPECT_NEAR(p.y, 0.5f, 1e-6f);
+      EXPECT_NEAR(p.z, 0.75f, 1e-6f);
+    }
+    const uint8_t per_pixel = uint8_t(c.settings.spp);
+    for (uint8_t r : tile.film.rays) EXPECT_EQ(r, per_pixel);
+  }
+}
+
+TEST(Uniform, ACancelledTileStopsWithinARowAndLeavesItsTargetUntouched) {
+  const UniformSettings patterns[] = {{UniformPattern::Center, 1},
+                                      {UniformPattern::Stratified, 256},
+                                      {UniformPattern::Lattice, 25}};
+  for (const UniformSettings& settings : patterns) {
+    SCOPED_TRACE(int(settings.pattern));
+    // Set before the tile starts: nothing is traced.
+    {
+      Tile tile;
+      std::atomic<bool> cancel{true};
+      test::ConstantSource source;
+      UniformStats stats;
+      EXPECT_FALSE(render_tile_uniform(source, tile.target(), settings, tile.scratch.data(), stats, &cancel));
+      EXPECT_EQ(stats.samples, 0u);
+    }
+    // Set by the first packet: the row in flight finishes (one row of points, at most the
+    // corner row's 9 for the lattice) and nothing is written to the film.
+    Tile tile;
+    tile.film.radiance.assign(64, glm::vec3(-1.0f));
+    std::atomic<bool> cancel{false};
+    CancellingSource source{&cancel, 4};
+    UniformStats stats;
+    EXPECT_FALSE(render_tile_uniform(source, tile.target(), settings, tile.scratch.data(), stats, &cancel));
+    const uint64_t row = settings.pattern == UniformPattern::Lattice ? 9 : uint64_t(8) * settings.spp;
+    EXPECT_GT(source.traced, 0u);
+    EXPECT_LE(source.traced, row + 4);  // + the padded last packet the stream flushes
+    for (const glm::vec3& p : tile.film.radiance) EXPECT_EQ(p, glm::vec3(-1.0f));
+    for (uint8_t r : tile.film.rays) EXPECT_EQ(r, 0);
+  }
+}
+
+}  // namespace
+}  // namespace zz
