@@ -135,7 +135,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
       ->needs(exit_after);
   cmd->add_option("--script", o->script,
                   "Scripted input, e.g. \"drag:100,100,200,120;wait;screenshot:a.png;quit\" "
-                  "(drag/scroll/key/resize/wait/screenshot/quit)");
+                  "(drag/scroll/key/resize/wait/sleep/screenshot/quit)");
   cmd->add_option("--script-timeout", o->script_timeout, "Seconds a scripted 'wait' may take before failing")
       ->check(number_in(1e-3, 1e6));
   cmd->callback([o, &exit_code] { exit_code = view(*o); });

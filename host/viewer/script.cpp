@@ -80,6 +80,11 @@ std::vector<ScriptEvent> parse_script(std::string_view script) {
                     " per side");
     } else if (name == "wait" && arg.empty()) {
       e.kind = ScriptEvent::Kind::Wait;
+    } else if (name == "sleep") {
+      e.kind = ScriptEvent::Kind::Sleep;
+      e.steps = number(args(1, 1)[0], command);
+      if (!(e.steps >= 0.0f && e.steps <= 3600.0f))
+        throw Error("--script: '" + std::string(command) + "': seconds must be 0..3600");
     } else if (name == "screenshot") {
       e.kind = ScriptEvent::Kind::Screenshot;
       e.text = std::string(arg);
@@ -88,7 +93,7 @@ std::vector<ScriptEvent> parse_script(std::string_view script) {
       e.kind = ScriptEvent::Kind::Quit;
     } else {
       throw Error("--script: unknown command '" + std::string(command) +
-                  "' (drag, scroll, key, resize, wait, screenshot, quit)");
+                  "' (drag, scroll, key, resize, wait, sleep, screenshot, quit)");
     }
     events.push_back(std::move(e));
   }

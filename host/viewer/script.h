@@ -6,6 +6,7 @@
 //   key:K                       one key: R S F E 1 2 3 4 [ ] or ESC
 //   resize:w,h                  resize the window
 //   wait                        until the current frame is fully rendered
+//   sleep:seconds               let the viewer run that long (e.g. to act mid-frame)
 //   screenshot:FILE             save the current view as PNG
 //   quit
 #pragma once
@@ -17,10 +18,10 @@
 namespace zz {
 
 struct ScriptEvent {
-  enum class Kind { Drag, Scroll, Key, Resize, Wait, Screenshot, Quit } kind = Kind::Wait;
+  enum class Kind { Drag, Scroll, Key, Resize, Wait, Sleep, Screenshot, Quit } kind = Kind::Wait;
   float x0 = 0, y0 = 0, x1 = 0, y1 = 0;  // drag endpoints (pixels); resize uses x0,y0
   int button = 0;                        // 0 left, 1 right, 2 middle (GLFW numbering)
-  float steps = 0;                       // scroll
+  float steps = 0;                       // scroll; seconds of a sleep
   std::string text;                      // key name or screenshot path
 };
 

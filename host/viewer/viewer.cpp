@@ -352,6 +352,13 @@ void Viewer::step_script() {
       std::fprintf(stderr, "zigzag view: frame %llu complete (%dx%d, preview %.3f s, full %.3f s, %.2f rays/px)\n",
                    (unsigned long long)s.completed, render_width_, render_height_, s.last_preview_seconds,
                    s.last_full_seconds, s.rays_per_pixel);
+    } else if (e.kind == ScriptEvent::Kind::Sleep) {
+      if (!waiting_) {
+        waiting_ = true;
+        wait_start_ = Clock::now();
+      }
+      if (since(wait_start_) < e.steps) return;  // the event loop and the render go on meanwhile
+      waiting_ = false;
     } else if (e.kind == ScriptEvent::Kind::Drag) {
       // The same path as a real drag: press, a few motion events, release.
       on_button(e.button, true, e.x0, e.y0);

@@ -44,7 +44,8 @@ struct ChildResult {
   bool timed_out = false;
   std::string err;       // stderr
   long max_rss_kb = 0;   // peak resident set size
-  double seconds = 0.0;
+  double seconds = 0.0;      // wall clock
+  double cpu_seconds = 0.0;  // user + system: what the child itself spent, whatever else runs
 };
 
 struct ChildOptions {
@@ -113,6 +114,8 @@ inline ChildResult run_child(const std::vector<std::string>& argv, const ChildOp
   if (!r.timed_out && WIFEXITED(status)) r.exited = true, r.exit_code = WEXITSTATUS(status);
   if (!r.timed_out && WIFSIGNALED(status)) r.signal = WTERMSIG(status);
   r.max_rss_kb = usage.ru_maxrss;
+  r.cpu_seconds = double(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+                  1e-6 * double(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
   std::ifstream in(err_file);
   std::stringstream ss;
   ss << in.rdbuf();

@@ -72,6 +72,7 @@ TEST_F(Progressive, ANewRequestCancelsTheOldOneAndWins) {
   ProgressiveRenderer renderer(*shader_, display);
   FrameRequest slow = request(800, 600, AaMode::Uniform);
   slow.settings.uniform = {UniformPattern::Stratified, 64};
+  slow.preview_scale = 1;  // no preview: `b` cancels the tiles
   const uint64_t a = renderer.request(slow);
   // Only once the render thread has taken `a` does `b` cancel a frame in flight (before,
   // it would merely replace a pending request). Up to 30 s on a loaded machine.
@@ -94,6 +95,9 @@ TEST_F(Progressive, DestroyingMidFrameCancelsAndJoins) {
   auto renderer = std::make_unique<ProgressiveRenderer>(*shader_, display);
   FrameRequest slow = request(1024, 768, AaMode::Uniform);
   slow.settings.uniform = {UniformPattern::Stratified, 256};
+  // No preview: a slow machine could still be in it after the sleep, and the cancel timed
+  // below is the tiles' (a tile of 256 points per pixel is a million rays).
+  slow.preview_scale = 1;
   const uint64_t id = renderer->request(slow);
   // Wait (up to 30 s on a loaded machine) until the render thread has taken the request.
   for (int i = 0; i < 3000 && renderer->status().request != id; ++i)
@@ -102,6 +106,7 @@ TEST_F(Progressive, DestroyingMidFrameCancelsAndJoins) {
   // Mid-frame: 1024 x 768 x 256 samples take far longer than 200 ms.
   const ProgressStatus before = renderer->status();
   ASSERT_EQ(before.request, id);
+  ASSERT_FALSE(before.preview);
   EXPECT_EQ(before.frames_completed, 0);
   EXPECT_NE(before.completed, id);
   EXPECT_GT(before.tiles_total, 0);

@@ -9,8 +9,8 @@ namespace {
 
 TEST(Script, ParsesEveryCommand) {
   const auto e = parse_script(" drag:10,20,30.5,40 ; drag:1,2,3,4,right;scroll:-2;key:R;resize:300,200;"
-                              "wait;screenshot:out/a b.png;quit;");
-  ASSERT_EQ(e.size(), 8u);
+                              "wait;screenshot:out/a b.png;quit;sleep:1.5");
+  ASSERT_EQ(e.size(), 9u);
   EXPECT_EQ(e[0].kind, ScriptEvent::Kind::Drag);
   EXPECT_EQ(e[0].x0, 10.0f);
   EXPECT_EQ(e[0].y1, 40.0f);
@@ -27,12 +27,15 @@ TEST(Script, ParsesEveryCommand) {
   EXPECT_EQ(e[6].kind, ScriptEvent::Kind::Screenshot);
   EXPECT_EQ(e[6].text, "out/a b.png");
   EXPECT_EQ(e[7].kind, ScriptEvent::Kind::Quit);
+  EXPECT_EQ(e[8].kind, ScriptEvent::Kind::Sleep);
+  EXPECT_EQ(e[8].steps, 1.5f);
   EXPECT_TRUE(parse_script("").empty());
 }
 
 TEST(Script, RejectsBadCommandsWithTheCommandInTheMessage) {
   for (const char* bad : {"drag:1,2,3", "drag:1,2,3,x", "drag:1,2,3,4,up", "jump", "wait:3", "screenshot:",
-                          "resize:0,10", "scroll:"}) {
+                          "resize:0,10", "scroll:",
+                          "sleep:", "sleep:-1", "sleep:nan", "sleep:1e9"}) {
     try {
       parse_script(bad);
       ADD_FAILURE() << bad << " was accepted";

@@ -32,7 +32,7 @@ class Xvfb {
       // Ready when its socket appears; gone early = the number was taken meanwhile.
       const auto start = std::chrono::steady_clock::now();
       bool lost = false;
-      while (std::chrono::steady_clock::now() - start < std::chrono::seconds(10)) {
+      while (std::chrono::steady_clock::now() - start < std::chrono::seconds(30)) {  // a loaded machine
         int status = 0;
         if (waitpid(pid, &status, WNOHANG) == pid) {
           lost = true;  // exited: the number was taken
