@@ -64,7 +64,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--keep-parts", action="store_true", help="keep region parts after merging")
     r.add_argument("--summary", metavar="FILE.json", help="write the run's summary as JSON")
     r.add_argument("--wait", type=float, default=120.0, metavar="S",
-                   help="how long to wait for the first worker of --scheduler/--slurm")
+                   help="how long to wait for the first worker of --scheduler/--slurm, and for any "
+                        "worker once all are gone before the jobs left fail (default 120)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress line")
     return ap
 
@@ -207,7 +208,8 @@ def render(o) -> int:
     with manifest, open(os.devnull, "w") as devnull:
         runner = Runner(plan, manifest, RunSettings(zigzag=zigzag, timeout=o.timeout,
                                                     retries=o.retries, keep_parts=o.keep_parts,
-                                                    runtime_args=tuple(opts.runtime_args)),
+                                                    runtime_args=tuple(opts.runtime_args),
+                                                    no_workers_s=o.wait),
                         progress_stream=devnull if o.quiet else None, live=False if o.quiet else None)
         if runner.pending_frames():
             try:
@@ -259,6 +261,10 @@ def main(argv: list[str] | None = None) -> int:
         print("zigzag-farm: interrupted; finished jobs are recorded, a re-run renders the rest",
               file=sys.stderr)
         return 130
+    except Exception as e:  # e.g. the scheduler lost for good: one line, not a traceback
+        print(f"zigzag-farm: internal error: {type(e).__name__}: {e}; finished jobs are recorded, "
+              "a re-run renders the rest", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

@@ -1,8 +1,10 @@
 """Where jobs run: a LocalCluster on this machine, an existing Dask scheduler, or Slurm.
 
-Every server this module starts on this machine listens on 127.0.0.1 only: Dask's
-scheduler and workers open their HTTP dashboards on 0.0.0.0 unless told otherwise, even
-with the dashboard "off" (dask/distributed #6301), hence the explicit dashboard addresses.
+Every server the LocalCluster starts listens on 127.0.0.1 only: Dask's scheduler and
+workers open their HTTP dashboards on 0.0.0.0 unless told otherwise, even with the
+dashboard "off" (dask/distributed #6301), hence the explicit dashboard addresses. A Slurm
+scheduler must be reached from the nodes: it listens on --interface, with TLS, and its
+dashboard on 127.0.0.1.
 """
 from __future__ import annotations
 
@@ -52,7 +54,7 @@ def existing_scheduler(address: str, wait_s: float):
     with client:
         _wait_for_render_workers(client, wait_s,
                                  f"start workers with `dask worker {address} --nthreads 1 "
-                                 "--resources render=1`")
+                                 "--resources render=1 --dashboard-address 127.0.0.1:0`")
         yield client
 
 
@@ -67,6 +69,13 @@ def slurm_options(*, queue=None, account=None, walltime=None, memory=None, cores
                if v is not None}
     options["processes"] = 1
     options["worker_extra_args"] = ["--resources", "render=1"]
+    # The scheduler must listen where the nodes reach it, so it speaks TLS with credentials
+    # made for this run (workers read theirs from jobqueue's shared-temp-directory): no one
+    # else on that network can submit work. Its dashboard stays on this machine (jobqueue's
+    # default is every interface); the configuration's scheduler-options still win.
+    options["security"] = True
+    options["scheduler_options"] = {"dashboard_address": "127.0.0.1:0",
+                                    **dask.config.get("jobqueue.slurm.scheduler-options", {})}
     return options
 
 
@@ -77,7 +86,9 @@ def slurm_cluster(jobs: int, wait_s: float, **options):
     from distributed import Client
     cluster = SLURMCluster(**slurm_options(**options))
     try:
-        cluster.scale(jobs=jobs)
+        # Adaptive at a fixed size, not scale(): a job that ends (walltime, node failure) is
+        # submitted again instead of leaving the batch with fewer workers, or none.
+        cluster.adapt(minimum_jobs=jobs, maximum_jobs=jobs)
         with Client(cluster) as client:
             _wait_for_render_workers(client, wait_s, "check `squeue` for the worker jobs")
             yield client

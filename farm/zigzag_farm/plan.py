@@ -246,8 +246,10 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
             part_out, tag = out, "full"
         else:
             tag = f"r{i}of{len(split)}"
+            # The frame's output in the name too: two batches of one frame into one folder
+            # (a PNG and an EXR) would otherwise share, and delete, each other's parts.
             part_out = os.path.join(work_dir, f"{tag_base}-{tag}-"
-                                              f"{_digest({**identity, 'region': region.bounds})}.exr")
+                                              f"{_digest({**identity, 'output': out, 'region': region.bounds})}.exr")
             plan.claim(part_out, f"region part {i} of {info.name} camera {cam} {_frame_tag(frame)}")
         payload = {**identity, "output": part_out, "region": region.bounds if region else None}
         parts.append(RenderJob(key=f"zz-render-{tag_base}-{tag}-{_digest(payload)}",

@@ -30,6 +30,8 @@ class RunSettings:
     # Options for every render that do not change its bytes and so stay out of the job keys
     # (--threads: the renderer's images are bit-identical for any thread count).
     runtime_args: tuple[str, ...] = ()
+    # Seconds without any render worker after which the jobs left fail (None: wait for ever).
+    no_workers_s: float | None = None
 
 
 @dataclass
@@ -227,27 +229,65 @@ class Runner:
         done = failed = 0
         pending = dict(futures)
         try:
-            running, asked = 0, 0.0
+            running, asked, gather_failures, no_workers_since = 0, 0.0, 0, None
+
+            def fail(key, kind, f, p, message):
+                failed_jobs.add(key)
+                failed_frames.add(f.key)
+                if kind == "merge" and any(q.key in failed_jobs for q in f.parts):
+                    return  # the failed part is the one to report
+                what = describe(p) if p else merge_spec(f, self.s)["what"]
+                self.outcome.failures.append(Failure(what, key, message))
+                progress.message(f"zigzag-farm: FAILED {what}: {indent(message)}")
+
             while pending:
                 finished = {k: pending.pop(k) for k in [k for k, (fut, *_) in pending.items() if fut.done()]}
                 # One round trip for all the results that arrived, not one per job.
                 ok = [fut for fut, *_ in finished.values() if fut.status == "finished"]
-                results = dict(zip((fut.key for fut in ok), client.gather(ok))) if ok else {}
+                try:
+                    results = dict(zip((fut.key for fut in ok), client.gather(ok))) if ok else {}
+                    gather_failures = 0
+                except Exception:
+                    # A result lost with its worker since done() is being made again, or its
+                    # re-run failed: record none of this round's, look again next round
+                    # (each then ends as recorded or as a reported failure).
+                    gather_failures += 1
+                    if gather_failures > 3:
+                        raise
+                    pending.update(finished)
+                    time.sleep(POLL_S)
+                    continue
                 for key, (fut, kind, f, p) in finished.items():
                     error = self._collect(fut, results.get(key), kind, f, p)
+                    # Recorded: the result is no longer wanted. A wanted result held by a
+                    # worker that dies is made again (distributed's memory -> released ->
+                    # waiting), so every frame a lost worker had finished would be rendered
+                    # twice, its parts brought back after their merge. A merge still holds its
+                    # parts through its own dependencies.
+                    fut.release()
                     if error is None:
                         done += 1
-                        continue
-                    failed += 1
-                    failed_jobs.add(key)
-                    failed_frames.add(f.key)
-                    if kind == "merge" and any(q.key in failed_jobs for q in f.parts):
-                        continue  # the failed part is the one to report
-                    what = describe(p) if p else merge_spec(f, self.s)["what"]
-                    self.outcome.failures.append(Failure(what, key, _failure_message(error)))
-                    progress.message(f"zigzag-farm: FAILED {what}: {indent(_failure_message(error))}")
+                    else:
+                        failed += 1
+                        fail(key, kind, f, p, _failure_message(error))
                 if time.monotonic() - asked >= RUNNING_EVERY_S:
-                    running, asked = self._running(client, pending), time.monotonic()
+                    running, render_workers = self._running(client, pending)
+                    asked = time.monotonic()
+                    if render_workers != 0:  # None: the scheduler did not answer, not "none"
+                        no_workers_since = None
+                    elif no_workers_since is None:
+                        no_workers_since = asked
+                    elif self.s.no_workers_s is not None and asked - no_workers_since > self.s.no_workers_s:
+                        # Every worker is gone (walltime, node failure) and none came back:
+                        # waiting on would hang for ever. The jobs left fail, and a re-run
+                        # renders only them.
+                        message = (f"no worker offering render=1 for {self.s.no_workers_s:g} s "
+                                   "(all lost?); a re-run renders what is missing")
+                        client.cancel([fut for fut, *_ in pending.values()])
+                        for key, (fut, kind, f, p) in pending.items():
+                            failed += 1
+                            fail(key, kind, f, p, message)
+                        pending.clear()
                 progress.update(done=done, failed=failed, running=min(running, len(pending)))
                 if pending:
                     # Wakes as soon as any job ends; the timeout only refreshes the progress line.
@@ -299,17 +339,18 @@ class Runner:
                 pass
 
     @staticmethod
-    def _running(client, pending) -> int:
-        """Jobs rendering now. The scheduler's "processing" also holds the jobs a worker was
+    def _running(client, pending) -> tuple[int, int | None]:
+        """(jobs rendering now, workers offering render=1 or None if unknown). The scheduler's "processing" also holds the jobs a worker was
         handed but keeps waiting for its render slot, so each worker counts at most as many
         as it has slots (resources={"render": 1}: one)."""
         try:
             processing = client.processing()
             workers = client.scheduler_info()["workers"]
         except Exception:
-            return 0
+            return 0, None
         running = 0
         for address, keys in processing.items():
             slots = workers.get(address, {}).get("resources", {}).get("render", 1)
             running += min(int(slots), sum(1 for k in keys if k in pending))
-        return running
+        render_workers = sum(1 for w in workers.values() if w.get("resources", {}).get("render", 0) >= 1)
+        return running, render_workers

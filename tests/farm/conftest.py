@@ -4,6 +4,7 @@ import json
 import os
 import subprocess
 import sys
+import threading
 import time
 
 import psutil
@@ -26,15 +27,62 @@ def farm_cmd(*args):
     return [sys.executable, "-m", "zigzag_farm", "render", "-q", *args]
 
 
+class LoopbackWatch:
+    """Samples, while a driver runs, the listening sockets of its process tree (its scheduler,
+    workers, nannies and dashboards): every one must be on 127.0.0.1. The autouse fixture
+    below asserts it for every driver a test starts."""
+    active: list["LoopbackWatch"] = []
+
+    def __init__(self, proc, every_s=0.3):
+        self.proc, self.every_s = proc, every_s
+        self.seen: set[tuple[int, str, int]] = set()
+        self.thread = threading.Thread(target=self._run, daemon=True)
+        self.thread.start()
+        LoopbackWatch.active.append(self)
+
+    def _run(self):
+        while True:
+            running = self.proc.poll() is None
+            pids = {self.proc.pid} | {p.pid for p in descendants(self.proc.pid)}
+            self.seen |= {(c.pid, c.laddr.ip, c.laddr.port) for c in listening_sockets(pids)}
+            if not running:
+                return
+            time.sleep(self.every_s)
+
+    def elsewhere(self):
+        self.thread.join(timeout=30)
+        return sorted(s for s in self.seen if s[1] != "127.0.0.1")
+
+
+@pytest.fixture(autouse=True)
+def every_driver_listens_on_loopback_only():
+    LoopbackWatch.active.clear()
+    yield
+    for watch in LoopbackWatch.active:
+        if watch.proc.poll() is None:  # a test that failed early left it running
+            watch.proc.kill()
+            watch.proc.wait()
+        assert watch.elsewhere() == [], f"listening beyond 127.0.0.1: {watch.elsewhere()}"
+    LoopbackWatch.active.clear()
+
+
 def run_farm(*args, timeout=180, env=None):
     """The driver as a user runs it -> CompletedProcess (text). env: more variables."""
-    return subprocess.run(farm_cmd(*args), env={**farm_env(), **(env or {})}, capture_output=True,
-                          text=True, timeout=timeout, stdin=subprocess.DEVNULL)
+    proc = start_farm(*args, env=env)
+    try:
+        out, err = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.communicate()
+        raise
+    return subprocess.CompletedProcess(proc.args, proc.returncode, out, err)
 
 
-def start_farm(*args):
-    return subprocess.Popen(farm_cmd(*args), env=farm_env(), stdout=subprocess.PIPE,
+def start_farm(*args, env=None):
+    proc = subprocess.Popen(farm_cmd(*args), env={**farm_env(), **(env or {})}, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True, stdin=subprocess.DEVNULL)
+    LoopbackWatch(proc)
+    return proc
 
 
 def write_scene(folder, name, **fields):

@@ -133,12 +133,22 @@ def test_regions_merge_bit_identical_on_three_workers_all_on_loopback(renderer, 
 
 def test_a_worker_killed_mid_job_loses_and_duplicates_nothing(renderer, workdir):
     scene = renderer.animated(sleep=0.5)
-    out = os.path.join(workdir, "out")
+    out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
     driver = start_farm(*farm(renderer, scene, "-o", f"{out}/f{{frame:04}}.png", "--frames", "1-8",
-                              "--workers", "2", "--summary", f"{workdir}/summary.json"))
+                              "--workers", "2", "--summary", f"{workdir}/summary.json"),
+                        env={"FAKE_ZIGZAG_LOG": log})
+
+    def running_renderer():  # one still at work, not one that just finished
+        for proc, parent in renderer_children(driver.pid):
+            try:
+                if proc.status() != psutil.STATUS_ZOMBIE:
+                    return proc, parent
+            except psutil.Error:
+                continue
+        return None
+
     try:
-        (renderer_proc, worker), *_ = wait_for(lambda: renderer_children(driver.pid), 120,
-                                               "a renderer to start")
+        renderer_proc, worker = wait_for(running_renderer, 120, "a renderer to start")
         if renderer.name == "fake":
             # The fake sleeps half-way through its output: kill it there, so the lost attempt
             # always leaves a half-written temporary behind. (The real zigzag writes its own
@@ -161,6 +171,60 @@ def test_a_worker_killed_mid_job_loses_and_duplicates_nothing(renderer, workdir)
     records = frame_records(f"{out}/.zigzag-farm-manifest.jsonl")
     assert sorted(r["output"] for r in records) == [f"{out}/{n}" for n in names]  # each once
     assert [f for f in os.listdir(out) if ".tmp" in f] == []
+    if renderer.name == "fake":  # the real zigzag keeps no log
+        # 8 frames and the attempt lost with the worker, run again: a job really was lost.
+        assert len(logged_renders(log)) >= 9, logged_renders(log)
+
+
+def render_records(manifest):
+    """The manifest's render records (each a job the driver collected)."""
+    if not os.path.exists(manifest):
+        return []
+    out = []
+    for line in open(manifest):
+        try:
+            r = json.loads(line)
+        except ValueError:
+            continue
+        if r.get("kind") == "render":
+            out.append(r)
+    return out
+
+
+def test_fake_a_worker_killed_after_finishing_jobs_renders_none_of_them_again(workdir):
+    """Results the driver has recorded are released: a worker that dies holding them in memory
+    costs only the job it was running (distributed re-runs any result still wanted)."""
+    scene = write_scene(workdir, "animated", animated=True, frame_range=[1, 48], fps=24, sleep=0.6)
+    out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
+    manifest = f"{out}/.zigzag-farm-manifest.jsonl"
+    driver = start_farm(*fake_farm(scene, "-o", f"{out}/f{{frame:04}}.png", "--frames", "1-10",
+                                   "--workers", "2"), env={"FAKE_ZIGZAG_LOG": log})
+
+    def a_worker_with_two_recorded_frames():
+        by_worker = {}
+        for r in render_records(manifest):
+            by_worker.setdefault(r["worker"], []).append(r["output"])
+        busy = [p for p, _ in renderer_children(driver.pid)]
+        for worker, outputs in by_worker.items():
+            pid = int(worker.rsplit(":", 1)[1])
+            if len(outputs) >= 2 and any(p.ppid() == pid for p in busy):  # and rendering another
+                return pid, outputs
+        return None
+
+    try:
+        pid, recorded = wait_for(a_worker_with_two_recorded_frames, 120, "a worker with two frames recorded")
+        os.kill(pid, signal.SIGKILL)
+        _, err = driver.communicate(timeout=240)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 0, err
+    assert visible_files(out) == [f"f{n:04}.png" for n in range(1, 11)]
+    renders = logged_renders(log)
+    for output in recorded:
+        frame = str(int(os.path.basename(output)[1:5]))
+        assert sum(1 for args in renders if args[args.index("--frame") + 1] == frame) == 1, (output, renders)
+    assert len(renders) <= 10 + 1, renders  # the frames, and at most the attempt lost with the worker
 
 
 def test_the_driver_killed_and_rerun_renders_only_what_is_missing(renderer, workdir):
@@ -251,6 +315,25 @@ def test_fake_an_existing_scheduler_on_loopback(workdir):
         assert visible_files(out) == ["f1.png", "f2.png", "f3.png"]
         for proc in procs:  # scheduler, its dashboard, the worker, its dashboard, its nanny
             assert_loopback_only(proc.pid, min_sockets=2)
+
+        # The only worker stops mid-batch (a walltime, a lost node) and none comes back: the
+        # jobs left fail once --wait seconds pass without one, instead of waiting for ever.
+        slow = write_scene(workdir, "slow", animated=True, frame_range=[1, 48], fps=24, sleep=3.0)
+        driver = start_farm(slow, "-o", f"{workdir}/out2/f{{frame}}.png", "--frames", "1-4", "--scheduler",
+                            address, "--zigzag", FAKE_ZIGZAG, "--wait", "3", "--summary",
+                            f"{workdir}/summary.json")
+        try:
+            wait_for(lambda: renderer_children(procs[1].pid), 60, "a renderer on the worker")
+            procs[1].terminate()
+            procs[1].wait(30)
+            _, err = driver.communicate(timeout=60)
+        finally:
+            if driver.poll() is None:
+                driver.kill()
+        assert driver.returncode == 1, err
+        assert "no worker offering render=1 for 3 s" in err, err
+        summary = summary_of(workdir)
+        assert summary["failed_frames"] >= 3 and summary["rendered"] + summary["failed_frames"] == 4, summary
     finally:
         for proc in procs:
             proc.terminate()

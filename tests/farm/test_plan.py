@@ -77,6 +77,14 @@ def test_regions_become_parts_in_the_work_folder():
     assert sum(part.region.pixels for part in f.parts) == 64 * 64
 
 
+def test_two_batches_of_one_frame_into_one_folder_have_their_own_parts():
+    """A PNG batch and an EXR batch of the same frame, same work folder (the output's): each
+    merge deletes its parts, so sharing them would fail the other batch's merge."""
+    (png,) = plan(regions=4, scenes=[STILL], output="/o/{scene}.png").frames
+    (exr,) = plan(regions=4, scenes=[STILL], output="/o/{scene}.exr").frames
+    assert not {q.output for q in png.parts} & {q.output for q in exr.parts}
+
+
 def test_colliding_outputs_are_refused():
     with pytest.raises(ValueError, match="anim_0.png would be written as both the image of anim "
                                          "camera 0 f1 and the image of anim camera 0 f2: add {frame} to -o"):

@@ -40,8 +40,21 @@ class FakeClient:
 
 def test_running_counts_jobs_in_render_slots_not_jobs_queued_on_workers():
     pending = {"a", "b", "c", "d", "e", "f", "g"}
-    assert Runner._running(FakeClient(), pending) == 1 + 1 + 0 + 2
-    assert Runner._running(FakeClient(), {"b", "c"}) == 1
+    assert Runner._running(FakeClient(), pending) == (1 + 1 + 0 + 2, 4)
+    assert Runner._running(FakeClient(), {"b", "c"}) == (1, 4)
+
+
+def test_workers_without_a_render_slot_or_no_answer_are_told_apart():
+    class NoRenderSlots(FakeClient):
+        def scheduler_info(self):
+            return {"workers": {"w1": {"resources": {}}, "w2": {}}}
+
+    class Gone(FakeClient):
+        def processing(self):
+            raise OSError("scheduler unreachable")
+
+    assert Runner._running(NoRenderSlots(), {"a"})[1] == 0  # none: the run may give up
+    assert Runner._running(Gone(), {"a"}) == (0, None)  # unknown: it waits on
 
 
 def test_stats_that_cannot_be_written_fail_the_frame_without_a_traceback(workdir, monkeypatch):
