@@ -154,8 +154,11 @@ std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOp
 void preflight_outputs(const BatchOptions& o) {
   const std::vector<OutputPattern> patterns = output_patterns(o);
   for (const OutputKey& job : known_jobs(o))
-    for (const OutputPattern& p : patterns)
-      preflight_output(p.option, expand_output_pattern(p.pattern, job, p.option), p.option != "--stats");
+    for (const OutputPattern& p : patterns) {
+      const std::filesystem::path path = expand_output_pattern(p.pattern, job, p.option);
+      preflight_output(p.option, path, p.option != "--stats");
+      check_not_an_input(p.option, path, o.scenes);  // the scenes' own assets once they are loaded
+    }
 }
 
 }  // namespace zz

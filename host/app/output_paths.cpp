@@ -108,6 +108,16 @@ std::string expand_output_pattern(const std::string& pattern, const OutputKey& k
   return out;
 }
 
+void check_not_an_input(const std::string& option, const std::filesystem::path& output,
+                        const std::vector<std::string>& inputs) {
+  for (const std::string& input : inputs) {
+    std::error_code ec;  // either missing: not the same file
+    if (std::filesystem::equivalent(output, input, ec))
+      throw Error(option + " " + output.string() + " is the scene's own file " + input +
+                  ": writing it would replace the scene");
+  }
+}
+
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs) {
   struct Writer {
     const OutputPattern* pattern;

@@ -62,19 +62,25 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
     j["adaptive"] = adaptive_settings_json(r.adaptive);
     j["adaptive"]["edges"] = name_of(kEdgeModes, r.edges);
   }
-  if (wants_visibility_map(r)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}, {"material", r.edge_material}};
+  if (wants_geo_map(o)) j["edge"] = {{"ss", r.edge_ss}, {"angle", r.edge_angle}, {"depth", r.edge_depth}, {"material", r.edge_material}};
   if (r.aa == AaMode::Uniform) j["uniform"] = {{"spp", r.spp}, {"pattern", name_of(kUniformPatterns, r.pattern)}};
   return j.dump();
 }
 
-// The frame number {frame} names: the loaded frame, or for a --time the frame at that
-// time. A time between frames names none, so a pattern with {frame} is refused there:
-// rounding it would let two times overwrite one file.
-int output_frame(const BatchOptions& o, const Scene& scene) {
+// The loaded frame, or for a --time the frame at that time; none for a time between frames.
+std::optional<int> whole_frame(const Scene& scene) {
   if (scene.frame >= 0) return scene.frame;
   const double at = scene.time * scene.fps, nearest = std::round(at);
   const bool on_a_frame = std::abs(at - nearest) <= 1e-6 && at <= kMaxFrame;  // absolute: frames stay 1 apart
   if (on_a_frame) return int(nearest);
+  return std::nullopt;
+}
+
+// The frame number {frame} names: whole_frame. A time between frames names none, so a
+// pattern with {frame} is refused there: rounding it would let two times overwrite one file.
+int output_frame(const BatchOptions& o, const Scene& scene) {
+  if (const std::optional<int> frame = whole_frame(scene)) return *frame;
+  const double at = scene.time * scene.fps;
   for (const OutputPattern& p : output_patterns(o))
     if (p.pattern.find("{frame") != std::string::npos) {
       char when[160];
@@ -282,6 +288,8 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   const uint64_t memory_estimate = resident_bytes() + frame_need;
   const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
+  for (const OutputPattern& p : output_patterns(o))
+    check_not_an_input(p.option, expand_output_pattern(p.pattern, key, p.option), scene.source_files);
 
   // The map is made on its own thread while level 1 traces (render_frame awaits it
   // before classifying); --edges-serial makes it first. The image is the same. The map's
@@ -358,7 +366,6 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   t = std::chrono::steady_clock::now();
   write_film(output, film, settings.tonemap,
              {{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
-  const double write_s = seconds_since(t);
   std::string written = output.string();  // for the summary line: the image, then the AOV images
   for (const AovRequest& a : o.aovs)
     if (!a.layers()) {
@@ -366,6 +373,8 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
       write_aov(a.aov, file, film, film_geo, &outputs);
       written += ", " + file.string();
     }
+  // Every image; the stats file (which cannot hold its own time) and the renames follow.
+  const double write_s = seconds_since(t);
 
   JobRecord record;
   record.scene_name = job.name;
@@ -375,6 +384,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   record.settings = &settings;
   record.stats = &stats;
   record.scene = &scene;
+  record.frame = whole_frame(scene);
   record.shader = &shader;
   record.bvh = &job.bvh_stats;
   record.memory_estimate_bytes = memory_estimate;

@@ -37,8 +37,8 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["region"] = {region.x0, region.y0, region.x1, region.y1};
   j["pixels"] = int64_t(region.width()) * region.height();
   j["animated"] = r.scene->animated;
-  // A --time names no frame: null (scene_time_s says when).
-  j["frame"] = r.scene->frame >= 0 ? nlohmann::json(r.scene->frame) : nlohmann::json(nullptr);
+  // A --time between frames names none: null (scene_time_s says when).
+  j["frame"] = r.frame ? nlohmann::json(*r.frame) : nlohmann::json(nullptr);
   j["scene_time_s"] = r.scene->time;
   j["fps"] = r.scene->fps;
   j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());

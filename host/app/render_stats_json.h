@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -39,6 +40,7 @@ struct JobRecord {
   const RenderSettings* settings = nullptr;
   const RenderStats* stats = nullptr;
   const Scene* scene = nullptr;
+  std::optional<int> frame;  // the frame {frame} names; none for a --time between frames
   const Shader* shader = nullptr;
   const BvhBuildStats* bvh = nullptr;
   StageTimes times;

@@ -149,7 +149,11 @@ std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {
 
 void write_rgb8(const std::filesystem::path& path, int width, int height, const std::vector<uint8_t>& rgb,
                 OutputSet* set) {
-  write_pixels(path, OIIO::ImageSpec(width, height, 3, OIIO::TypeDesc::UINT8), rgb.data(), set);
+  OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
+  // The bytes are sRGB-encoded (render/tonemap.h): say so (PNG: the sRGB, gAMA and cHRM
+  // chunks), so colour-managed viewers need not guess.
+  spec.attribute("oiio:ColorSpace", "sRGB");
+  write_pixels(path, spec, rgb.data(), set);
 }
 
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,

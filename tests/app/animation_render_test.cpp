@@ -68,9 +68,15 @@ TEST_F(AnimationRender, TimeBetweenFramesNamesNoFrame) {
   EXPECT_EQ(between.exit_code, kUsageExit) << between.output;
   EXPECT_NE(between.output.find("between frames"), std::string::npos) << between.output;
   EXPECT_FALSE(fs::exists(dir / "t24.png"));
-  const auto on_frame = test::run_command(base + "--time 1 -o " + (dir / "t{frame}.png").string());
+  const auto on_frame = test::run_command(base + "--time 1 -o " + (dir / "t{frame}.png").string() + " --stats " +
+                                          (dir / "t{frame}.json").string());
   EXPECT_EQ(on_frame.exit_code, 0) << on_frame.output;
   EXPECT_TRUE(fs::exists(dir / "t24.png"));
+  {  // the stats name the frame the file is named after
+    std::ifstream in(dir / "t24.json");
+    const std::string stats((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    EXPECT_NE(stats.find("\"frame\": 24,"), std::string::npos) << stats;
+  }
   // Without {frame} any time renders; its stats give the time, and no frame.
   const auto named = test::run_command(base + "--time 1.01 -o " + (dir / "t.png").string() + " --stats " +
                                        (dir / "t.json").string());

@@ -151,6 +151,11 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
                            (dir / "size.exr").string();
   ASSERT_EQ(test::run_command(size).exit_code, 0);
   const std::string png = render("--edges off --region 80,0,150,130", "b.png");
+  // Uniform sampling makes no map for the image, but --aov geo does, and its settings
+  // decide that channel: parts with other ones are refused too.
+  const std::string geo = "--aa uniform --spp 4 --aov geo --region ";
+  const std::string geo_a = render(geo + "0,0,80,130", "geo_a.exr");
+  const std::string geo_b = render(geo + "80,0,150,130 --edge-angle 170", "geo_b.exr");
   struct Case {
     std::vector<std::string> parts;
     const char* message;
@@ -164,6 +169,7 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
       {{a, (dir / "size.exr").string()}, "frame"},
       {{a, png}, "zigzag:exposure"},
       {{a, (dir / "nothing.exr").string()}, "nothing.exr"},
+      {{geo_a, geo_b}, "/edge/angle is 170"},
   };
   for (const Case& c : cases) {
     const auto r = merge(c.parts, "m.png");

@@ -10,6 +10,8 @@
 
 #include <cmath>
 #include <cstring>
+#include <fstream>
+#include <iterator>
 #include <filesystem>
 #include <limits>
 
@@ -60,6 +62,21 @@ TEST_F(FilmMergeTest, ChannelsRoundTripByNameAndValue) {
     EXPECT_TRUE(same_bits(c.values, orig.values)) << c.name;
   }
   EXPECT_EQ(std::memcmp(back.film.radiance.data(), film.radiance.data(), film.radiance.size() * sizeof(glm::vec3)), 0);
+}
+
+// Display images are sRGB-encoded and say so (PNG: sRGB/gAMA/cHRM chunks), so a
+// colour-managed viewer shows them as written.
+TEST_F(FilmMergeTest, DisplayImagesAreTaggedSrgb) {
+  Film film(7, 5);
+  write_film(dir / "f.png", film, ToneMap{});
+  auto in = OIIO::ImageInput::open((dir / "f.png").string());
+  ASSERT_TRUE(in);
+  EXPECT_EQ(in->spec().get_string_attribute("oiio:ColorSpace"), "sRGB");
+  in->close();
+  std::ifstream file(dir / "f.png", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("sRGB"), std::string::npos);
+  EXPECT_NE(bytes.find("gAMA"), std::string::npos);
 }
 
 TEST_F(FilmMergeTest, PartsMergeIntoTheWholeChannelsIncluded) {

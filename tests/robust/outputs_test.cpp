@@ -35,6 +35,10 @@ class Outputs : public robust::ScratchSceneDir {
     ScratchSceneDir::SetUp();
     write("other.json", R"({"model": "default.gltf", "width": 24, "height": 16})");
   }
+  std::string contents_of(const std::string& name) const {
+    std::ifstream in(path(name), std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
   robust::ChildResult render(std::vector<std::string> args) const {
     args.insert(args.begin(), {kZigzag, "render"});
     for (const char* a : {"--edges", "off", "-q"}) args.push_back(a);
@@ -153,6 +157,38 @@ TEST_F(Outputs, JobsThatWouldWriteOneFileAreRefusedNamingThePlaceholder) {
   expect_error(render({path("good.json").string(), path("other.json").string(), "-o", path("{scene}.png").string(),
                        "--stats", path("s.json").string()}),
                "--stats", kUsageExit);
+}
+
+// `--stats {scene}.json` beside the scene would replace room.json with its stats: every
+// output is compared with the files the scene is read from, the rig itself before loading,
+// its glTF, buffers and images once loaded (links and other spellings included). (An
+// image output is already refused a .json/.gltf/.bin name by its format.)
+TEST_F(Outputs, NoOutputReplacesAFileTheSceneIsReadFrom) {
+  const std::string good = path("good.json").string();
+  const std::string rig = contents_of("good.json"), gltf = contents_of("default.gltf"), bin = contents_of("default.bin");
+  fs::create_symlink(path("default.gltf"), path("link.gltf"));
+  const struct {
+    std::vector<std::string> args;
+    std::string named;
+  } cases[] = {
+      {{good, "-o", path("x.png").string(), "--stats", path("{scene}.json").string()}, "good.json"},
+      {{good, "-o", path("x.png").string(), "--stats", (dir_ / "." / "good.json").string()}, "good.json"},
+      {{good, "-o", path("x.png").string(), "--stats", path("default.gltf").string()}, "default.gltf"},
+      {{good, "-o", path("x.png").string(), "--stats", path("link.gltf").string()}, "default.gltf"},
+      {{good, "-o", path("x.png").string(), "--stats", path("default.bin").string()}, "default.bin"},
+  };
+  for (const auto& c : cases) {
+    const robust::ChildResult r = render(c.args);
+    SCOPED_TRACE(r.err);
+    EXPECT_TRUE(r.exited);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("is the scene's own file"), std::string::npos);
+    EXPECT_NE(r.err.find(c.named), std::string::npos);
+    EXPECT_EQ(contents_of("good.json"), rig);
+    EXPECT_EQ(contents_of("default.gltf"), gltf);
+    EXPECT_EQ(contents_of("default.bin"), bin);
+    EXPECT_FALSE(fs::exists(path("x.png")));
+  }
 }
 
 TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
