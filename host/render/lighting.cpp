@@ -21,10 +21,9 @@ bool light_towards(const Light& light, glm::vec3 p, glm::vec3& to_light, float& 
   to_light = d / dist;
   tmax = dist;
   float falloff = 1.0f / dist2;
-  if (light.range > 0.0f) {  // the glTF spec's recommended smooth window
+  if (light.range > 0.0f) {  // KHR_lights_punctual's recommended window: clamp(1 - (d/r)^4, 0, 1) / d^2
     float r = dist / light.range;
-    float w = std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
-    falloff *= w * w;
+    falloff *= std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
   }
   if (light.type == Light::Type::Spot) {
     float cd = glm::dot(glm::normalize(light.direction), -to_light);

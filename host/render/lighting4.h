@@ -62,10 +62,9 @@ inline LightSample4 light_towards4(const Light& light, const LightConstants& k, 
   const float4 dist = sqrt(dist2);
   s.to_light = {d.x / dist, d.y / dist, d.z / dist};
   float4 falloff = float4(1.0f) / dist2;
-  if (light.range > 0.0f) {  // the glTF spec's recommended smooth window
+  if (light.range > 0.0f) {  // KHR_lights_punctual's recommended window: clamp(1 - (d/r)^4, 0, 1) / d^2
     const float4 r = dist / float4(light.range);
-    const float4 w = clamp01(float4(1.0f) - r * r * r * r);
-    falloff = falloff * (w * w);
+    falloff = falloff * clamp01(float4(1.0f) - r * r * r * r);
   }
   if (light.type == Light::Type::Spot) {
     const float4 cd = float4(k.spot_axis.x) * -s.to_light.x + float4(k.spot_axis.y) * -s.to_light.y +

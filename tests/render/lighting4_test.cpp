@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -59,6 +60,22 @@ TEST(LightTowards, ANarrowHardSpotIsFullyBrightOnItsAxis) {
 
 // Cones over 3.6 degrees keep the glTF sample code's floor, and so their edge's width: a
 // hard 10-degree spot's scale is 1 / 0.001 as before; a 1-degree one's is 2 / (1 - cos).
+// KHR_lights_punctual's range window, as the spec recommends: clamp(1 - (d/r)^4, 0, 1) / d^2
+// (once, not squared), 0 at and beyond the range.
+TEST(LightTowards, TheRangeWindowIsTheSpecs) {
+  Light l;
+  l.position = {0.0f, 0.0f, 0.0f};
+  l.intensity = glm::vec3(1.0f);
+  l.range = 2.0f;
+  for (const float d : {0.5f, 1.0f, 1.5f, 1.9f, 2.0f, 3.0f}) {
+    glm::vec3 to_light, scale;
+    float tmax = 0.0f;
+    const bool lit = light_towards(l, {d, 0.0f, 0.0f}, to_light, tmax, scale);
+    const float r = d / 2.0f, expected = std::max(0.0f, 1.0f - r * r * r * r) / (d * d);
+    EXPECT_NEAR(lit ? scale.x : 0.0f, expected, 1e-6f * expected + 1e-9f) << d;
+  }
+}
+
 TEST(LightTowards, OnlyNarrowSpotsLeaveTheSpecsFloor) {
   const float c10 = std::cos(glm::radians(10.0f)), c1 = std::cos(glm::radians(1.0f));
   EXPECT_FLOAT_EQ(spot_scale(c10, c10), 1000.0f);
