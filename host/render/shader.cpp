@@ -573,7 +573,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         float eta = 1.0f;
         if constexpr ((kEffects & kRefraction) != 0) {
           if (m.transmits()) {
-            eta = s.front ? 1.0f / m.ior : m.ior;  // n_incident / n_transmitted
+            // n_incident / n_transmitted; a thin wall has air on both sides of its sheet.
+            eta = s.front || m.thin_walled ? 1.0f / m.ior : m.ior;
             const float f = fresnel_dielectric(cos_i, eta);
             kr = glm::vec3(f);
             refract_weight[i] = (1.0f - f) * m.transmission;
@@ -597,7 +598,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (transmit && refract_path[i] >= kMinThroughput) {
             const float sin2_t = eta * eta * (1.0f - cos_i * cos_i);
             const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
-            const glm::vec3 t = -eta * s.wo + (eta * cos_i - cos_t) * s.ns;  // Snell, vector form
+            // Snell, vector form; a thin wall's two faces bend the ray back: it goes on.
+            const glm::vec3 t = m.thin_walled ? -s.wo : -eta * s.wo + (eta * cos_i - cos_t) * s.ns;
             if (glm::dot(t, s.ng) < 0.0f) {
               refracted.set(i, offset_ray_origin(s.hit, -s.ng), t, kInfinity);
               do_refract[i] = true;

@@ -12,6 +12,9 @@ namespace zz::gltf {
 Animation read_animations(const tinygltf::Model& model, const std::string& file,
                           const std::function<void(const std::string&)>& warn) {
   Animation out;
+  if (model.animations.size() > 1)
+    warn(std::to_string(model.animations.size()) +
+         " animations play together on one clock (a node two of them move takes the later one's pose)");
   for (size_t a = 0; a < model.animations.size(); ++a) {
     const tinygltf::Animation& anim = model.animations[a];
     const std::string name = "animation '" + (anim.name.empty() ? std::to_string(a) : anim.name) + "'";

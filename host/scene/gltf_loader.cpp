@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <tuple>
 
 #include "core/error.h"
@@ -120,6 +121,13 @@ struct Loader {
 
   void warn(const std::string& msg) const {
     if (!options.quiet) std::fprintf(stderr, "warning: %s: %s\n", file.c_str(), msg.c_str());
+  }
+
+  // Features the loader does not apply, said once per file: their absence changes the
+  // image (a white mesh that the file colours, a bind pose), so it must not be silent.
+  std::set<std::string> unsupported_said;
+  void warn_unsupported(const std::string& feature, const std::string& msg) {
+    if (unsupported_said.insert(feature).second) warn(msg);
   }
 
   void warn_out_of_range(const Material& m) const {
@@ -281,6 +289,7 @@ struct Loader {
       }
       if (const auto* e = extension(g.extensions, "KHR_materials_ior")) m.ior = number(e, "ior", 1.5f);
       if (const auto* e = extension(g.extensions, "KHR_materials_volume")) {
+        m.thickness = number(e, "thicknessFactor", 0.0f);
         m.attenuation_color = vec3_of(e, "attenuationColor", glm::vec3(1.0f));
         m.attenuation_distance =
             number(e, "attenuationDistance", std::numeric_limits<float>::infinity());
@@ -335,6 +344,13 @@ struct Loader {
         warn(mesh_name + " primitive " + std::to_string(p) + " has no POSITION, skipped");
         continue;
       }
+      if (attr("COLOR_0") >= 0)
+        warn_unsupported("COLOR_0", mesh_name + " has vertex colours (COLOR_0), which are not read: its base "
+                                    "colour is the material's alone");
+      if (!prim.targets.empty() &&
+          std::any_of(mesh.weights.begin(), mesh.weights.end(), [](double w) { return w != 0.0; }))
+        warn_unsupported("morph", mesh_name + " has morph targets with non-zero weights, which are not applied: "
+                                  "its base shape is rendered");
       gltf::check_attribute_type(model, attr("POSITION"), "POSITION", quantized, where + " POSITION");
       std::vector<float> pos = gltf::read_floats(model, attr("POSITION"), 3, where + " POSITION");
       const uint32_t material = material_index(prim.material);
@@ -473,6 +489,12 @@ struct Loader {
     for (int i = 0; i < 16; ++i)
       if (!std::isfinite(glm::value_ptr(world)[i]))
         throw Error(file + ": node '" + node.name + "' has a non-finite transform");
+    if (node.skin >= 0)
+      warn_unsupported("skin", "node '" + node.name + "' is skinned; skins are not applied: its mesh is drawn in "
+                               "its bind pose under the node's transform");
+    if (!node.weights.empty() && std::any_of(node.weights.begin(), node.weights.end(), [](double w) { return w != 0.0; }))
+      warn_unsupported("morph", "node '" + node.name + "' sets morph weights, which are not applied: its mesh's base "
+                                "shape is rendered");
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= model.meshes.size())
         throw Error(file + ": node '" + node.name + "' mesh " + std::to_string(node.mesh) + " out of range");
@@ -617,7 +639,7 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   };
   for (const tinygltf::Buffer& b : model.buffers) external(b.uri);
   for (const tinygltf::Image& i : model.images) external(i.uri);
-  Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}};
+  Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
   scene.animated = scene.animated || !loader.animation.empty();

@@ -148,7 +148,7 @@ Light parse_light(const Json& J, const json& l, const std::string& where) {
 }
 
 void apply_material_override(const Json& J, Material& m, const json& o, const std::string& where) {
-  J.check_keys(o, {"base_color", "metallic", "roughness", "transmission", "ior", "emissive",
+  J.check_keys(o, {"base_color", "metallic", "roughness", "transmission", "ior", "emissive", "thickness",
                    "attenuation_color", "attenuation_distance", "double_sided"}, where);
   if (o.contains("base_color")) m.base_color = J.vec3_or_scalar(o["base_color"], where + ".base_color");
   if (o.contains("metallic")) m.metallic = J.number(o["metallic"], where + ".metallic");
@@ -156,6 +156,7 @@ void apply_material_override(const Json& J, Material& m, const json& o, const st
   if (o.contains("transmission")) m.transmission = J.number(o["transmission"], where + ".transmission");
   if (o.contains("ior")) m.ior = J.number(o["ior"], where + ".ior");
   if (o.contains("emissive")) m.emissive = J.vec3_or_scalar(o["emissive"], where + ".emissive");
+  if (o.contains("thickness")) m.thickness = J.number(o["thickness"], where + ".thickness");
   if (o.contains("attenuation_color"))
     m.attenuation_color = J.vec3_or_scalar(o["attenuation_color"], where + ".attenuation_color");
   if (o.contains("attenuation_distance"))

@@ -19,7 +19,9 @@ namespace zz {
 //   (the Blinn-Phong/Beckmann correspondence), colour F0; glossier = sharper.
 // - Transmission = base * transmission * (1 - metallic), bent with the IOR; the surface
 //   then also mirrors with the dielectric Fresnel, whatever its roughness.
-// - Volume: sigma_a = -ln(attenuation_color) / attenuation_distance (glTF spec).
+// - Volume: a solid only with KHR_materials_volume's thickness > 0; then it bends and
+//   absorbs, sigma_a = -ln(attenuation_color) / attenuation_distance (glTF spec). Else
+//   the surface is thin-walled: transmitted light goes straight on, unabsorbed.
 void whitted_surface(WhittedMaterial& w, const PbrSample& p) {
   const float metallic = std::clamp(p.metallic, 0.0f, 1.0f);
   const float roughness = std::clamp(p.roughness, 0.0f, 1.0f);
@@ -54,8 +56,9 @@ void whitted_surface(WhittedMaterial& w, const PbrSample& p) {
 WhittedMaterial whitted_from_gltf(const Material& m) {
   WhittedMaterial w;
   w.ior = std::isfinite(m.ior) && m.ior >= 1.0f ? m.ior : 1.5f;
+  w.thin_walled = !(m.thickness > 0.0f);
   whitted_surface(w, {m.base_color, m.metallic, m.roughness, m.transmission});
-  if (std::isfinite(m.attenuation_distance) && m.attenuation_distance > 0.0f) {
+  if (!w.thin_walled && std::isfinite(m.attenuation_distance) && m.attenuation_distance > 0.0f) {
     glm::vec3 c = glm::clamp(m.attenuation_color, glm::vec3(1e-6f), glm::vec3(1.0f));
     w.absorption = -glm::log(c) / m.attenuation_distance;
   }

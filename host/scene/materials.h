@@ -47,7 +47,10 @@ struct Material {
   float transmission = 0.0f;           // KHR_materials_transmission
   TextureRef transmission_texture;     // linear; R = transmission
   float ior = 1.5f;                    // KHR_materials_ior
-  // KHR_materials_volume: Beer-Lambert attenuation inside the closed surface.
+  // KHR_materials_volume: a solid (thickness > 0) with Beer-Lambert attenuation inside
+  // its closed surface. Without it, or at thickness 0 (the default), transmission is
+  // thin-walled: the surface is a sheet, light crosses it unbent and unabsorbed.
+  float thickness = 0.0f;
   glm::vec3 attenuation_color{1.0f};
   float attenuation_distance = std::numeric_limits<float>::infinity();
   bool double_sided = false;
@@ -71,6 +74,7 @@ struct WhittedMaterial {
   bool fresnel_mirror = false;    // dielectric: mirror weight follows Schlick with F0 = mirror
   glm::vec3 transmission{0.0f};   // tint of the refracted ray (0 = opaque)
   float ior = 1.5f;
+  bool thin_walled = true;        // transmission through a sheet: unbent, Fresnel from the IOR only
   glm::vec3 absorption{0.0f};     // Beer-Lambert sigma_a per unit length inside (0 = clear)
   glm::vec3 emission{0.0f};
 

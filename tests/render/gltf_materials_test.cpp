@@ -177,7 +177,8 @@ TEST(GltfMaterials, VolumeAttenuatesShadowsByBeersLawOverThePathInside) {
   // Clear glass, attenuation colour 0.5 at distance 0.1: the path inside is 0.1 / cos 45.
   Scene s = slab_scene("volume",
                        {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
-                        {"KHR_materials_volume", {{"attenuationColor", {0.5, 0.5, 0.5}}, {"attenuationDistance", 0.1}}}},
+                        {"KHR_materials_volume",
+                         {{"thicknessFactor", 0.1}, {"attenuationColor", {0.5, 0.5, 0.5}}, {"attenuationDistance", 0.1}}}},
                        glm::vec3(1.0f));
   EXPECT_TRUE(s.effects().absorption);
   const Image img = render_scene(s);

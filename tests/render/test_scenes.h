@@ -74,12 +74,15 @@ inline Material mirror_material(glm::vec3 reflectance) {
   return m;
 }
 
+// Solid glass (KHR_materials_volume thickness > 0): it bends light; without a thickness a
+// transmissive surface is a thin wall.
 inline Material glass_material(float ior) {
   Material m;
   m.base_color = glm::vec3(1.0f);
   m.roughness = 0.0f;
   m.transmission = 1.0f;
   m.ior = ior;
+  m.thickness = 1.0f;
   return m;
 }
 

@@ -100,6 +100,48 @@ TEST(Glass, TotalInternalReflectionAndTheCriticalAngle) {
   }
 }
 
+// KHR_materials_volume: a transmissive surface without a thickness is a thin wall, light
+// crosses it unbent; with one it is a solid's face and bends light (Snell). A sheet tilted
+// 45 deg over a floor that glows only where x > 0: a ray straight down at x = -0.05 lands
+// on the dark half through a thin wall, but bent by 17 deg it reaches x = +0.27 through a
+// solid's face. Either way the sheet transmits 1 - F(45 deg, 1.5) = 0.9497 of the glow.
+TEST(Glass, AThinWallLetsLightThroughUnbentAndASolidBendsIt) {
+  for (const bool solid : {false, true}) {
+    Scene s;
+    Material sheet = test::glass_material(1.5f);
+    sheet.thickness = solid ? 0.5f : 0.0f;
+    Material glow, dark;
+    glow.base_color = dark.base_color = glm::vec3(0.0f);
+    glow.emissive = glm::vec3(1.0f);
+    s.materials = {sheet, glow, dark};
+    test::add_quad(s, {-0.5f, -1, 0.5f}, {0.5f, -1, 1.5f}, {0.5f, 1, 1.5f}, {-0.5f, 1, 0.5f}, 0);  // z = 1 + x
+    test::add_quad(s, {0, -5, 0}, {5, -5, 0}, {5, 5, 0}, {0, 5, 0}, 1);
+    test::add_quad(s, {-5, -5, 0}, {0, -5, 0}, {0, 5, 0}, {-5, 5, 0}, 2);
+    s.background = glm::vec3(0.0f);
+    s.cameras.push_back(Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.5f));
+    s.max_depth = 4;
+    s.finalize_materials();
+    ASSERT_EQ(s.whitted[0].thin_walled, !solid);
+    const Bvh bvh = Bvh::build(s.positions);
+    const Shader shader(s, bvh);
+    RayPacket4 rays;
+    alignas(16) const float x[4] = {-0.05f, 0.05f, -0.2f, 0.2f};
+    rays.ox = float4::load(x);
+    rays.oy = float4(0.0f), rays.oz = float4(5.0f);
+    rays.dx = rays.dy = float4(0.0f), rays.dz = float4(-1.0f);
+    rays.tmax = float4(kInfinity);
+    RayCounters counters;
+    const Rgb4 c = shader.trace4(rays, mask4(true), 0, counters);
+    const float through = 1.0f - fresnel_dielectric(std::cos(glm::radians(45.0f)), 1.0f / 1.5f);
+    EXPECT_NEAR(through, 0.9497f, 1e-3f);
+    EXPECT_NEAR(c.r[0], solid ? through : 0.0f, 1e-4f) << "x = -0.05, solid " << solid;
+    EXPECT_NEAR(c.r[1], through, 1e-4f) << "x = +0.05, solid " << solid;
+    EXPECT_NEAR(c.r[3], through, 1e-4f) << "x = +0.2, solid " << solid;
+    EXPECT_NEAR(c.r[2], solid ? through : 0.0f, 1e-4f) << "x = -0.2 (bent to +0.15), solid " << solid;
+    EXPECT_EQ(counters.refraction, 4u);
+  }
+}
+
 TEST(Glass, NestedAndTouchingGlassStaysInRange) {
   for (int variant = 0; variant < 3; ++variant) {
     Scene s;

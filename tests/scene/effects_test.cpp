@@ -33,7 +33,7 @@ Material glass(bool tinted) {
   Material m;
   m.transmission = 1.0f;
   m.roughness = 0.0f;
-  if (tinted) m.attenuation_distance = 1.0f, m.attenuation_color = glm::vec3(0.5f);
+  if (tinted) m.thickness = 1.0f, m.attenuation_distance = 1.0f, m.attenuation_color = glm::vec3(0.5f);
   return m;
 }
 

@@ -50,12 +50,12 @@ struct GltfBuilder {
     doc["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}});
     return int(doc["bufferViews"].size() - 1);
   }
-  // components: 2 -> VEC2, 3 -> VEC3.
+  // components: 1 -> SCALAR, 2 -> VEC2, 3 -> VEC3.
   int floats(const std::vector<float>& v, int components) {
     int bv = view(v.data(), v.size() * sizeof(float));
     doc["accessors"].push_back({{"bufferView", bv}, {"componentType", 5126},
                                 {"count", v.size() / size_t(components)},
-                                {"type", components == 2 ? "VEC2" : "VEC3"}});
+                                {"type", components == 1 ? "SCALAR" : components == 2 ? "VEC2" : "VEC3"}});
     return int(doc["accessors"].size() - 1);
   }
   int indices(const std::vector<uint16_t>& v) {

@@ -500,6 +500,37 @@ TEST(GltfLoader, ANegativeLightRangeIsAnError) {
   expect_error([&] { load_scene(b.write(test::temp_dir("negrange")), kQuiet); }, "light 'far': negative range");
 }
 
+// What the loader does not apply changes the image, so it is said, once per feature and
+// file: vertex colours, skins, morph weights, and several animations on one clock.
+TEST(GltfLoader, UnappliedFeaturesAreWarnedOnce) {
+  GltfBuilder b;
+  for (int i = 0; i < 2; ++i) {
+    const int mesh = b.mesh("coloured" + std::to_string(i), kTriPos);
+    b.doc["meshes"][size_t(mesh)]["primitives"][0]["attributes"]["COLOR_0"] = b.floats({1, 0, 0, 1, 0, 0, 1, 0, 0}, 3);
+    b.node({{"mesh", mesh}});
+  }
+  const int morphed = b.mesh("morphed", kTriPos);
+  b.doc["meshes"][size_t(morphed)]["primitives"][0]["targets"] = {{{"POSITION", b.floats(kTriPos, 3)}}};
+  b.doc["meshes"][size_t(morphed)]["weights"] = {0.5};
+  b.node({{"mesh", morphed}});
+  b.node({{"mesh", b.mesh("tri", kTriPos)}, {"skin", 0}});
+  b.doc["skins"] = {{{"joints", {0}}}};
+  const int times = b.floats({0, 1}, 1), moves = b.floats({0, 0, 0, 1, 0, 0}, 3);
+  const nlohmann::json clip = {{"samplers", {{{"input", times}, {"output", moves}}}},
+                               {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}}};
+  b.doc["animations"] = {clip, clip};
+  testing::internal::CaptureStderr();
+  const Scene s = load_scene(b.write(test::temp_dir("unapplied")), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(s.triangle_count(), 4u);
+  for (const char* said : {"vertex colours (COLOR_0)", "morph targets with non-zero weights", "is skinned",
+                           "2 animations play together"}) {
+    const size_t at = warned.find(said);
+    EXPECT_NE(at, std::string::npos) << said << "\n" << warned;
+    EXPECT_EQ(warned.find(said, at + 1), std::string::npos) << "said twice: " << said << "\n" << warned;
+  }
+}
+
 TEST(GltfLoader, MaterialFactorsOutOfRangeAreClampedWithAWarning) {
   GltfBuilder b;
   b.doc["materials"] = {{{"name", "odd"}, {"pbrMetallicRoughness", {{"metallicFactor", -0.5}, {"roughnessFactor", 0.5}}}}};

@@ -92,13 +92,30 @@ TEST(WhittedFromGltf, InvalidIorFallsBackTo15) {
 
 TEST(WhittedFromGltf, VolumeAttenuationIsBeerLambert) {
   Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.thickness = 0.5f;
   m.attenuation_color = glm::vec3(0.5f, 0.25f, 1.0f);
   m.attenuation_distance = 2.0f;
   WhittedMaterial w = whitted_from_gltf(m);
+  EXPECT_FALSE(w.thin_walled);
   // sigma_a = -ln(c) / d, so exp(-sigma_a * d) = c.
   expect_vec(w.absorption, glm::vec3(std::log(2.0f) / 2.0f, std::log(4.0f) / 2.0f, 0.0f));
   Material clear = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  clear.thickness = 0.5f;
   expect_vec(whitted_from_gltf(clear).absorption, glm::vec3(0.0f));  // infinite distance
+}
+
+// KHR_materials_volume: without it, or at thicknessFactor 0 (its default), the material
+// is thin-walled: no volume, so nothing to absorb, whatever the attenuation says.
+TEST(WhittedFromGltf, WithoutAThicknessTransmissionIsThinWalled) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  EXPECT_TRUE(whitted_from_gltf(m).thin_walled);
+  m.attenuation_color = glm::vec3(0.5f);
+  m.attenuation_distance = 2.0f;
+  const WhittedMaterial w = whitted_from_gltf(m);
+  EXPECT_TRUE(w.thin_walled);
+  expect_vec(w.absorption, glm::vec3(0.0f));
+  m.thickness = 1e-3f;
+  EXPECT_FALSE(whitted_from_gltf(m).thin_walled);
 }
 
 TEST(WhittedFromGltf, ShininessFollowsGgxAlpha) {

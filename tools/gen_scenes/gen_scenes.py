@@ -177,7 +177,9 @@ def torus(part, major, minor, slices, sides):
 
 
 def material(name, base, metallic=0.0, roughness=0.8, transmission=0.0, ior=None,
-             attenuation=None, emissive=None, double_sided=False):
+             attenuation=None, emissive=None, double_sided=False, thickness=None):
+    """thickness: the glass is a solid (KHR_materials_volume); without it a transmissive
+    surface is thin-walled by the spec (a sheet: no bending, no absorption)."""
     m = {"name": name,
          "pbrMetallicRoughness": {"baseColorFactor": list(base) + [1.0],
                                   "metallicFactor": metallic, "roughnessFactor": roughness}}
@@ -186,10 +188,11 @@ def material(name, base, metallic=0.0, roughness=0.8, transmission=0.0, ior=None
         ext["KHR_materials_transmission"] = {"transmissionFactor": transmission}
     if ior is not None:
         ext["KHR_materials_ior"] = {"ior": ior}
+    if attenuation is not None or thickness is not None:
+        ext["KHR_materials_volume"] = {"thicknessFactor": thickness if thickness is not None else 0.5}
     if attenuation is not None:
         colour, distance = attenuation
-        ext["KHR_materials_volume"] = {"thicknessFactor": 0.5, "attenuationColor": list(colour),
-                                       "attenuationDistance": distance}
+        ext["KHR_materials_volume"].update({"attenuationColor": list(colour), "attenuationDistance": distance})
     if emissive is not None:
         m["emissiveFactor"] = list(emissive)
     if ext:
@@ -448,7 +451,7 @@ def glass(out):
     mats = [material("checker_light", (0.85, 0.85, 0.85)),
             material("checker_dark", (0.08, 0.08, 0.10)),
             material("backdrop", (0.60, 0.35, 0.20), roughness=0.9),
-            material("glass", (1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5),
+            material("glass", (1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5, thickness=0.5),
             material("tinted_glass", (1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5,
                      attenuation=((0.35, 0.75, 0.9), 0.6))]
     w = GltfWriter(mats)
@@ -502,7 +505,7 @@ def default(out):
             material("checker_dark", (0.2, 0.2, 0.25)),
             material("red_plastic", (0.8, 0.1, 0.08), roughness=0.4),
             material("steel", (0.9, 0.9, 0.9), metallic=1.0, roughness=0.05),
-            material("glass", (1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5),
+            material("glass", (1.0, 1.0, 1.0), roughness=0.0, transmission=1.0, ior=1.5, thickness=0.5),
             material("blue", (0.15, 0.3, 0.8), roughness=0.7)]
     w = GltfWriter(mats)
     w.node("floor", checker_floor(w, 3.0, 8))
