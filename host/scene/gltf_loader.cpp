@@ -396,9 +396,11 @@ struct Loader {
         }
       }
 
-      // Normal maps need a tangent frame: the file's, else one from the UV gradients.
+      // Normal maps need a tangent frame: the file's, else one from the gradients of the
+      // UV set the normal texture reads (glTF: its texCoord).
+      const bool normal_uv1 = normal_mapped && scene.materials[material].normal_texture.texcoord == 1;
       const std::vector<float> tangents = !normal_mapped || !tangent.empty() ? tangent
-                                          : uv_gradient_tangents(pos, nrm, uv, tri);
+                                          : uv_gradient_tangents(pos, nrm, normal_uv1 ? uv1 : uv, tri);
       if (normal_mapped) scene.tangents.resize(scene.positions.size(), glm::vec4(0.0f));
       if (uses_texcoord1) scene.uvs1.resize(scene.positions.size(), glm::vec2(0.0f));
       for (size_t t = 0; t + 2 < tri.size(); t += 3) {

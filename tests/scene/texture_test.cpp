@@ -88,6 +88,33 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   EXPECT_TRUE(s.effects().textures);
 }
 
+// A normal map on TEXCOORD_1 gets its tangents from TEXCOORD_1's gradients (glTF: the
+// texture's texCoord), not TEXCOORD_0's: with only TEXCOORD_1 they were all zero, and the
+// normal map vanished. Here u_1 runs along +y: the tangent is +y.
+TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
+  auto dir = test::temp_dir("normal_uv1");
+  const unsigned char pixels[] = {128, 128, 255};
+  auto out = OIIO::ImageOutput::create((dir / "n.png").string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open((dir / "n.png").string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  out->close();
+  test::GltfBuilder b;
+  b.doc["images"] = {{{"uri", "n.png"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  b.doc["materials"] = {{{"name", "bumpy"}, {"normalTexture", {{"index", 0}, {"texCoord", 1}}}}};
+  const int mesh = b.mesh("tri", test::kTriPos, {}, {}, 4, 0);  // (0,0,0), (1,0,0), (0,1,0)
+  b.doc["meshes"][size_t(mesh)]["primitives"][0]["attributes"]["TEXCOORD_1"] = b.floats({0, 0, 0, 1, 1, 0}, 2);
+  b.node({{"mesh", mesh}});
+  const Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+  ASSERT_EQ(s.tangents.size(), 3u);
+  for (const glm::vec4& t : s.tangents) {
+    EXPECT_NEAR(t.x, 0.0f, 1e-6f);
+    EXPECT_NEAR(t.y, 1.0f, 1e-6f);
+    EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+  }
+}
+
 // A width x 1 grey + alpha PNG, stored as given (unassociated alpha, no un-premultiply).
 void write_grey_alpha_png(const std::filesystem::path& path, int width, OIIO::TypeDesc type, const void* pixels) {
   auto out = OIIO::ImageOutput::create(path.string());
