@@ -64,8 +64,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--keep-parts", action="store_true", help="keep region parts after merging")
     r.add_argument("--summary", metavar="FILE.json", help="write the run's summary as JSON")
     r.add_argument("--wait", type=float, default=120.0, metavar="S",
-                   help="how long to wait for the first worker of --scheduler/--slurm, and for any "
-                        "worker once all are gone before the jobs left fail (default 120)")
+                   help="how long to wait for the first worker of --scheduler/--slurm, and (--scheduler) "
+                        "for any worker once all are gone before the jobs left fail (default 120)")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress line")
     return ap
 
@@ -209,7 +209,10 @@ def render(o) -> int:
         runner = Runner(plan, manifest, RunSettings(zigzag=zigzag, timeout=o.timeout,
                                                     retries=o.retries, keep_parts=o.keep_parts,
                                                     runtime_args=tuple(opts.runtime_args),
-                                                    no_workers_s=o.wait),
+                                                    # Only --scheduler: a LocalCluster's nannies
+                                                    # restart workers, and Slurm resubmits ended
+                                                    # jobs that may wait in its queue.
+                                                    no_workers_s=o.wait if o.scheduler else None),
                         progress_stream=devnull if o.quiet else None, live=False if o.quiet else None)
         if runner.pending_frames():
             try:
@@ -264,7 +267,7 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as e:  # e.g. the scheduler lost for good: one line, not a traceback
         print(f"zigzag-farm: internal error: {type(e).__name__}: {e}; finished jobs are recorded, "
               "a re-run renders the rest", file=sys.stderr)
-        return 2
+        return 1  # as a failed job: worth a re-run (2 means bad options)
 
 
 if __name__ == "__main__":

@@ -68,7 +68,10 @@ def slurm_options(*, queue=None, account=None, walltime=None, memory=None, cores
                                      memory=memory, cores=cores, interface=interface).items()
                if v is not None}
     options["processes"] = 1
-    options["worker_extra_args"] = ["--resources", "render=1"]
+    # Given here, the argument replaces the configuration's worker-extra-args: keep them
+    # (e.g. --lifetime, which a Slurm walltime calls for) before our render slot.
+    options["worker_extra_args"] = [*(dask.config.get("jobqueue.slurm.worker-extra-args", None) or []),
+                                    "--resources", "render=1"]
     # The scheduler must listen where the nodes reach it, so it speaks TLS with credentials
     # made for this run (workers read theirs from jobqueue's shared-temp-directory): no one
     # else on that network can submit work. Its dashboard stays on this machine (jobqueue's

@@ -97,6 +97,17 @@ class Plan:
     # Every file the batch writes -> what it is ("the image of room camera 0 f3"): no two
     # outputs of any kind (images, stats, region parts, summary, manifest) may share a path.
     claims: dict[str, str] = field(default_factory=dict)
+    # The files the batch's scenes are read from (rigs, glTFs, buffers, images), by identity
+    # (device, inode) -> "scene room": no output may replace one, whichever scene it is.
+    inputs: dict[tuple[int, int], str] = field(default_factory=dict)
+
+    def add_inputs(self, info) -> None:
+        for f in info.files:
+            try:
+                st = os.stat(f)
+            except OSError:
+                continue
+            self.inputs.setdefault((st.st_dev, st.st_ino), f"{f}, a file of scene {info.name}")
 
     @property
     def render_jobs(self) -> list[RenderJob]:
@@ -107,6 +118,13 @@ class Plan:
         if path in self.claims:
             raise ValueError(f"{path} would be written as both {self.claims[path]} and {what}"
                              + (f": {hint}" if hint else ""))
+        try:
+            st = os.stat(path)
+            source = self.inputs.get((st.st_dev, st.st_ino))
+        except OSError:  # not there yet: no scene is read from it
+            source = None
+        if source:
+            raise ValueError(f"{path} ({what}) is {source}: writing it would replace the scene")
         self.claims[path] = what
 
 
@@ -205,6 +223,8 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
     """
     _check_job_count(scenes, frames, camera, regions)
     plan = Plan()
+    for info in scenes:
+        plan.add_inputs(info)
     first_image: dict[str, tuple] = {}  # output path -> (the image, the option) that claimed it
     for info in scenes:
         cameras = _scene_cameras(info, camera)

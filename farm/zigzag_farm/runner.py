@@ -18,6 +18,7 @@ from .progress import Progress
 from .stats import merge_stats
 
 POLL_S = 0.5
+RESULT_TIMEOUT_S = 30.0  # fetching one finished job's result (a small dict)
 RUNNING_EVERY_S = 1.0  # how often the progress line asks the scheduler what is running
 
 
@@ -229,7 +230,8 @@ class Runner:
         done = failed = 0
         pending = dict(futures)
         try:
-            running, asked, gather_failures, no_workers_since = 0, 0.0, 0, None
+            running, asked, no_workers_since = 0, 0.0, None
+            order = {key: i for i, key in enumerate(futures)}
 
             def fail(key, kind, f, p, message):
                 failed_jobs.add(key)
@@ -242,21 +244,22 @@ class Runner:
 
             while pending:
                 finished = {k: pending.pop(k) for k in [k for k, (fut, *_) in pending.items() if fut.done()]}
-                # One round trip for all the results that arrived, not one per job.
-                ok = [fut for fut, *_ in finished.values() if fut.status == "finished"]
-                try:
-                    results = dict(zip((fut.key for fut in ok), client.gather(ok))) if ok else {}
-                    gather_failures = 0
-                except Exception:
-                    # A result lost with its worker since done() is being made again, or its
-                    # re-run failed: record none of this round's, look again next round
-                    # (each then ends as recorded or as a reported failure).
-                    gather_failures += 1
-                    if gather_failures > 3:
-                        raise
-                    pending.update(finished)
-                    time.sleep(POLL_S)
-                    continue
+                results, lost = {}, {}
+                for key, entry in finished.items():
+                    fut = entry[0]
+                    if fut.status != "finished":
+                        continue  # an error or a cancel: _collect reports it
+                    try:  # bounded: a result lost since done() is being made again, and a
+                        # gather would wait for that (for ever, were every worker gone)
+                        results[key] = fut.result(timeout=RESULT_TIMEOUT_S)
+                    except Exception:
+                        if fut.status == "finished" or not fut.done():
+                            lost[key] = entry  # looked at again next round
+                        # else its re-run failed: _collect reports the future's error
+                for key in lost:
+                    del finished[key]
+                if lost:  # back in submission order: parts before their merge
+                    pending = dict(sorted({**pending, **lost}.items(), key=lambda kv: order[kv[0]]))
                 for key, (fut, kind, f, p) in finished.items():
                     error = self._collect(fut, results.get(key), kind, f, p)
                     # Recorded: the result is no longer wanted. A wanted result held by a

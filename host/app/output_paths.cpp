@@ -112,8 +112,8 @@ void check_not_an_input(const std::string& option, const std::filesystem::path& 
                         const std::vector<std::string>& inputs) {
   for (const std::string& input : inputs) {
     std::error_code ec;  // either missing: not the same file
-    if (std::filesystem::equivalent(output, input, ec))
-      throw Error(option + " " + output.string() + " is the scene's own file " + input +
+    if (std::filesystem::equivalent(output, input, ec))  // a usage error: a re-run fails the same way
+      throw UsageError(option + " " + output.string() + " is the scene's own file " + input +
                   ": writing it would replace the scene");
   }
 }

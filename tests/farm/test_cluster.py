@@ -10,8 +10,8 @@ import sys
 import psutil
 import pytest
 
-from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, descendants, fake_render, farm_cmd,
-                      farm_env, frame_records, listening_sockets, read, real_renderer_supports_farm,
+from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, LoopbackWatch, descendants, fake_render,
+                      farm_cmd, farm_env, frame_records, listening_sockets, read, real_renderer_supports_farm,
                       renderer_children, run_farm, start_farm, wait_for, write_scene)
 
 
@@ -472,6 +472,7 @@ def test_fake_ctrl_c_stops_everything_quietly(workdir):
                               env=farm_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                               stdin=subprocess.DEVNULL, start_new_session=True,
                               preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    LoopbackWatch(driver)  # its own process group, so not start_farm: still on loopback only
     try:
         wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
                  "two renderers to start")

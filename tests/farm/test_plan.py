@@ -85,6 +85,24 @@ def test_two_batches_of_one_frame_into_one_folder_have_their_own_parts():
     assert not {q.output for q in png.parts} & {q.output for q in exr.parts}
 
 
+def test_no_output_replaces_a_file_of_any_scene(tmp_path):
+    """--stats {scene}.json beside room.json would replace the rig with its stats; an image
+    named after another scene's texture would replace that. Compared as files (links too)."""
+    rig, texture = tmp_path / "still.json", tmp_path / "anim.png"
+    rig.write_text("{}")
+    texture.write_bytes(b"png")
+    (tmp_path / "link.json").symlink_to(rig)
+    still = dataclasses.replace(STILL, path=str(rig), files=(str(rig),))
+    anim = dataclasses.replace(ANIM, files=(str(texture),))
+    with pytest.raises(ValueError, match="still.json, a file of scene still"):
+        plan(scenes=[still], output=f"{tmp_path}/{{scene}}.png", stats=f"{tmp_path}/{{scene}}.json")
+    with pytest.raises(ValueError, match="a file of scene still"):
+        plan(scenes=[still], output=f"{tmp_path}/out.png", stats=f"{tmp_path}/link.json")
+    with pytest.raises(ValueError, match="anim.png, a file of scene anim"):  # another scene's file
+        plan(scenes=[still, anim], output=f"{tmp_path}/{{scene}}.png", frames=[1], camera="0")
+    plan(scenes=[still, anim], output=f"{tmp_path}/out/{{scene}}.png", frames=[1], camera="0")
+
+
 def test_colliding_outputs_are_refused():
     with pytest.raises(ValueError, match="anim_0.png would be written as both the image of anim "
                                          "camera 0 f1 and the image of anim camera 0 f2: add {frame} to -o"):

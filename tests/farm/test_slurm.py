@@ -50,8 +50,10 @@ def test_the_slurm_scheduler_speaks_tls_and_keeps_its_dashboard_local(loopback_s
 
 
 def test_the_configuration_fills_what_is_not_given(workdir):
-    with dask.config.set({"jobqueue.slurm.scheduler-options": {"port": 8786}}):
+    lifetime = ["--lifetime", "55m", "--lifetime-stagger", "4m"]
+    with dask.config.set({"jobqueue.slurm.scheduler-options": {"port": 8786},
+                          "jobqueue.slurm.worker-extra-args": lifetime}):
         options = slurm_options(cores=8)
-    assert options == {"cores": 8, "processes": 1, "worker_extra_args": ["--resources", "render=1"],
+    assert options == {"cores": 8, "processes": 1, "worker_extra_args": [*lifetime, "--resources", "render=1"],
                        "security": True,
                        "scheduler_options": {"dashboard_address": "127.0.0.1:0", "port": 8786}}
