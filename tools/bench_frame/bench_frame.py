@@ -117,9 +117,9 @@ def main():
                                        for r in runs[(n, "serial")])
         single = statistics.median(r["frame"] + r["wait"] for r in runs[(n, "adaptive")])
         print(f"| {n} | {med(n, '1rpp', 'render'):.3f} | {med(n, 'serial', 'render'):.3f} | "
-              f"{med(n, 'serial', 'map'):.3f} | {100 * share:.0f} % | {adaptive:.3f} | "
+              f"{med(n, 'serial', 'map'):.3f} | {100 * share:.1f} % | {adaptive:.3f} | "
               f"{lattice:.3f} | {lattice / adaptive:.1f}x | {one:.3f} | {one / adaptive:.2f}x | {core:.3f} | "
-              f"{core / adaptive:.2f}x | {wait:.3f} | {100 * share_wait:.0f} % | {lattice / single:.1f}x |")
+              f"{core / adaptive:.2f}x | {wait:.3f} | {100 * share_wait:.1f} % | {lattice / single:.1f}x |")
     if not rates:
         return
     print(f"\nray-throughput limit ({a.threads} threads): rays by type / bench_traversal ours4 Mrays/s;"
