@@ -104,7 +104,9 @@ def read(path):
         return f.read()
 
 
-def frame_records(manifest):
+def manifest_records(manifest, kind):
+    """The manifest's records of one kind: "frame" (a finished image) or "render" (a job the
+    driver collected)."""
     if not os.path.exists(manifest):
         return []
     out = []
@@ -114,9 +116,13 @@ def frame_records(manifest):
                 r = json.loads(line)
             except ValueError:
                 continue
-            if r.get("kind") == "frame":
+            if r.get("kind") == kind:
                 out.append(r)
     return out
+
+
+def frame_records(manifest):
+    return manifest_records(manifest, "frame")
 
 
 def descendants(pid):

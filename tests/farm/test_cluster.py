@@ -11,8 +11,9 @@ import psutil
 import pytest
 
 from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, LoopbackWatch, descendants, fake_render,
-                      farm_cmd, farm_env, frame_records, listening_sockets, read, real_renderer_supports_farm,
-                      renderer_children, run_farm, start_farm, wait_for, write_scene)
+                      farm_cmd, farm_env, frame_records, listening_sockets, manifest_records, read,
+                      real_renderer_supports_farm, renderer_children, run_farm, start_farm, wait_for,
+                      write_scene)
 
 
 class Fake:
@@ -176,21 +177,6 @@ def test_a_worker_killed_mid_job_loses_and_duplicates_nothing(renderer, workdir)
         assert len(logged_renders(log)) >= 9, logged_renders(log)
 
 
-def render_records(manifest):
-    """The manifest's render records (each a job the driver collected)."""
-    if not os.path.exists(manifest):
-        return []
-    out = []
-    for line in open(manifest):
-        try:
-            r = json.loads(line)
-        except ValueError:
-            continue
-        if r.get("kind") == "render":
-            out.append(r)
-    return out
-
-
 def test_fake_a_worker_killed_after_finishing_jobs_renders_none_of_them_again(workdir):
     """Results the driver has recorded are released: a worker that dies holding them in memory
     costs only the job it was running (distributed re-runs any result still wanted)."""
@@ -202,7 +188,7 @@ def test_fake_a_worker_killed_after_finishing_jobs_renders_none_of_them_again(wo
 
     def a_worker_with_two_recorded_frames():
         by_worker = {}
-        for r in render_records(manifest):
+        for r in manifest_records(manifest, "render"):
             by_worker.setdefault(r["worker"], []).append(r["output"])
         busy = [p for p, _ in renderer_children(driver.pid)]
         for worker, outputs in by_worker.items():
