@@ -16,6 +16,11 @@ import dask
 RENDER_RESOURCE = {"render": 1}  # each worker runs one renderer at a time
 
 
+def render_slots(worker: dict, default: int = 0) -> int:
+    """The renders a worker (an entry of scheduler_info()["workers"]) runs at once."""
+    return int(worker.get("resources", {}).get("render", default))
+
+
 class ClusterError(RuntimeError):
     pass
 
@@ -105,5 +110,5 @@ def _wait_for_render_workers(client, wait_s: float, hint: str) -> None:
     except TimeoutError:
         raise ClusterError(f"no Dask worker joined within {wait_s:g} s: {hint}") from None
     workers = client.scheduler_info()["workers"].values()
-    if not any(w.get("resources", {}).get("render", 0) >= 1 for w in workers):
+    if not any(render_slots(w) >= 1 for w in workers):
         raise ClusterError(f"no worker offers the resource render=1 (jobs would wait forever): {hint}")

@@ -91,6 +91,15 @@ class FrameJob:
     merged: bool  # True: the parts are merged into `output` by `zigzag merge`
 
 
+def _file_identity(path: str) -> tuple[int, int] | None:
+    """(device, inode): the same file under any name, links included; None if missing."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_dev, st.st_ino
+
+
 @dataclass
 class Plan:
     frames: list[FrameJob] = field(default_factory=list)
@@ -103,11 +112,8 @@ class Plan:
 
     def add_inputs(self, info) -> None:
         for f in info.files:
-            try:
-                st = os.stat(f)
-            except OSError:
-                continue
-            self.inputs.setdefault((st.st_dev, st.st_ino), f"{f}, a file of scene {info.name}")
+            if (identity := _file_identity(f)) is not None:
+                self.inputs.setdefault(identity, f"{f}, a file of scene {info.name}")
 
     @property
     def render_jobs(self) -> list[RenderJob]:
@@ -118,11 +124,7 @@ class Plan:
         if path in self.claims:
             raise ValueError(f"{path} would be written as both {self.claims[path]} and {what}"
                              + (f": {hint}" if hint else ""))
-        try:
-            st = os.stat(path)
-            source = self.inputs.get((st.st_dev, st.st_ino))
-        except OSError:  # not there yet: no scene is read from it
-            source = None
+        source = self.inputs.get(_file_identity(path))  # none yet: no scene is read from it
         if source:
             raise ValueError(f"{path} ({what}) is {source}: writing it would replace the scene")
         self.claims[path] = what

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from distributed import wait
 
 from . import job, tasks
-from .cluster import RENDER_RESOURCE
+from .cluster import RENDER_RESOURCE, render_slots
 from .manifest import Manifest
 from .plan import FrameJob, Plan, RenderJob
 from .progress import Progress
@@ -343,9 +343,10 @@ class Runner:
 
     @staticmethod
     def _running(client, pending) -> tuple[int, int | None]:
-        """(jobs rendering now, workers offering render=1 or None if unknown). The scheduler's "processing" also holds the jobs a worker was
-        handed but keeps waiting for its render slot, so each worker counts at most as many
-        as it has slots (resources={"render": 1}: one)."""
+        """(jobs rendering now, workers offering render=1 or None if unknown). The scheduler's
+        "processing" also holds the jobs a worker was handed but keeps waiting for its render
+        slot, so each worker counts at most as many as it has slots (resources={"render": 1}:
+        one)."""
         try:
             processing = client.processing()
             workers = client.scheduler_info()["workers"]
@@ -353,7 +354,7 @@ class Runner:
             return 0, None
         running = 0
         for address, keys in processing.items():
-            slots = workers.get(address, {}).get("resources", {}).get("render", 1)
-            running += min(int(slots), sum(1 for k in keys if k in pending))
-        render_workers = sum(1 for w in workers.values() if w.get("resources", {}).get("render", 0) >= 1)
+            slots = render_slots(workers.get(address, {}), default=1)
+            running += min(slots, sum(1 for k in keys if k in pending))
+        render_workers = sum(1 for w in workers.values() if render_slots(w) >= 1)
         return running, render_workers

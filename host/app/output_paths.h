@@ -38,7 +38,7 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
 // "OPTION PATH: ".
 void preflight_output(const std::string& option, const std::filesystem::path& path, bool image);
 
-// Throws zz::Error when an output is one of the files the scene is read from (the rig,
+// Throws zz::UsageError when an output is one of the files the scene is read from (the rig,
 // its glTF, buffers, images): `--stats {scene}.json` beside room.json would replace the
 // scene with its stats. Compared as files (links and other spellings of a path included).
 void check_not_an_input(const std::string& option, const std::filesystem::path& output,

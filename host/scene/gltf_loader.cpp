@@ -129,6 +129,9 @@ struct Loader {
   void warn_unsupported(const std::string& feature, const std::string& msg) {
     if (unsupported_said.insert(feature).second) warn(msg);
   }
+  static bool any_morph_weight(const std::vector<double>& weights) {
+    return std::any_of(weights.begin(), weights.end(), [](double w) { return w != 0.0; });
+  }
 
   void warn_out_of_range(const Material& m) const {
     std::string all;
@@ -347,8 +350,7 @@ struct Loader {
       if (attr("COLOR_0") >= 0)
         warn_unsupported("COLOR_0", mesh_name + " has vertex colours (COLOR_0), which are not read: its base "
                                     "colour is the material's alone");
-      if (!prim.targets.empty() &&
-          std::any_of(mesh.weights.begin(), mesh.weights.end(), [](double w) { return w != 0.0; }))
+      if (!prim.targets.empty() && any_morph_weight(mesh.weights))
         warn_unsupported("morph", mesh_name + " has morph targets with non-zero weights, which are not applied: "
                                   "its base shape is rendered");
       gltf::check_attribute_type(model, attr("POSITION"), "POSITION", quantized, where + " POSITION");
@@ -494,7 +496,7 @@ struct Loader {
     if (node.skin >= 0)
       warn_unsupported("skin", "node '" + node.name + "' is skinned; skins are not applied: its mesh is drawn in "
                                "its bind pose under the node's transform");
-    if (!node.weights.empty() && std::any_of(node.weights.begin(), node.weights.end(), [](double w) { return w != 0.0; }))
+    if (any_morph_weight(node.weights))
       warn_unsupported("morph", "node '" + node.name + "' sets morph weights, which are not applied: its mesh's base "
                                 "shape is rendered");
     if (node.mesh >= 0) {

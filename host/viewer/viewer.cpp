@@ -10,6 +10,7 @@
 #include <deque>
 #include <exception>
 #include <memory>
+#include <optional>
 
 #include "core/error.h"
 #include "gpu/device.h"
@@ -65,6 +66,11 @@ class Viewer {
   void expire_pending_resize();
   // Runs script events until one must wait; false once the viewer should close.
   void step_script();
+  // Seconds the front script event has been waiting; its clock starts at the first call.
+  double script_waited() {
+    if (!script_waiting_since_) script_waiting_since_ = Clock::now();
+    return since(*script_waiting_since_);
+  }
 
   const Shader& shader_;
   ViewerOptions options_;
@@ -89,8 +95,7 @@ class Viewer {
   int screenshots_ = 0;
 
   std::deque<ScriptEvent> script_;
-  Clock::time_point wait_start_;
-  bool waiting_ = false;
+  std::optional<Clock::time_point> script_waiting_since_;  // the front event's (wait, sleep)
   int pending_width_ = 0, pending_height_ = 0;  // a scripted resize not yet seen
   Clock::time_point pending_since_;
   int exit_code_ = 0;
@@ -335,30 +340,22 @@ void Viewer::step_script() {
   while (!script_.empty()) {
     ScriptEvent& e = script_.front();
     if (e.kind == ScriptEvent::Kind::Wait) {
-      if (!waiting_) {
-        waiting_ = true;
-        wait_start_ = Clock::now();
-      }
       if (!frame_done()) {
-        if (since(wait_start_) > options_.script_timeout_seconds) {
+        if (script_waited() > options_.script_timeout_seconds) {
           std::fprintf(stderr, "zigzag view: script 'wait' timed out after %.0f s\n", options_.script_timeout_seconds);
           exit_code_ = 1;
           glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
         }
         return;
       }
-      waiting_ = false;
+      script_waiting_since_.reset();
       const ProgressStatus s = renderer_->status();
       std::fprintf(stderr, "zigzag view: frame %llu complete (%dx%d, preview %.3f s, full %.3f s, %.2f rays/px)\n",
                    (unsigned long long)s.completed, render_width_, render_height_, s.last_preview_seconds,
                    s.last_full_seconds, s.rays_per_pixel);
     } else if (e.kind == ScriptEvent::Kind::Sleep) {
-      if (!waiting_) {
-        waiting_ = true;
-        wait_start_ = Clock::now();
-      }
-      if (since(wait_start_) < e.steps) return;  // the event loop and the render go on meanwhile
-      waiting_ = false;
+      if (script_waited() < e.steps) return;  // the event loop and the render go on meanwhile
+      script_waiting_since_.reset();
     } else if (e.kind == ScriptEvent::Kind::Drag) {
       // The same path as a real drag: press, a few motion events, release.
       on_button(e.button, true, e.x0, e.y0);

@@ -18,6 +18,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+std::string text_of(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 struct AnimationRender : ::testing::Test {
   fs::path dir = fs::temp_directory_path() / ("zigzag_animation_test_" + std::to_string(::getpid()));
   void SetUp() override { fs::create_directories(dir); }
@@ -72,17 +77,13 @@ TEST_F(AnimationRender, TimeBetweenFramesNamesNoFrame) {
                                           (dir / "t{frame}.json").string());
   EXPECT_EQ(on_frame.exit_code, 0) << on_frame.output;
   EXPECT_TRUE(fs::exists(dir / "t24.png"));
-  {  // the stats name the frame the file is named after
-    std::ifstream in(dir / "t24.json");
-    const std::string stats((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    EXPECT_NE(stats.find("\"frame\": 24,"), std::string::npos) << stats;
-  }
+  const std::string on_frame_stats = text_of(dir / "t24.json");  // names the frame the file is named after
+  EXPECT_NE(on_frame_stats.find("\"frame\": 24,"), std::string::npos) << on_frame_stats;
   // Without {frame} any time renders; its stats give the time, and no frame.
   const auto named = test::run_command(base + "--time 1.01 -o " + (dir / "t.png").string() + " --stats " +
                                        (dir / "t.json").string());
   EXPECT_EQ(named.exit_code, 0) << named.output;
-  std::ifstream in(dir / "t.json");
-  const std::string stats((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string stats = text_of(dir / "t.json");
   EXPECT_NE(stats.find("\"frame\": null"), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"scene_time_s\": 1.01"), std::string::npos) << stats;
 }

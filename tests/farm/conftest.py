@@ -43,8 +43,8 @@ class LoopbackWatch:
     def _run(self):
         while True:
             running = self.proc.poll() is None
-            pids = {self.proc.pid} | {p.pid for p in descendants(self.proc.pid)}
-            self.seen |= {(c.pid, c.laddr.ip, c.laddr.port) for c in listening_sockets(pids)}
+            socks = listening_sockets(process_tree(self.proc.pid))
+            self.seen |= {(c.pid, c.laddr.ip, c.laddr.port) for c in socks}
             if not running:
                 return
             time.sleep(self.every_s)
@@ -123,6 +123,11 @@ def manifest_records(manifest, kind):
 
 def frame_records(manifest):
     return manifest_records(manifest, "frame")
+
+
+def process_tree(pid):
+    """The pids of a process and all its descendants."""
+    return {pid} | {p.pid for p in descendants(pid)}
 
 
 def descendants(pid):

@@ -11,9 +11,9 @@ import psutil
 import pytest
 
 from conftest import (FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, SMALL, LoopbackWatch, descendants, fake_render,
-                      farm_cmd, farm_env, frame_records, listening_sockets, manifest_records, read,
-                      real_renderer_supports_farm, renderer_children, run_farm, start_farm, wait_for,
-                      write_scene)
+                      farm_cmd, farm_env, frame_records, listening_sockets, manifest_records,
+                      process_tree, read, real_renderer_supports_farm, renderer_children, run_farm,
+                      start_farm, wait_for, write_scene)
 
 
 class Fake:
@@ -84,8 +84,7 @@ def visible_files(folder):
 
 
 def assert_loopback_only(pid, min_sockets):
-    pids = {pid} | {p.pid for p in descendants(pid)}
-    socks = listening_sockets(pids)
+    socks = listening_sockets(process_tree(pid))
     assert len(socks) >= min_sockets, socks
     assert all(s.laddr.ip == "127.0.0.1" for s in socks), [(s.pid, s.laddr) for s in socks]
     return socks

@@ -28,16 +28,17 @@ namespace fs = std::filesystem;
 using robust::kScenes;
 using robust::kZigzag;
 
+std::string contents(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
 class Outputs : public robust::ScratchSceneDir {
  protected:
   Outputs() : ScratchSceneDir("zz_outputs_") {}
   void SetUp() override {
     ScratchSceneDir::SetUp();
     write("other.json", R"({"model": "default.gltf", "width": 24, "height": 16})");
-  }
-  std::string contents_of(const std::string& name) const {
-    std::ifstream in(path(name), std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
   }
   robust::ChildResult render(std::vector<std::string> args) const {
     args.insert(args.begin(), {kZigzag, "render"});
@@ -165,7 +166,8 @@ TEST_F(Outputs, JobsThatWouldWriteOneFileAreRefusedNamingThePlaceholder) {
 // image output is already refused a .json/.gltf/.bin name by its format.)
 TEST_F(Outputs, NoOutputReplacesAFileTheSceneIsReadFrom) {
   const std::string good = path("good.json").string();
-  const std::string rig = contents_of("good.json"), gltf = contents_of("default.gltf"), bin = contents_of("default.bin");
+  const std::string rig = contents(path("good.json")), gltf = contents(path("default.gltf")),
+                    bin = contents(path("default.bin"));
   fs::create_symlink(path("default.gltf"), path("link.gltf"));
   const struct {
     std::vector<std::string> args;
@@ -184,9 +186,9 @@ TEST_F(Outputs, NoOutputReplacesAFileTheSceneIsReadFrom) {
     EXPECT_EQ(r.exit_code, kUsageExit);  // refused, before or after the load: not worth a retry
     EXPECT_NE(r.err.find("is the scene's own file"), std::string::npos);
     EXPECT_NE(r.err.find(c.named), std::string::npos);
-    EXPECT_EQ(contents_of("good.json"), rig);
-    EXPECT_EQ(contents_of("default.gltf"), gltf);
-    EXPECT_EQ(contents_of("default.bin"), bin);
+    EXPECT_EQ(contents(path("good.json")), rig);
+    EXPECT_EQ(contents(path("default.gltf")), gltf);
+    EXPECT_EQ(contents(path("default.bin")), bin);
     EXPECT_FALSE(fs::exists(path("x.png")));
   }
 }
@@ -202,11 +204,6 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
                kUsageExit);
   EXPECT_LT(a.seconds, 10.0);
-}
-
-std::string contents(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 size_t entries(const fs::path& dir) {
