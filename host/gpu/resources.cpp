@@ -3,6 +3,7 @@
 #include <cstring>
 #include <utility>
 
+#include "core/prefault.h"
 #include "gpu/device.h"
 
 namespace zz {
@@ -144,7 +145,7 @@ Image create_image_2d(VulkanContext& context, uint32_t width, uint32_t height, V
   if (context.is_cpu() && (context.memory_flags(alloc.memoryTypeIndex) & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)) {
     void* mapped = nullptr;
     vk_check(vkMapMemory(im.device, im.memory, 0, VK_WHOLE_SIZE, 0, &mapped), "vkMapMemory (image)");
-    std::memset(mapped, 0, size_t(req.size));
+    prefault(mapped, size_t(req.size));
     vkUnmapMemory(im.device, im.memory);
   }
   VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
