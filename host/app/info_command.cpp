@@ -93,7 +93,7 @@ void add_info_command(CLI::App& app, int& exit_code) {
       ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--height", o->height, "Image height the sizes are for, as render --height (default: the scene's)")
       ->check(CLI::Range(1, kMaxImageSide));
-  cmd->add_option("--assets", o->assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
+  add_assets_option(cmd, o->assets);
   cmd->callback([o, &exit_code] {
     nlohmann::json all = nlohmann::json::array();
     int failed = 0;

@@ -27,4 +27,12 @@ inline CLI::Validator non_empty(const std::string& what) {
       [what](std::string& text) { return text.empty() ? what + " must not be empty" : std::string(); }, "");
 }
 
+// The --assets option of the commands that load scenes (render, view, info): the fallback is
+// found from the scene file, not the working directory (scene/loader.cpp).
+inline void add_assets_option(CLI::App* cmd, std::string& assets) {
+  cmd->add_option("--assets", assets,
+                  "Directory of third-party models (default $ZIGZAG_ASSETS, else shared/scenes beside the "
+                  "checkout: <scene file's folder>/../../shared/scenes)");
+}
+
 }  // namespace zz

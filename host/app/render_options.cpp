@@ -146,7 +146,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
                 "Make the visibility map before level-1 tracing, not alongside it (same image; splits the times)");
   group_options_since(cmd, before, kMapGroup);
   cmd->add_option("--threads", o.threads, "Worker threads (0 = all cores)")->check(CLI::Range(0, 1024));
-  cmd->add_option("--assets", o.assets, "Directory of third-party models (default $ZIGZAG_ASSETS or ../shared/scenes)");
+  add_assets_option(cmd, o.assets);
   cmd->add_flag("--allow-missing-textures", o.allow_missing_textures,
                 "Render a material whose texture image is missing or unreadable without that texture, with a "
                 "warning (default: an error naming the image)");

@@ -40,8 +40,8 @@ inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
 inline constexpr int kMaxFrame = 100000000;
 
 // The adaptive sampler's options, shared with `zigzag analytic`. Defaults chosen by the
-// accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): the lowest
-// worst-scene display error among settings within 1.75 rays/px.
+// accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): of the settings
+// within 1.1x the lattice's display RMSE in room, glass and car, the fewest rays/px.
 struct AdaptiveOptions {
   float eps = 0.05f;
   // Pixels whose corners all see a mirror's or a glass's image (or through a thin BLEND
