@@ -10,6 +10,7 @@
 #include <string>
 
 #include "aa/analytic.h"
+#include "app/output_paths.h"
 #include "app/render_options.h"
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -52,6 +53,12 @@ nlohmann::json to_json(const AnalyticRun& r) {
 }
 
 void run(const AnalyticArgs& a) {
+  as_usage_checks([&] {  // before the runs: a bad invocation costs nothing
+    if (!a.out.empty()) preflight_output("--out", a.out, true);
+    if (!a.json.empty()) preflight_output("--json", a.json, false);
+    if (!a.out.empty() && !a.json.empty() && output_identity(a.out) == output_identity(a.json))
+      throw Error("--out and --json would both write " + a.out);
+  });
   AnalyticOptions o;
   o.image = a.image;
   o.size = a.size;

@@ -5,6 +5,9 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/option_checks.h"
+#include "app/output_paths.h"
+#include "core/error.h"
 #include "render/film_merge.h"
 #include "render/image_io.h"
 
@@ -25,8 +28,13 @@ void add_merge_command(CLI::App& app) {
       "merge", "Assemble the EXR parts of a frame (zigzag render --region) into the whole frame");
   cmd->add_option("parts", o->parts, "EXR parts; together they must cover the frame exactly once")->required();
   cmd->add_option("-o,--output", o->output, "Output image (.png = display image, .exr = linear radiance and the parts' AOV layers)")
-      ->required();
+      ->required()
+      ->check(non_empty("-o"));
   cmd->callback([o] {
+    as_usage_checks([&] {  // before the parts are read: a bad invocation costs nothing
+      preflight_output("-o", o->output, true);
+      check_not_an_input("-o", o->output, o->parts, "one of the parts,");
+    });
     std::vector<FilmPart> parts;
     parts.reserve(o->parts.size());
     for (const std::string& p : o->parts) parts.push_back({p, read_film(p)});

@@ -9,6 +9,7 @@
 #include <map>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "render/image_io.h"
 
 namespace zz {
@@ -23,9 +24,10 @@ bool expand_placeholder(const std::string& body, const OutputKey& key, std::stri
   if (body.rfind("frame:", 0) == 0) {
     const std::string width = body.substr(6);
     if (width.empty() || width.size() > 2 || width.find_first_not_of("0123456789") != std::string::npos) return false;
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%0*d", std::stoi(width), key.frame);
-    return out += buf, true;
+    const std::string digits = std::to_string(key.frame);
+    const size_t pad = size_t(std::stoi(width));
+    if (digits.size() < pad) out.append(pad - digits.size(), '0');
+    return out += digits, true;
   }
   return false;
 }
@@ -80,6 +82,11 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
   if (!fs::exists(existing, ec)) existing = ".";
   if (!fs::is_directory(existing, ec))
     throw Error(where + existing.string() + " is a file, not a directory");
+  const size_t longest = name_max(existing);
+  for (const fs::path& part : path)
+    if (part.string().size() > longest)
+      throw Error(where + "the name " + part.string().substr(0, 24) + "... is " + std::to_string(part.string().size()) +
+                  " bytes long, the file system takes at most " + std::to_string(longest));
   const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()));
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
@@ -109,13 +116,22 @@ std::string expand_output_pattern(const std::string& pattern, const OutputKey& k
 }
 
 void check_not_an_input(const std::string& option, const std::filesystem::path& output,
-                        const std::vector<std::string>& inputs) {
+                        const std::vector<std::string>& inputs, const std::string& inputs_are) {
   for (const std::string& input : inputs) {
     std::error_code ec;  // either missing: not the same file
     if (std::filesystem::equivalent(output, input, ec))  // a usage error: a re-run fails the same way
-      throw UsageError(option + " " + output.string() + " is the scene's own file " + input +
-                  ": writing it would replace the scene");
+      throw UsageError(option + " " + output.string() + " is " + inputs_are + " " + input +
+                       ": writing it would replace it");
   }
+}
+
+std::filesystem::path output_identity(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path absolute = fs::absolute(path, ec);
+  if (ec) return path.lexically_normal();
+  const fs::path resolved = fs::weakly_canonical(absolute, ec);
+  return ec ? absolute.lexically_normal() : resolved;
 }
 
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs) {
@@ -128,7 +144,7 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
     for (const OutputKey& job : jobs) {
       const std::filesystem::path path =
           std::filesystem::path(expand_output_pattern(p.pattern, job, p.option)).lexically_normal();
-      const auto [it, inserted] = writers.emplace(path, Writer{&p, &job});
+      const auto [it, inserted] = writers.emplace(output_identity(path), Writer{&p, &job});
       if (inserted) continue;
       const Writer& first = it->second;
       if (first.pattern == &p) {

@@ -27,6 +27,10 @@ struct OutputPattern {
   std::string pattern;
 };
 
+// The name outputs are compared by: absolute, with the symbolic links of the part that
+// exists resolved (`-o /abs/dir/x.png` and `x.png`, `link/x.png` with link -> . are one file).
+std::filesystem::path output_identity(const std::filesystem::path& path);
+
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:
 // "-o out.png: jobs room and glass would both write out.png (add {scene})".
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs);
@@ -38,10 +42,12 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
 // "OPTION PATH: ".
 void preflight_output(const std::string& option, const std::filesystem::path& path, bool image);
 
-// Throws zz::UsageError when an output is one of the files the scene is read from (the rig,
-// its glTF, buffers, images): `--stats {scene}.json` beside room.json would replace the
-// scene with its stats. Compared as files (links and other spellings of a path included).
+// Throws zz::UsageError when an output is one of the files the command reads (a scene's
+// rig, its glTF, buffers, images; merge's parts): `--stats {scene}.json` beside room.json
+// would replace the scene with its stats. Compared as files (links and other spellings of a
+// path included). `inputs_are` names them in the message.
 void check_not_an_input(const std::string& option, const std::filesystem::path& output,
-                        const std::vector<std::string>& inputs);
+                        const std::vector<std::string>& inputs,
+                        const std::string& inputs_are = "the scene's own file");
 
 }  // namespace zz

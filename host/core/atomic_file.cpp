@@ -57,13 +57,19 @@ fs::path temporary_for(const fs::path& target) {
   // ".NAME.zz-PID-N.EXT": hidden, unique per process and call, and with the target's
   // extension so that OpenImageIO picks the same format.
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict, PR 105329) on "." + string.
+  std::string suffix = ".zz-";
+  suffix += std::to_string(::getpid());
+  suffix += '-';
+  suffix += std::to_string(serial++);
+  suffix += target.extension().string();
+  // The stem is cut where the name would pass the file system's limit: a 250-byte target
+  // name is valid, its temporary's with 20 more bytes is not.
+  const size_t limit = name_max(target.parent_path());
+  std::string stem = target.stem().string();
+  if (1 + stem.size() + suffix.size() > limit) stem.resize(limit > 1 + suffix.size() ? limit - 1 - suffix.size() : 0);
   std::string name = ".";
-  name += target.stem().string();
-  name += ".zz-";
-  name += std::to_string(::getpid());
-  name += '-';
-  name += std::to_string(serial++);
-  name += target.extension().string();
+  name += stem;
+  name += suffix;
   return target.parent_path() / name;
 }
 

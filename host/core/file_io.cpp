@@ -18,6 +18,11 @@ FileDescriptor::~FileDescriptor() {
   if (fd >= 0) ::close(fd);
 }
 
+size_t name_max(const std::filesystem::path& dir) {
+  const long n = ::pathconf(dir.empty() ? "." : dir.c_str(), _PC_NAME_MAX);
+  return n > 0 ? size_t(n) : 255;
+}
+
 std::string lowercase_extension(const std::filesystem::path& path) {
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });

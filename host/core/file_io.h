@@ -40,6 +40,10 @@ bool pwrite_all(int fd, const void* data, size_t size, int64_t offset, std::stri
 // The file name's extension in lower case (".PNG" -> ".png"), as formats are chosen by it.
 std::string lowercase_extension(const std::filesystem::path& path);
 
+// The longest file name (bytes) the file system of `dir` takes: pathconf's NAME_MAX, 255
+// where it does not say (or `dir` does not exist yet).
+size_t name_max(const std::filesystem::path& dir);
+
 // "4 GiB", "64 MiB", "1000 bytes": a limit as error messages state it.
 std::string byte_size_text(uintmax_t bytes);
 

@@ -2,6 +2,10 @@
 #include "app/output_paths.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <string>
 
 #include "core/error.h"
 
@@ -23,6 +27,9 @@ TEST(OutputPattern, ExpandsSceneCameraAndFrame) {
   EXPECT_EQ(expand_output_pattern("{scene}.{frame}.exr", k), "room.7.exr");
   EXPECT_EQ(expand_output_pattern("{scene}.{frame:04}.exr", k), "room.0007.exr");
   EXPECT_EQ(expand_output_pattern("{frame:1}{frame:3}", OutputKey{"s", "0", 12345}), "1234512345");
+  // Every width the syntax allows (two digits), none cut short: frames must stay apart.
+  EXPECT_EQ(expand_output_pattern("{frame:70}", OutputKey{"s", "0", 12}), std::string(68, '0') + "12");
+  EXPECT_NE(expand_output_pattern("{frame:99}", OutputKey{"s", "0", 3}), expand_output_pattern("{frame:99}", OutputKey{"s", "0", 7}));
   EXPECT_EQ(expand_output_pattern("plain.png", k), "plain.png");
   EXPECT_EQ(expand_output_pattern("{scene}{scene}", k), "roomroom");
 }
@@ -68,6 +75,26 @@ TEST(OutputCollisions, StatsAndAovsAreCheckedToo) {
   EXPECT_NE(stems.find("same name"), std::string::npos) << stems;
   // Equal after normalisation.
   EXPECT_NE(error_of({{"-o", "a/./x.png"}, {"--stats", "a/x.png"}}, {{"room", "0", 0}}), "");
+}
+
+// One file under two spellings the text does not show: an absolute path and a relative
+// one, a symbolic link to the folder. Both would be renamed into place, the last one winning.
+TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
+  namespace fs = std::filesystem;
+  const std::vector<OutputKey> job = {{"room", "0", 0}};
+  const std::string absolute = error_of({{"-o", (fs::current_path() / "x.png").string()}, {"--aov rays", "x.png"}}, job);
+  EXPECT_NE(absolute.find("-o and --aov rays would both write"), std::string::npos) << absolute;
+
+  const fs::path dir = fs::temp_directory_path() / ("zz_outputs_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::create_directory_symlink(dir, dir / "here");
+  const std::string linked =
+      error_of({{"-o", (dir / "here" / "z.png").string()}, {"--stats", (dir / "z.png").string()}}, job);
+  EXPECT_NE(linked.find("-o and --stats would both write"), std::string::npos) << linked;
+  // Not yet existing folders under the link resolve too.
+  EXPECT_NE(error_of({{"-o", (dir / "here" / "new" / "z.png").string()}, {"--stats", (dir / "new" / "z.png").string()}}, job), "");
+  EXPECT_EQ(error_of({{"-o", (dir / "here" / "z.png").string()}, {"--stats", (dir / "z.json").string()}}, job), "");
+  fs::remove_all(dir);
 }
 
 TEST(OutputCollisions, DistinctBatchesPass) {

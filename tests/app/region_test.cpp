@@ -179,6 +179,17 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
   }
   const auto ok = merge({b, a}, "m.png");
   EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  // Outputs that cannot work are refused before a part is read, as render's are: one of
+  // the parts (it would be replaced by the frame), no name, no format to write.
+  const std::string a_bytes = bytes(a);
+  const std::vector<std::pair<std::string, const char*>> outputs = {
+      {a, "one of the parts"}, {"''", "must not be empty"}, {(dir / "d").string(), "no file extension"}};
+  for (const auto& [output, message] : outputs) {
+    const auto r = test::run_command(test::zigzag_binary() + " merge " + a + " " + b + " -o " + output);
+    EXPECT_EQ(r.exit_code, kUsageExit) << message << ": " << r.output;
+    EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
+  }
+  EXPECT_EQ(bytes(a), a_bytes);
 }
 
 // A job is one camera of one scene: a region that does not fit one camera's frame fails

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/file_io.h"
 
 namespace zz {
 namespace {
@@ -56,6 +57,22 @@ TEST_F(AtomicFile, ASetPublishesNothingUntilCommitted) {
   EXPECT_EQ(read(path("b.json")), "new b");
   EXPECT_EQ(read(path("sub/c.json")), "new c");
   EXPECT_EQ(files(), 3u);  // a, b and the folder sub: no temporary left
+}
+
+// A name at the file system's limit is valid; its temporary, 20-odd bytes longer, must
+// still fit (it failed with "File name too long" after the whole render).
+TEST_F(AtomicFile, NamesAtTheFileSystemsLimitAreWritten) {
+  const size_t limit = name_max(dir_);
+  for (size_t length : {limit, limit - 10, size_t(40)}) {
+    const std::string name = std::string(length - 5, 'a') + ".json";
+    write_text_atomically(path(name), "text " + std::to_string(length));
+    EXPECT_EQ(read(path(name)), "text " + std::to_string(length));
+    OutputSet set;  // through a set, whose temporaries live until the commit
+    write_text_atomically(path(name), "set " + std::to_string(length), &set);
+    set.commit();
+    EXPECT_EQ(read(path(name)), "set " + std::to_string(length));
+  }
+  EXPECT_EQ(files(), 3u);
 }
 
 TEST_F(AtomicFile, AFailedOutputLeavesEveryOutputOfItsSetAsItWas) {

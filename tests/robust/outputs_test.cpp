@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "core/error.h"
+#include "core/file_io.h"
 #include "child_process.h"
 #include "scratch_scene_dir.h"
 #include "render/image_io.h"
@@ -203,7 +204,30 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   expect_error(render({good, "-o", path("out.xyz").string()}), "unknown image format", kUsageExit);
   expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
                kUsageExit);
+  // A name the file system cannot hold, of the file or of a folder to make.
+  const size_t limit = name_max(dir_);
+  expect_error(render({good, "-o", path(std::string(limit, 'n') + ".png").string()}), "bytes long", kUsageExit);
+  expect_error(render({good, "-o", path(std::string(limit + 1, 'd') + "/x.png").string()}), "bytes long", kUsageExit);
   EXPECT_LT(a.seconds, 10.0);
+}
+
+// One file named two ways (absolute and relative, or through a link to its folder): the
+// second output would replace the first without a word. Refused before the render.
+TEST_F(Outputs, OneFileUnderTwoNamesIsRefused) {
+  const std::string good = path("good.json").string();
+  fs::create_directory_symlink(dir_, path("here"));
+  const auto linked = render({good, "-o", path("here/z.png").string(), "--stats", path("z.png").string()});
+  expect_error(linked, "would both write", kUsageExit);
+  EXPECT_FALSE(fs::exists(path("z.png")));
+}
+
+// A name just below the file system's limit is valid: the render writes it (its temporary,
+// longer, used to fail after the whole render).
+TEST_F(Outputs, ANameAtTheLimitIsWritten) {
+  const std::string name = std::string(name_max(dir_) - 4, 'n') + ".png";
+  const auto r = render({path("good.json").string(), "-o", path(name).string()});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(path(name)));
 }
 
 size_t entries(const fs::path& dir) {
