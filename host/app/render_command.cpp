@@ -448,6 +448,8 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::future<std::unique_ptr<VulkanContext>> creating;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
+      // Without Vulkan, a map wanted only for --aov geo goes with that AOV.
+      if (!wants_visibility_map(o->render)) vo.without_vulkan = "drop --aov geo";
       vo.device_index = o->render.vk_device;
       vo.validate = o->render.vk_validate;
       creating = std::async(std::launch::async, [vo] { return VulkanContext::create(vo); });

@@ -10,13 +10,18 @@ namespace zz {
 namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
-constexpr const char* kNoDevice =
-    "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` "
-    "(lavapipe, CPU) or run with --edges off";
+// The remedies: a driver to install, and what the user may do without one (the options'
+// without_vulkan, when there is anything).
+std::string no_device(const VulkanOptions& o) {
+  return "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` (lavapipe, CPU)" +
+         (o.without_vulkan.empty() ? "" : " or " + o.without_vulkan);
+}
 
-constexpr const char* kNoLoader =
-    "the Vulkan loader (libvulkan.so.1) could not be opened; install it and a driver with "
-    "`apt-get install libvulkan1 mesa-vulkan-drivers` (lavapipe, CPU) or run with --edges off";
+std::string no_loader(const VulkanOptions& o) {
+  return "the Vulkan loader (libvulkan.so.1) could not be opened; install it and a driver with "
+         "`apt-get install libvulkan1 mesa-vulkan-drivers` (lavapipe, CPU)" +
+         (o.without_vulkan.empty() ? "" : " or " + o.without_vulkan);
+}
 
 // volk's function pointers are process-wide: libvulkan is opened once, and each new
 // instance reloads them under this lock. The loader's core entry points are trampolines
@@ -26,11 +31,11 @@ constexpr const char* kNoLoader =
 // process (render, view); the tests' extra ones are headless and use no surface.
 std::mutex volk_lock;
 
-void load_vulkan() {
+void load_vulkan(const VulkanOptions& options) {
   static std::once_flag once;
   static VkResult loaded = VK_ERROR_INITIALIZATION_FAILED;
   std::call_once(once, [] { loaded = volkInitialize(); });
-  if (loaded != VK_SUCCESS) throw Error(kNoLoader);
+  if (loaded != VK_SUCCESS) throw Error(no_loader(options));
 }
 
 bool has_layer(const char* name) {
@@ -152,7 +157,7 @@ void VulkanContext::init(const VulkanOptions& options) {
 }
 
 void VulkanContext::create_instance(const VulkanOptions& options) {
-  load_vulkan();
+  load_vulkan(options);
   std::vector<const char*> layers;
   std::vector<const char*> extensions = options.instance_extensions;
   if (options.validate) {
@@ -184,7 +189,7 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
   info.enabledExtensionCount = uint32_t(extensions.size());
   info.ppEnabledExtensionNames = extensions.data();
   VkResult r = vkCreateInstance(&info, nullptr, &instance_);
-  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) throw Error(kNoDevice);
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) throw Error(no_device(options));
   vk_check(r, "vkCreateInstance");
   {
     const std::lock_guard<std::mutex> lock(volk_lock);
@@ -202,7 +207,7 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
 void VulkanContext::pick_device(const VulkanOptions& options) {
   uint32_t count = 0;
   VkResult r = vkEnumeratePhysicalDevices(instance_, &count, nullptr);
-  if (r == VK_ERROR_INITIALIZATION_FAILED || count == 0) throw Error(kNoDevice);
+  if (r == VK_ERROR_INITIALIZATION_FAILED || count == 0) throw Error(no_device(options));
   vk_check(r, "vkEnumeratePhysicalDevices");
   std::vector<VkPhysicalDevice> devices(count);
   vk_check(vkEnumeratePhysicalDevices(instance_, &count, devices.data()), "vkEnumeratePhysicalDevices");
@@ -251,8 +256,9 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
     if (chosen < 0 && !rejected.empty())
       throw Error("no usable Vulkan device (" + rejected +
                   "); install a newer driver (Debian 12's mesa-vulkan-drivers gives a lavapipe with "
-                  "Vulkan 1.3) or run with --edges off");
-    if (chosen < 0) throw Error(kNoDevice);
+                  "Vulkan 1.3)" +
+                  (options.without_vulkan.empty() ? "" : " or " + options.without_vulkan));
+    if (chosen < 0) throw Error(no_device(options));
   }
 
   physical_ = devices[chosen];

@@ -24,6 +24,9 @@ struct VulkanOptions {
   // Called once the instance exists; the returned surface is owned (destroyed) by the
   // context and the chosen queue family can present to it.
   std::function<VkSurfaceKHR(VkInstance)> create_surface;
+  // What the user can do instead when there is no Vulkan, for the error's remedy ("" for
+  // nothing: the viewer cannot present without it).
+  std::string without_vulkan = "run with --edges off";
 };
 
 // Throws zz::Error on a failed Vulkan call, naming the call and the result.

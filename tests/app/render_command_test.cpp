@@ -204,6 +204,15 @@ TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--edges off"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "b.png"));
+  // A map wanted only for --aov geo: --edges off would be refused with that AOV, so the
+  // remedy is to drop it.
+  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                        " --width 32 --height 32 -q --aa none --aov geo " + (dir / "g.png").string() + " -o " +
+                        (dir / "c.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("drop --aov geo"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("--edges off"), std::string::npos) << r.output;
   fs::remove_all(dir);
 }
 
