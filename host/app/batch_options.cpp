@@ -1,8 +1,10 @@
 #include "app/batch_options.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
+#include <system_error>
 
 #include "app/option_checks.h"
 #include "core/error.h"
@@ -68,10 +70,22 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
 }
 
 TileRect parse_region(const std::string& text) {
-  TileRect r;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%d,%d,%d,%d%c", &r.x0, &r.y0, &r.x1, &r.y1, &tail) != 4)
-    throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+  // from_chars, not sscanf: "%d" is undefined past INT_MAX (4294967306 read as 10).
+  int bounds[4] = {};
+  const char* p = text.data();
+  const char* const end = text.data() + text.size();
+  for (int i = 0; i < 4; ++i) {
+    if (i > 0 && (p == end || *p++ != ','))
+      throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+    const auto [next, ec] = std::from_chars(p, end, bounds[i]);
+    if (ec == std::errc::result_out_of_range)
+      throw Error("--region " + text + ": bound " + std::string(p, next) + " is out of range");
+    if (ec != std::errc())
+      throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+    p = next;
+  }
+  if (p != end) throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+  const TileRect r{bounds[0], bounds[1], bounds[2], bounds[3]};
   if (r.empty()) throw Error("--region " + text + ": the region is empty (need X0 < X1 and Y0 < Y1)");
   return r;
 }

@@ -130,7 +130,9 @@ TEST_F(RegionTest, RegionPngIsRegionSized) {
 }
 
 TEST_F(RegionTest, BadRegionsAreOneLineErrors) {
-  for (const char* bad : {"0,0,151,10", "-1,0,10,10", "5,5,5,10", "10,0,5,10", "1,2,3", "a,b,c,d", "0,0,10,10,3"}) {
+  // Bounds past int: sscanf's %d wrapped 4294967306 to 10 and rendered a region.
+  for (const char* bad : {"0,0,151,10", "-1,0,10,10", "5,5,5,10", "10,0,5,10", "1,2,3", "a,b,c,d", "0,0,10,10,3",
+                          "0,0,4294967306,10", "0,0,99999999999,10", "0,0,10,10,", ",0,0,10,10"}) {
     const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
                                      kFrame + "--edges off -q --region " + bad + " -o " + (dir / "x.exr").string());
     EXPECT_EQ(r.exit_code, kUsageExit) << bad << ": " << r.output;
