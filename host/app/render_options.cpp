@@ -150,7 +150,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_flag("--allow-missing-textures", o.allow_missing_textures,
                 "Render a material whose texture image is missing or unreadable without that texture, with a "
                 "warning (default: an error naming the image)");
-  cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(number_in(1e-6, 1e6));
+  cmd->add_option("--exposure", o.exposure, "Tone-mapping exposure (default: the scene's)")->check(number_in(kMinExposure, kMaxExposure));
   cmd->add_option("--max-depth", o.max_depth, "Reflection/refraction bounces (default: the scene's)")
       ->check(CLI::Range(kMinTraceDepth, kMaxTraceDepth));
   CLI::Option* frame = cmd->add_option("--frame", o.frame, "Animation frame N: scene time N / fps (default: the "
@@ -159,7 +159,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
   frame->excludes(time);
   cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
-      ->check(number_in(1e-3, 1000.0));
+      ->check(number_in(kMinFps, kMaxFps));
 }
 
 LoadOptions load_options(const RenderOptions& o, bool quiet) {

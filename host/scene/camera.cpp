@@ -2,13 +2,17 @@
 
 #include <cmath>
 
+#include "scene/lights.h"  // unit_direction
+
 namespace zz {
 
 Camera Camera::look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov) {
   Camera c;
   c.position = eye;
-  c.forward = glm::normalize(target - eye);
-  c.right = glm::normalize(glm::cross(c.forward, up_hint));
+  // unit_direction: glm::normalize's bits where |v|^2 is finite, and a direction where it
+  // overflows (a camera 1e19 from its target).
+  c.forward = unit_direction(target - eye).value_or(glm::vec3(0.0f, 0.0f, -1.0f));
+  c.right = unit_direction(glm::cross(c.forward, up_hint)).value_or(glm::vec3(1.0f, 0.0f, 0.0f));
   c.up = glm::cross(c.right, c.forward);
   c.yfov = yfov;
   return c;

@@ -99,8 +99,10 @@ Camera parse_camera(const Json& J, const json& c, const std::string& where) {
   glm::vec3 up = c.contains("up") ? J.vec3(c["up"], where + ".up") : glm::vec3(0, 1, 0);
   float yfov_deg = c.contains("yfov_deg") ? J.number(c["yfov_deg"], where + ".yfov_deg") : 45.0f;
   if (!valid_yfov_degrees(yfov_deg)) J.fail(where + ".yfov_deg must be in (0.1, 179)");
-  glm::vec3 f = target - eye;
-  if (glm::length(f) <= 0.0f || glm::length(glm::cross(f, up)) <= 1e-6f * glm::length(f) * glm::length(up))
+  const glm::vec3 f = target - eye;
+  // Compared as unit vectors: |f|^2 of a camera 1e19 from its target overflows.
+  const std::optional<glm::vec3> forward = unit_direction(f), up_unit = unit_direction(up);
+  if (!forward || !up_unit || glm::length(glm::cross(*forward, *up_unit)) <= 1e-6f)
     J.fail(where + ": eye equals target or up is parallel to the view direction");
   Camera cam = Camera::look_at(eye, target, up, glm::radians(yfov_deg));
   cam.name = c.contains("name") ? J.string(c["name"], where + ".name") : "rig";
@@ -110,6 +112,7 @@ Camera parse_camera(const Json& J, const json& c, const std::string& where) {
   }
   // Near/far from the eye-target distance: the raster pass needs finite planes.
   float dist = glm::length(f);
+  if (!std::isfinite(dist)) dist = glm::dot(f, *forward);
   cam.znear = dist * 1e-3f;
   cam.zfar = dist * 1e3f;
   return cam;
@@ -221,7 +224,7 @@ fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
 // spots), no emissive material and a black background.
 void warn_if_nothing_lights(const Scene& scene, const std::string& file, const LoadOptions& options) {
   if (options.quiet || std::any_of(scene.lights.begin(), scene.lights.end(), can_light) ||
-      scene.effects().emission || scene.background != glm::vec3(0.0f))
+      scene.effects().emission || glm::any(glm::greaterThan(scene.background, glm::vec3(0.0f))))
     return;
   std::fprintf(stderr, "warning: %s: %s, no emissive material and a black background: the image will be black%s\n",
                file.c_str(),
@@ -285,7 +288,7 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   double rig_fps = 0.0;
   if (j.contains("fps")) {
     rig_fps = J.number(j["fps"], "fps");
-    if (!(rig_fps > 0.0 && rig_fps <= 1000.0)) J.fail("fps must be in (0, 1000]");
+    if (!(rig_fps >= double(float(kMinFps)) && rig_fps <= kMaxFps)) J.fail("fps must be in [0.001, 1000]");
   }
   std::optional<std::pair<int, int>> rig_frames;
   if (j.contains("frames")) {
@@ -346,10 +349,15 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
       scene.lights.push_back(parse_light(J, j["lights"][i], "lights[" + std::to_string(i) + "]"));
   }
 
-  if (j.contains("background")) scene.background = J.vec3_or_scalar(j["background"], "background");
+  if (j.contains("background")) {
+    scene.background = J.vec3_or_scalar(j["background"], "background");
+    if (glm::any(glm::lessThan(scene.background, glm::vec3(0.0f))))
+      J.fail("background must not be negative (it is radiance)");
+  }
   if (j.contains("exposure")) {
-    scene.exposure = J.number(j["exposure"], "exposure");
-    if (!(scene.exposure > 0.0f)) J.fail("exposure must be positive");
+    scene.exposure = J.number(j["exposure"], "exposure");  // compared as the float it is ("1e-6" is just below)
+    if (!(scene.exposure >= float(kMinExposure) && scene.exposure <= float(kMaxExposure)))
+      J.fail("exposure must be in [1e-06, 1e+06]");
   }
   if (j.contains("max_depth")) scene.max_depth = J.integer(j["max_depth"], "max_depth", kMinTraceDepth, kMaxTraceDepth);
   if (j.contains("width")) scene.default_width = J.integer(j["width"], "width", 1, kMaxImageSide), scene.width_given = true;

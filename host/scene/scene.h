@@ -41,6 +41,11 @@ inline constexpr int kMaxTraceDepth = 16;
 // The longest image side a frame may have (rig, command line, viewer window), in pixels.
 inline constexpr int kMaxImageSide = 16384;
 
+// The tone-mapping exposure and animation frame rate a rig and the command line accept:
+// an exposure of 1e-30 gave a black image without a word.
+inline constexpr double kMinExposure = 1e-6, kMaxExposure = 1e6;
+inline constexpr double kMinFps = 1e-3, kMaxFps = 1000.0;
+
 struct Scene {
   std::string name;
 

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 
 #include "core/error.h"
@@ -186,6 +187,37 @@ TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
     EXPECT_NE(e.find("rig.json"), std::string::npos) << json << " -> " << e;
     EXPECT_EQ(e.find('\n'), std::string::npos) << e;
   }
+}
+
+// Values the command line refuses are refused in a rig too, naming them: a negative
+// background darkened everything it lit (and silenced the black-image warning), an
+// exposure of 1e-30 rendered black without a word.
+TEST(JsonScene, RigValuesOutsideTheCommandLinesRangesAreErrors) {
+  Rig r("ranges");
+  const std::string model = R"({"model": "model.gltf", )";
+  EXPECT_NE(r.error(model + R"("background": -1})").find("background must not be negative"), std::string::npos);
+  EXPECT_NE(r.error(model + R"("background": [0.2, -0.1, 0.2]})").find("background"), std::string::npos);
+  EXPECT_NE(r.error(model + R"("exposure": 1e-30})").find("exposure must be in"), std::string::npos);
+  EXPECT_NE(r.error(model + R"("exposure": 2e6})").find("exposure must be in"), std::string::npos);
+  EXPECT_NE(r.error(model + R"("fps": 1e-30})").find("fps must be in"), std::string::npos);
+  EXPECT_EQ(r.error(model + R"("exposure": 1e-6, "fps": 0.001, "background": [0, 0.5, 0]})"), "");
+}
+
+// A camera far from its target (coordinates up to +-1e30 are valid): |eye - target|^2
+// overflowed and the rig was refused as "eye equals target".
+TEST(JsonScene, AFarCameraLooksAtItsTarget) {
+  Rig r("farcam");
+  const Scene s = r.load(R"({"model": "model.gltf", "camera": {"eye": [2e19, 0, 0], "target": [0, 0, 0]}})");
+  ASSERT_FALSE(s.cameras.empty());
+  const Camera& c = s.cameras[0];  // the rig's, then the model's
+  ASSERT_EQ(c.name, "rig");
+  EXPECT_NEAR(glm::length(c.forward - glm::vec3(-1, 0, 0)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(c.up - glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
+  EXPECT_TRUE(std::isfinite(c.znear) && std::isfinite(c.zfar) && c.znear > 0.0f && c.zfar > c.znear);
+  // Parallel up is still refused, at any distance.
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "camera": {"eye": [0, 2e19, 0], "target": [0, 0, 0]}})")
+                .find("up is parallel"),
+            std::string::npos);
 }
 
 TEST(JsonScene, AssetsResolveThroughOptionsAndEnvironment) {
