@@ -211,7 +211,11 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
   int tile_w = std::min(width, max_px / ZZ_PIXELS_PER_WORD * ZZ_PIXELS_PER_WORD);
   if (tile_w < 1) throw Error("visibility map: tile limit too small for the supersampling");
   int64_t row_samples = int64_t(tile_w) * s + 2;
-  int64_t max_rows = settings.max_tile_samples / row_samples;  // image rows incl. ring
+  constexpr int64_t kBandsPerFrame = 8;
+  const int64_t frame_samples = (int64_t(width) * s + 2) * (int64_t(height) * s + 2);
+  const int64_t budget =
+      std::min(settings.max_tile_samples, std::max(settings.min_band_samples, frame_samples / kBandsPerFrame));
+  int64_t max_rows = budget / row_samples;  // image rows incl. ring
   int tile_h = int(std::min<int64_t>({int64_t(height), int64_t(max_px), (max_rows - 2) / s}));
   if (tile_h < 1) throw Error("visibility map: tile memory budget too small");
   return {tile_w, tile_h};

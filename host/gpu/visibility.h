@@ -33,6 +33,12 @@ struct VisibilitySettings {
   // Budget for one tile, in supersamples (8 bytes each: the id attachment, which the
   // compute pass reads directly, and depth); larger frames are split into bands / tiles.
   int64_t max_tile_samples = int64_t(32) << 20;
+  // Frames above this many supersamples are split into about eight bands (kBandsPerFrame) even
+  // within the budget: on a CPU device the targets are fresh memory whose first touch
+  // (page faults) costs about as much as the raster, and a band's targets serve the next
+  // band already mapped (room 1024^2: the map 0.29 -> 0.25 s). Each band is one more vertex
+  // pass over the scene, hence a floor on the band and a bound on their number.
+  int64_t min_band_samples = int64_t(2) << 20;
   // Largest tile image side in supersamples, ring included; 0 = the device's limits.
   int max_tile_dim = 0;
   // Work groups (ZZ_PLANE_GROUP triangles each) per dispatch of the per-frame planes pass;

@@ -97,6 +97,23 @@ TEST(VisibilityFrameBytes, ARegionsFlagsAreItsOwnRowsOnly) {
   EXPECT_EQ(full - part, uint64_t(16384) / 4 * 16384 * 4 - 17 * 64 * 4);  // x 8188..8256: 17 words
 }
 
+// A frame above the band floor is planned as about eight bands, so only a band's targets
+// are mapped in; a small one stays one tile; the memory cap still rules large frames.
+TEST(VisibilityFrameBytes, FramesAreBandedToAboutAnEighthOfTheirSamples) {
+  VisibilitySettings s;
+  s.supersample = 4;
+  const uint64_t flags_1024 = uint64_t(1024) / 4 * 1024 * 4;
+  const uint64_t frame_1024 = uint64_t(4098) * 4098 * 8;
+  const uint64_t targets = VisibilityPass::frame_bytes(1024, 1024, s) - flags_1024;
+  EXPECT_LE(targets, frame_1024 / 8 + 4098 * 8 * 4);  // an eighth, to a pixel row
+  EXPECT_GE(targets, frame_1024 / 10);
+  const uint64_t flags_200 = uint64_t(200) / 4 * 200 * 4;
+  EXPECT_EQ(VisibilityPass::frame_bytes(200, 200, s) - flags_200, uint64_t(802) * 802 * 8);  // under the floor: whole
+  s.min_band_samples = int64_t(1) << 40;  // no banding: the frame whole, within the cap
+  EXPECT_EQ(VisibilityPass::frame_bytes(1024, 1024, s) - flags_1024, frame_1024);
+  EXPECT_LE(VisibilityPass::frame_bytes(16384, 16384, s), uint64_t(s.max_tile_samples) * 8 + uint64_t(16384) * 16384);
+}
+
 TEST_F(VisibilityRegionTest, RegionIsClampedAndAnEmptyOneIsAnError) {
   const Scene scene = busy_scene();
   const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
