@@ -12,10 +12,15 @@ VkSurfaceFormatKHR choose_surface_format(const std::vector<VkSurfaceFormatKHR>& 
   // VK_FORMAT_UNDEFINED alone means "any format" (old drivers).
   if (formats.size() == 1 && formats[0].format == VK_FORMAT_UNDEFINED)
     return {VK_FORMAT_B8G8R8A8_UNORM, VK_COLOR_SPACE_SRGB_NONLINEAR_KHR};
-  for (VkFormat want : {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM})
+  // The presenter copies display-encoded 8-bit bytes: UNORM shows them as they are, and an
+  // SRGB format takes them as already encoded (a copy converts nothing). Anything else (a
+  // 10-bit packed format) would scramble them.
+  for (VkFormat want : {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM, VK_FORMAT_B8G8R8A8_SRGB,
+                        VK_FORMAT_R8G8B8A8_SRGB})
     for (const VkSurfaceFormatKHR& f : formats)
       if (f.format == want) return f;
-  return formats[0];
+  throw Error("Vulkan: the window offers no 8-bit RGBA format (first offered: format " +
+              std::to_string(int(formats[0].format)) + "); use `zigzag render`");
 }
 
 bool create_swapchain(VulkanContext& context, Swapchain& sc, uint32_t width, uint32_t height) {

@@ -473,6 +473,13 @@ int Viewer::run() {
   // Closing mid-render: cancel the tiles in flight and join before tearing down Vulkan.
   renderer_->stop();
   if (callback_error_) std::rethrow_exception(callback_error_);  // ~Viewer tears down
+  // Closed (Esc, the window manager, a script's quit) before the frame --screenshot waited
+  // for: a caller checking the exit code must not take the missing file for success.
+  if (options_.exit_after_frame && !options_.screenshot.empty() && !exit_frame_seen && exit_code_ == 0) {
+    std::fprintf(stderr, "zigzag view: error: the window closed before a full frame; %s not written\n",
+                 options_.screenshot.string().c_str());
+    exit_code_ = 1;
+  }
   const ProgressStatus s = renderer_->status();
   if (s.first_full_seconds >= 0)
     std::fprintf(stderr,

@@ -248,6 +248,19 @@ TEST_F(Window, ClosingMidRenderExitsCleanly) {
   EXPECT_EQ(v.output.find("first full frame"), std::string::npos) << "the frame finished: not a mid-render close";
 }
 
+// --exit-after-frame --screenshot promises a file: a window closed before that frame (Esc
+// here) exits non-zero and says so, where it exited 0 without the file.
+TEST_F(Window, ClosedBeforeTheScreenshotsFrameIsAnError) {
+  const test::CommandResult v =
+      view("--width 1024 --height 768 --aa uniform --spp 256 --preview-scale 1 --exit-after-frame --screenshot " +
+               file("never.png") + " --script \"sleep:1;key:ESC\"",
+           60);
+  SKIP_IF_NO_VULKAN();
+  EXPECT_EQ(v.exit_code, 1) << v.output;
+  EXPECT_NE(v.output.find("never.png not written"), std::string::npos) << v.output;
+  EXPECT_FALSE(std::filesystem::exists(file("never.png")));
+}
+
 // A screenshot path is checked as render checks -o, before a window or a scene: it needs
 // --exit-after-frame (it was silently never written without), an 8-bit display format
 // (an .exr held display values) and a folder that can be written.
