@@ -103,9 +103,15 @@ int view(const ViewOptions& o) {
     // The same visibility map as `zigzag render` (same settings, same device), built on
     // the viewer's Vulkan context (shared with presentation; the context serialises the queue).
     const VisibilitySettings vs = make_visibility_settings(o.render);
+    // The pass (the scene's upload, the pipelines) is made on the render thread when a map
+    // is first wanted: with --edges off perhaps never (E turns the map on), and not on the
+    // UI thread before the window shows anything.
     v.make_geo_source = [&scene, vs](VulkanContext& context) -> ProgressiveRenderer::GeoSource {
-      auto pass = std::make_shared<VisibilityPass>(context, scene);
-      return [pass, vs](const Camera& camera, int width, int height) { return pass->run(camera, width, height, vs); };
+      auto pass = std::make_shared<std::unique_ptr<VisibilityPass>>();
+      return [pass, vs, &scene, &context](const Camera& camera, int width, int height, const std::atomic<bool>* cancel) {
+        if (!*pass) *pass = std::make_unique<VisibilityPass>(context, scene);
+        return (*pass)->run(camera, width, height, vs, nullptr, std::nullopt, cancel);
+      };
     };
   }
   v.screenshot_dir = o.screenshot_dir;

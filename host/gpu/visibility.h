@@ -5,6 +5,7 @@
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -84,9 +85,12 @@ class VisibilityPass {
   // flagged, the rest of the map is 0: the same tiles, projection and viewport as the
   // whole frame, the raster limited by the scissor, so the flags inside are bit for bit
   // those of the full map. A caller rendering a sub-rectangle passes the pixels its
-  // sampler reads (adaptive_geo_reads in aa/adaptive_sampler.h).
+  // sampler reads (adaptive_geo_reads in aa/adaptive_sampler.h). With `cancel` (the
+  // viewer), each band is its own submission and a cancel seen at a band's start returns an
+  // empty map; without, the map is one submission.
   GeoMap run(const Camera& camera, int width, int height, const VisibilitySettings& settings = {},
-             VisibilityTimings* timings = nullptr, const std::optional<TileRect>& region = std::nullopt);
+             VisibilityTimings* timings = nullptr, const std::optional<TileRect>& region = std::nullopt,
+             const std::atomic<bool>* cancel = nullptr);
 
   // Allocates (and on a CPU device touches) what run() needs for a frame of this size,
   // these settings and this region: the tile targets, the flag buffer (the region's rows

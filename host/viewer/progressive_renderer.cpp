@@ -72,6 +72,24 @@ void ProgressiveRenderer::run() {
   }
 }
 
+namespace {
+
+bool same_view(const Camera& a, const Camera& b) {
+  return a.position == b.position && a.right == b.right && a.up == b.up && a.forward == b.forward && a.yfov == b.yfov;
+}
+
+}  // namespace
+
+GeoMap ProgressiveRenderer::map_for(const Camera& camera, int width, int height) {
+  if (last_map_ && last_map_->width == width && last_map_->height == height && same_view(last_map_->camera, camera))
+    return last_map_->map;
+  display_.set_geo(GeoMap{});  // the geo view says "not available" rather than show the last view's map
+  GeoMap map = geo_(camera, width, height, &cancel_);
+  if (cancel_) return {};
+  last_map_ = MadeMap{camera, width, height, map};
+  return map;
+}
+
 void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
   const auto start = std::chrono::steady_clock::now();
   const RenderSettings& full = request.settings;
@@ -106,7 +124,7 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
   }
 
   // The visibility map after the preview, so the first coarse picture is not delayed.
-  const GeoMap geo = geo_ && request.edges ? geo_(request.camera, full.width, full.height) : GeoMap{};
+  const GeoMap geo = geo_ && request.edges ? map_for(request.camera, full.width, full.height) : GeoMap{};
   if (cancel_) return;
   display_.set_geo(geo);
   {

@@ -44,8 +44,10 @@ struct ProgressStatus {
 
 class ProgressiveRenderer {
  public:
-  // Builds the frame's visibility map on the render thread (may return an empty map).
-  using GeoSource = std::function<GeoMap(const Camera& camera, int width, int height)>;
+  // Builds the frame's visibility map on the render thread (may return an empty map, and
+  // does once `cancel` is set: a newer request makes this one's map worthless).
+  using GeoSource =
+      std::function<GeoMap(const Camera& camera, int width, int height, const std::atomic<bool>* cancel)>;
 
   ProgressiveRenderer(const Shader& shader, DisplayFrame& display, GeoSource geo = {});
   ~ProgressiveRenderer();  // cancels and joins
@@ -78,6 +80,16 @@ class ProgressiveRenderer {
   ProgressStatus status_;
   std::atomic<bool> cancel_{false};
   std::atomic<int> tiles_done_{0};
+  // The last map made, for the view it was made for (render thread only): a change of eps,
+  // filter or AOV view keeps the camera and size, and the map depends on nothing else.
+  struct MadeMap {
+    Camera camera;
+    int width = 0, height = 0;
+    GeoMap map;
+  };
+  std::optional<MadeMap> last_map_;
+  // The map of this request's view: the last one if it fits, else a new one (empty when cancelled).
+  GeoMap map_for(const Camera& camera, int width, int height);
   std::thread thread_;
 };
 

@@ -2,6 +2,8 @@
 // (same tiles, projection and viewport; only the scissor changes) and zero outside.
 #include <gtest/gtest.h>
 
+#include <atomic>
+
 #include "gpu/visibility.h"
 #include "gpu_fixture.h"
 #include "test_busy_scene.h"
@@ -112,6 +114,18 @@ TEST(VisibilityFrameBytes, FramesAreBandedToAboutAnEighthOfTheirSamples) {
   s.min_band_samples = int64_t(1) << 40;  // no banding: the frame whole, within the cap
   EXPECT_EQ(VisibilityPass::frame_bytes(1024, 1024, s) - flags_1024, frame_1024);
   EXPECT_LE(VisibilityPass::frame_bytes(16384, 16384, s), uint64_t(s.max_tile_samples) * 8 + uint64_t(16384) * 16384);
+}
+
+// A cancelled map (the viewer's camera moved on) stops at its next band with an empty map;
+// an uncancelled one is the map itself.
+TEST_F(VisibilityRegionTest, ACancelledMapStopsEmpty) {
+  const Scene scene = busy_scene();
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  std::atomic<bool> cancel{true};
+  EXPECT_TRUE(pass.run(camera, 64, 48, {}, nullptr, std::nullopt, &cancel).empty());
+  cancel = false;
+  EXPECT_EQ(pass.run(camera, 64, 48, {}, nullptr, std::nullopt, &cancel).flags, pass.run(camera, 64, 48, {}).flags);
 }
 
 TEST_F(VisibilityRegionTest, RegionIsClampedAndAnEmptyOneIsAnError) {

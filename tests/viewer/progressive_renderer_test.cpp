@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <thread>
@@ -65,6 +66,36 @@ TEST_F(Progressive, FullFrameEqualsABatchRender) {
   render_frame(*shader_, r.camera, GeoMap{}, tiled, per_tile, per_tile_stats);
   EXPECT_DOUBLE_EQ(s.rays_per_pixel, double(per_tile_stats.rays.primary) / (150.0 * 100.0));
   EXPECT_GT(per_tile_stats.rays.primary, stats.rays.primary);
+}
+
+// The map depends on the view only: a new eps (or filter) at the same camera and size
+// reuses it; a new camera makes a new one. The source sees the request's cancel flag.
+TEST_F(Progressive, TheMapIsMadeOncePerViewAndSeesTheCancelFlag) {
+  DisplayFrame display;
+  std::atomic<int> made{0};
+  std::atomic<bool> saw_cancel_flag{false};
+  ProgressiveRenderer::GeoSource source = [&](const Camera&, int w, int h, const std::atomic<bool>* cancel) {
+    ++made;
+    saw_cancel_flag = cancel != nullptr;
+    GeoMap map{w, h, std::vector<uint8_t>(size_t(w) * h, 0)};
+    map.flags[0] = kGeoEdge;
+    return map;
+  };
+  ProgressiveRenderer renderer(*shader_, display, source);
+  FrameRequest r = request(64, 48);
+  ASSERT_TRUE(renderer.wait_for(renderer.request(r), 120.0));
+  EXPECT_EQ(made, 1);
+  EXPECT_TRUE(saw_cancel_flag);
+  EXPECT_TRUE(display.has_geo());
+  r.settings.adaptive.eps = 0.1f;
+  ASSERT_TRUE(renderer.wait_for(renderer.request(r), 120.0));
+  EXPECT_EQ(made, 1);
+  r.camera.position += glm::vec3(0.1f, 0.0f, 0.0f);
+  ASSERT_TRUE(renderer.wait_for(renderer.request(r), 120.0));
+  EXPECT_EQ(made, 2);
+  r.settings.width = 80;  // another size: another map
+  ASSERT_TRUE(renderer.wait_for(renderer.request(r), 120.0));
+  EXPECT_EQ(made, 3);
 }
 
 TEST_F(Progressive, ANewRequestCancelsTheOldOneAndWins) {
