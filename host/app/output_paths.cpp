@@ -130,8 +130,10 @@ std::filesystem::path output_identity(const std::filesystem::path& path) {
   std::error_code ec;
   const fs::path absolute = fs::absolute(path, ec);
   if (ec) return path.lexically_normal();
-  const fs::path resolved = fs::weakly_canonical(absolute, ec);
-  return ec ? absolute.lexically_normal() : resolved;
+  // The folder resolved (links, ".."), the name kept: renaming into place replaces a link
+  // named as the output, it does not write through it.
+  const fs::path folder = fs::weakly_canonical(absolute.parent_path(), ec);
+  return ec ? absolute.lexically_normal() : folder / absolute.filename();
 }
 
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs) {
@@ -142,9 +144,9 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
   std::map<std::filesystem::path, Writer> writers;
   for (const OutputPattern& p : patterns)
     for (const OutputKey& job : jobs) {
-      const std::filesystem::path path =
-          std::filesystem::path(expand_output_pattern(p.pattern, job, p.option)).lexically_normal();
-      const auto [it, inserted] = writers.emplace(output_identity(path), Writer{&p, &job});
+      const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
+      const std::filesystem::path path = given.lexically_normal();  // for messages
+      const auto [it, inserted] = writers.emplace(output_identity(given), Writer{&p, &job});
       if (inserted) continue;
       const Writer& first = it->second;
       if (first.pattern == &p) {

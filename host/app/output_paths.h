@@ -27,8 +27,9 @@ struct OutputPattern {
   std::string pattern;
 };
 
-// The name outputs are compared by: absolute, with the symbolic links of the part that
-// exists resolved (`-o /abs/dir/x.png` and `x.png`, `link/x.png` with link -> . are one file).
+// The name outputs are compared by: absolute, the folder's existing part with its links and
+// ".." resolved, the file name as given (`-o /abs/dir/x.png` and `x.png`, `link/x.png` with
+// link -> . are one file; an output that is itself a link is replaced, not written through).
 std::filesystem::path output_identity(const std::filesystem::path& path);
 
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:

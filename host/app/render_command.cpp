@@ -3,6 +3,7 @@
 // is reported and the others still run; the exit code says whether any failed.
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -273,7 +274,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   uint64_t frame_need = render_bytes(settings, region, scene);
   if (job.map)
     frame_need += job.map->bytes_to_come() +
-                  VisibilityPass::frame_bytes(settings.width, settings.height, map_settings, map_region) +
+                  VisibilityPass::frame_bytes(settings.width, settings.height, map_settings, scene.positions.size() / 3, map_region) +
                   (map_region ? uint64_t(settings.width) * uint64_t(settings.height) : 0);
   // Multi-layer EXR: the channels (4 bytes each), one band of the interleaved write,
   // and the primary hits (depth + normal + albedo: 28 bytes) when traced.
@@ -288,8 +289,13 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   const uint64_t memory_estimate = resident_bytes() + frame_need;
   const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
-  for (const OutputPattern& p : output_patterns(o))
-    check_not_an_input(p.option, expand_output_pattern(p.pattern, key, p.option), scene.source_files);
+  for (const OutputPattern& p : output_patterns(o)) {
+    const std::filesystem::path path = expand_output_pattern(p.pattern, key, p.option);
+    // Again with this job's own frame and camera (the batch's check saw stand-ins: an
+    // 8-digit {frame} can take a name past the file system's limit), before the render.
+    preflight_output(p.option, path, p.option != "--stats");
+    check_not_an_input(p.option, path, scene.source_files);
+  }
 
   // The map is made on its own thread while level 1 traces (render_frame awaits it
   // before classifying); --edges-serial makes it first. The image is the same. The map's
@@ -448,8 +454,10 @@ void add_render_command(CLI::App& app, int& exit_code) {
     std::future<std::unique_ptr<VulkanContext>> creating;
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
-      // Without Vulkan, a map wanted only for --aov geo goes with that AOV.
-      if (!wants_visibility_map(o->render)) vo.without_vulkan = "drop --aov geo";
+      // Without Vulkan, --aov geo must go too: --edges off refuses it.
+      const bool geo_aov = std::any_of(o->aovs.begin(), o->aovs.end(), [](const AovRequest& a) { return a.aov == Aov::Geo; });
+      if (geo_aov)
+        vo.without_vulkan = wants_visibility_map(o->render) ? "drop --aov geo and run with --edges off" : "drop --aov geo";
       vo.device_index = o->render.vk_device;
       vo.validate = o->render.vk_validate;
       creating = std::async(std::launch::async, [vo] { return VulkanContext::create(vo); });

@@ -7,6 +7,7 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 
@@ -62,11 +63,22 @@ fs::path temporary_for(const fs::path& target) {
   suffix += '-';
   suffix += std::to_string(serial++);
   suffix += target.extension().string();
-  // The stem is cut where the name would pass the file system's limit: a 250-byte target
-  // name is valid, its temporary's with 20 more bytes is not.
+  // The stem is cut where the name would pass the file system's limit (a 250-byte target
+  // name is valid, its temporary's with 20 more bytes is not): at a UTF-8 character's start,
+  // with a hash of the whole name in place of the cut part, so that targets alike in their
+  // first 200-odd bytes keep apart beyond the PID (processes in other PID namespaces).
   const size_t limit = name_max(target.parent_path());
   std::string stem = target.stem().string();
-  if (1 + stem.size() + suffix.size() > limit) stem.resize(limit > 1 + suffix.size() ? limit - 1 - suffix.size() : 0);
+  if (1 + stem.size() + suffix.size() > limit) {
+    uint32_t hash = 2166136261u;  // FNV-1a of the target's file name
+    for (unsigned char c : target.filename().string()) hash = (hash ^ c) * 16777619u;
+    char tag[10];
+    std::snprintf(tag, sizeof tag, "~%08x", hash);
+    size_t keep = limit > 1 + suffix.size() + 9 ? limit - 1 - suffix.size() - 9 : 0;
+    while (keep > 0 && (static_cast<unsigned char>(stem[keep]) & 0xC0) == 0x80) --keep;  // not inside a character
+    stem.resize(keep);
+    stem += tag;
+  }
   std::string name = ".";
   name += stem;
   name += suffix;

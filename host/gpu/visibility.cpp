@@ -201,10 +201,12 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
   return tile_size(width, height, settings,
                    int(std::min({limits.maxImageDimension2D, limits.maxFramebufferWidth, limits.maxFramebufferHeight,
                                  limits.maxViewportDimensions[0], limits.maxViewportDimensions[1],
-                                 uint32_t(std::numeric_limits<int>::max())})));
+                                 uint32_t(std::numeric_limits<int>::max())})),
+                   triangles_);
 }
 
-std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings, int max_dim) {
+std::pair<int, int> VisibilityPass::tile_size(int width, int height, const VisibilitySettings& settings, int max_dim,
+                                              size_t triangles) {
   const int s = settings.supersample;
   if (settings.max_tile_dim > 0) max_dim = settings.max_tile_dim;
   int max_px = (max_dim - 2) / s;
@@ -214,16 +216,16 @@ std::pair<int, int> VisibilityPass::tile_size(int width, int height, const Visib
   constexpr int64_t kBandsPerFrame = 8;
   const int64_t frame_samples = (int64_t(width) * s + 2) * (int64_t(height) * s + 2);
   const int64_t budget =
-      std::min(settings.max_tile_samples, std::max(settings.min_band_samples, frame_samples / kBandsPerFrame));
+      std::min(settings.max_tile_samples, std::max(band_floor(settings, triangles), frame_samples / kBandsPerFrame));
   int64_t max_rows = budget / row_samples;  // image rows incl. ring
   int tile_h = int(std::min<int64_t>({int64_t(height), int64_t(max_px), (max_rows - 2) / s}));
   if (tile_h < 1) throw Error("visibility map: tile memory budget too small");
   return {tile_w, tile_h};
 }
 
-uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings,
+uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySettings& settings, size_t triangles,
                                      const std::optional<TileRect>& region) {
-  const auto [tile_w, tile_h] = tile_size(width, height, settings, std::numeric_limits<int>::max());
+  const auto [tile_w, tile_h] = tile_size(width, height, settings, std::numeric_limits<int>::max(), triangles);
   const uint64_t samples = uint64_t(target_width(tile_w, settings.supersample)) * uint64_t(tile_h * settings.supersample + 2);
   return samples * 8 + flag_area(width, height, region).bytes();
 }

@@ -38,7 +38,8 @@ struct VisibilitySettings {
   // within the budget: on a CPU device the targets are fresh memory whose first touch
   // (page faults) costs about as much as the raster, and a band's targets serve the next
   // band already mapped (room 1024^2: the map 0.29 -> 0.25 s). Each band is one more vertex
-  // pass over the scene, hence a floor on the band and a bound on their number.
+  // pass over the scene, hence a floor on the band (raised for large scenes: band_floor)
+  // and a bound on their number.
   int64_t min_band_samples = int64_t(2) << 20;
   // Largest tile image side in supersamples, ring included; 0 = the device's limits.
   int max_tile_dim = 0;
@@ -120,13 +121,22 @@ class VisibilityPass {
   // buffer the map is read back from (one 32-bit word per 4 pixels of the region). Known
   // before any device exists: the tile plan without the device's image limits, whose
   // narrower tiles are taller and hold as many samples within a row of the budget.
-  static uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings,
+  static uint64_t frame_bytes(int width, int height, const VisibilitySettings& settings, size_t triangles,
                               const std::optional<TileRect>& region = std::nullopt);
+
+  // The fewest supersamples a band of a frame holds for a scene of this many triangles:
+  // min_band_samples, or more where a band's vertex pass would cost more than its targets'
+  // first touch saves (lavapipe, 2 cores: ~28 ns a triangle a pass against ~2.7 ns a
+  // sample: 16 samples a triangle leaves a margin; ToyCar's 109 k stay at 2 M).
+  static int64_t band_floor(const VisibilitySettings& settings, size_t triangles) {
+    return std::max<int64_t>(settings.min_band_samples, int64_t(16) * int64_t(std::min<size_t>(triangles, size_t(1) << 40)));
+  }
 
  private:
   // Tile width and height in pixels for a frame: the raster's memory budget, and the
   // device's image, framebuffer and viewport limits (max_dim; settings.max_tile_dim first).
-  static std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings, int max_dim);
+  static std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings, int max_dim,
+                                       size_t triangles);
   std::pair<int, int> tile_size(int width, int height, const VisibilitySettings& settings) const;
   // The id target's width for tiles `tile_w` pixels wide: their samples and ring, padded to
   // whole flag words, since the flag shader loads every sample row of a word's 4 pixels

@@ -139,7 +139,7 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
   glfwSetWindowSizeLimits(window_.get(), 1, 1, kMaxImageSide, kMaxImageSide);  // the renderer's frame limit
 
   VulkanOptions vk;
-  vk.without_vulkan = "use `zigzag render`";  // the window presents through Vulkan, map or not
+  vk.without_vulkan = "use `zigzag render --edges off`";  // the window presents through Vulkan, map or not
   vk.validate = options.validate;
   vk.device_index = options.vk_device;
   uint32_t count = 0;

@@ -94,6 +94,13 @@ TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
   // Not yet existing folders under the link resolve too.
   EXPECT_NE(error_of({{"-o", (dir / "here" / "new" / "z.png").string()}, {"--stats", (dir / "new" / "z.png").string()}}, job), "");
   EXPECT_EQ(error_of({{"-o", (dir / "here" / "z.png").string()}, {"--stats", (dir / "z.json").string()}}, job), "");
+  // "link/.." is the link's target's parent, not the folder the text shows.
+  fs::create_directories(dir / "deep" / "er");
+  fs::create_directory_symlink(dir / "deep" / "er", dir / "short");
+  EXPECT_NE(error_of({{"-o", (dir / "short" / ".." / "q.png").string()}, {"--stats", (dir / "deep" / "q.png").string()}}, job), "");
+  // An output that is a link is replaced by the rename, not written through: no collision.
+  fs::create_symlink(dir / "frame.png", dir / "latest.png");
+  EXPECT_EQ(error_of({{"-o", (dir / "latest.png").string()}, {"--aov rays", (dir / "frame.png").string()}}, job), "");
   fs::remove_all(dir);
 }
 

@@ -213,6 +213,12 @@ TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("drop --aov geo"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("--edges off"), std::string::npos) << r.output;
+  // Adaptive with --aov geo: both must go.
+  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                        " --width 32 --height 32 -q --aov geo " + (dir / "g.png").string() + " -o " +
+                        (dir / "d.png").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.output.find("drop --aov geo and run with --edges off"), std::string::npos) << r.output;
   fs::remove_all(dir);
 }
 

@@ -73,6 +73,18 @@ TEST_F(AtomicFile, NamesAtTheFileSystemsLimitAreWritten) {
     EXPECT_EQ(read(path(name)), "set " + std::to_string(length));
   }
   EXPECT_EQ(files(), 3u);
+  // Two-byte characters to the limit (the temporary's cut falls between characters), and
+  // two names alike but for their last bytes, in one set: both arrive, each with its text.
+  std::string accented;
+  while (accented.size() + 2 + 5 <= limit) accented += "\xc3\xa9";
+  const std::string a = accented + ".json", b = accented.substr(0, accented.size() - 2) + "xy.json";
+  OutputSet set;
+  write_text_atomically(path(a), "a", &set);
+  write_text_atomically(path(b), "b", &set);
+  set.commit();
+  EXPECT_EQ(read(path(a)), "a");
+  EXPECT_EQ(read(path(b)), "b");
+  EXPECT_EQ(files(), 5u);
 }
 
 TEST_F(AtomicFile, AFailedOutputLeavesEveryOutputOfItsSetAsItWas) {

@@ -94,8 +94,8 @@ TEST(VisibilityFrameBytes, ARegionsFlagsAreItsOwnRowsOnly) {
   // Device-free: the flag buffer of a region is its word-aligned columns times its rows.
   VisibilitySettings s;
   s.supersample = 4;
-  const uint64_t full = VisibilityPass::frame_bytes(16384, 16384, s);
-  const uint64_t part = VisibilityPass::frame_bytes(16384, 16384, s, TileRect{8190, 100, 8254, 164});
+  const uint64_t full = VisibilityPass::frame_bytes(16384, 16384, s, 1000);
+  const uint64_t part = VisibilityPass::frame_bytes(16384, 16384, s, 1000, TileRect{8190, 100, 8254, 164});
   EXPECT_EQ(full - part, uint64_t(16384) / 4 * 16384 * 4 - 17 * 64 * 4);  // x 8188..8256: 17 words
 }
 
@@ -106,14 +106,19 @@ TEST(VisibilityFrameBytes, FramesAreBandedToAboutAnEighthOfTheirSamples) {
   s.supersample = 4;
   const uint64_t flags_1024 = uint64_t(1024) / 4 * 1024 * 4;
   const uint64_t frame_1024 = uint64_t(4098) * 4098 * 8;
-  const uint64_t targets = VisibilityPass::frame_bytes(1024, 1024, s) - flags_1024;
+  const uint64_t targets = VisibilityPass::frame_bytes(1024, 1024, s, 109000) - flags_1024;
   EXPECT_LE(targets, frame_1024 / 8 + 4098 * 8 * 4);  // an eighth, to a pixel row
   EXPECT_GE(targets, frame_1024 / 10);
   const uint64_t flags_200 = uint64_t(200) / 4 * 200 * 4;
-  EXPECT_EQ(VisibilityPass::frame_bytes(200, 200, s) - flags_200, uint64_t(802) * 802 * 8);  // under the floor: whole
+  EXPECT_EQ(VisibilityPass::frame_bytes(200, 200, s, 1000) - flags_200, uint64_t(802) * 802 * 8);  // under the floor: whole
+  // A scene of 2 M triangles: a band's vertex pass would cost more than its first touch
+  // saves, so the frame stays whole (it fits the memory cap).
+  EXPECT_EQ(VisibilityPass::frame_bytes(1024, 1024, s, 2000000) - flags_1024, frame_1024);
+  EXPECT_EQ(VisibilityPass::band_floor(s, 1000), s.min_band_samples);
+  EXPECT_EQ(VisibilityPass::band_floor(s, 2000000), 32000000);
   s.min_band_samples = int64_t(1) << 40;  // no banding: the frame whole, within the cap
-  EXPECT_EQ(VisibilityPass::frame_bytes(1024, 1024, s) - flags_1024, frame_1024);
-  EXPECT_LE(VisibilityPass::frame_bytes(16384, 16384, s), uint64_t(s.max_tile_samples) * 8 + uint64_t(16384) * 16384);
+  EXPECT_EQ(VisibilityPass::frame_bytes(1024, 1024, s, 1000) - flags_1024, frame_1024);
+  EXPECT_LE(VisibilityPass::frame_bytes(16384, 16384, s, 1000), uint64_t(s.max_tile_samples) * 8 + uint64_t(16384) * 16384);
 }
 
 // A cancelled map (the viewer's camera moved on) stops at its next band with an empty map;

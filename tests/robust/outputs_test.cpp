@@ -221,6 +221,19 @@ TEST_F(Outputs, OneFileUnderTwoNamesIsRefused) {
   EXPECT_FALSE(fs::exists(path("z.png")));
 }
 
+// The batch's check expands {frame} as 0; the job's own frame can take the name past the
+// limit. Refused when the job starts, before its render, naming the option.
+TEST_F(Outputs, AFrameNumberThatTakesTheNamePastTheLimitFailsBeforeTheRender) {
+  const std::string prefix = std::string(name_max(dir_) - 8, 'f');  // "_0.png" fits, "_12345678.png" does not
+  const auto r = robust::run_child({kZigzag, "render", (kScenes / "animated.json").string(), "--width", "16",
+                                    "--height", "16", "--frame", "12345678", "-o", path(prefix + "_{frame}.png").string(),
+                                    "--edges", "off", "-q"});
+  expect_error(r, "bytes long");
+  EXPECT_NE(r.err.find("-o"), std::string::npos) << r.err;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir_))  // no image, no temporary
+    EXPECT_EQ(e.path().filename().string().find("fff"), std::string::npos) << e.path();
+}
+
 // A name just below the file system's limit is valid: the render writes it (its temporary,
 // longer, used to fail after the whole render).
 TEST_F(Outputs, ANameAtTheLimitIsWritten) {
