@@ -121,6 +121,11 @@ class Plan:
 
     def claim(self, path: str, what: str, hint: str = "") -> None:
         """Reserve path for one output; a second claim is a usage error naming both."""
+        name = os.path.basename(path)
+        if len(os.fsencode(name)) > MAX_OUTPUT_NAME:
+            raise ValueError(f"{path} ({what}): its name is {len(os.fsencode(name))} bytes; the farm takes at most "
+                             f"{MAX_OUTPUT_NAME}, as its temporaries (and zigzag's) add a host tag to it within the "
+                             "file system's 255")
         if path in self.claims:
             raise ValueError(f"{path} would be written as both {self.claims[path]} and {what}"
                              + (f": {hint}" if hint else ""))
@@ -128,6 +133,12 @@ class Plan:
         if source:
             raise ValueError(f"{path} ({what}) is {source}: writing it would replace the scene")
         self.claims[path] = what
+
+
+# The longest output file name: a job writes ".NAME.HOST-PID-UUID8.tmp.EXT" (and its stats,
+# ".stats.json" more), zigzag a temporary of that ("." and ".zz-PID-N"); host names run to
+# 64 bytes, so 100 bytes of 255 are kept for them.
+MAX_OUTPUT_NAME = 155
 
 
 def pattern_fields(pattern: str) -> set[str]:

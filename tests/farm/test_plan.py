@@ -103,6 +103,14 @@ def test_no_output_replaces_a_file_of_any_scene(tmp_path):
     plan(scenes=[still, anim], output=f"{tmp_path}/out/{{scene}}.png", frames=[1], camera="0")
 
 
+def test_output_names_leave_room_for_the_temporaries():
+    """A 200-byte name is valid, but its job's temporary (a host tag more) is not: refused
+    while planning, not after the render."""
+    with pytest.raises(ValueError, match=r"its name is 213 bytes; the farm takes at most 155"):
+        plan(output="/o/" + "n" * 200 + "_{scene}_{camera}_{frame}.png")
+    plan(output="/o/" + "n" * 140 + "_{scene}_{camera}_{frame}.png")
+
+
 def test_colliding_outputs_are_refused():
     with pytest.raises(ValueError, match="anim_0.png would be written as both the image of anim "
                                          "camera 0 f1 and the image of anim camera 0 f2: add {frame} to -o"):
