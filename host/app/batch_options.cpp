@@ -71,20 +71,19 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
 
 TileRect parse_region(const std::string& text) {
   // from_chars, not sscanf: "%d" is undefined past INT_MAX (4294967306 read as 10).
+  const std::string malformed = "--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)";
   int bounds[4] = {};
   const char* p = text.data();
   const char* const end = text.data() + text.size();
   for (int i = 0; i < 4; ++i) {
-    if (i > 0 && (p == end || *p++ != ','))
-      throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+    if (i > 0 && (p == end || *p++ != ',')) throw Error(malformed);
     const auto [next, ec] = std::from_chars(p, end, bounds[i]);
     if (ec == std::errc::result_out_of_range)
       throw Error("--region " + text + ": bound " + std::string(p, next) + " is out of range");
-    if (ec != std::errc())
-      throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+    if (ec != std::errc()) throw Error(malformed);
     p = next;
   }
-  if (p != end) throw Error("--region " + text + ": expected X0,Y0,X1,Y1 (integer pixel bounds, half-open)");
+  if (p != end) throw Error(malformed);
   const TileRect r{bounds[0], bounds[1], bounds[2], bounds[3]};
   if (r.empty()) throw Error("--region " + text + ": the region is empty (need X0 < X1 and Y0 < Y1)");
   return r;
@@ -117,9 +116,8 @@ std::vector<OutputKey> known_jobs(const BatchOptions& o) {
 void validate(const BatchOptions& o) {
   validate(o.render);
   if (!o.region.empty()) (void)parse_region(o.region);
+  if (wants_geo_aov(o) && o.render.edges == EdgeMode::Off) throw Error("--aov geo needs the visibility map (--edges vulkan)");
   for (const AovRequest& a : o.aovs) {
-    if (a.aov == Aov::Geo && o.render.edges == EdgeMode::Off)
-      throw Error("--aov geo needs the visibility map (--edges vulkan)");
     if (a.layers() && !holds_extra_channels(o.output_pattern()))
       throw Error("--aov " + a.name + " without a file adds channels to the -o image, which must be an .exr (-o " +
                   o.output_pattern() + ")" +
@@ -136,11 +134,12 @@ void validate(const BatchOptions& o) {
   check_distinct_outputs(output_patterns(o), known_jobs(o));
 }
 
+bool wants_geo_aov(const BatchOptions& o) {
+  return std::any_of(o.aovs.begin(), o.aovs.end(), [](const AovRequest& a) { return a.aov == Aov::Geo; });
+}
+
 bool wants_geo_map(const BatchOptions& o) {
-  if (wants_visibility_map(o.render)) return true;
-  for (const AovRequest& aov : o.aovs)
-    if (aov.aov == Aov::Geo && o.render.edges == EdgeMode::Vulkan) return true;
-  return false;
+  return wants_visibility_map(o.render) || (wants_geo_aov(o) && o.render.edges == EdgeMode::Vulkan);
 }
 
 std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOptions& o) {

@@ -54,6 +54,9 @@ TileRect parse_region(const std::string& text);
 // names, placeholders, and that no two jobs write the same file. Throws zz::Error.
 void validate(const BatchOptions& o);
 
+// Whether the batch asks for --aov geo (an image or the EXR layer).
+bool wants_geo_aov(const BatchOptions& o);
+
 // Whether the batch makes the visibility map: adaptive with --edges vulkan, or an --aov geo.
 bool wants_geo_map(const BatchOptions& o);
 

@@ -3,7 +3,6 @@
 // is reported and the others still run; the exit code says whether any failed.
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -455,8 +454,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     if (wants_geo_map(*o)) {
       VulkanOptions vo;
       // Without Vulkan, --aov geo must go too: --edges off refuses it.
-      const bool geo_aov = std::any_of(o->aovs.begin(), o->aovs.end(), [](const AovRequest& a) { return a.aov == Aov::Geo; });
-      if (geo_aov)
+      if (wants_geo_aov(*o))
         vo.without_vulkan = wants_visibility_map(o->render) ? "drop --aov geo and run with --edges off" : "drop --aov geo";
       vo.device_index = o->render.vk_device;
       vo.validate = o->render.vk_validate;

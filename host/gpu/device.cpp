@@ -10,17 +10,21 @@ namespace zz {
 namespace {
 
 constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
-// The remedies: a driver to install, and what the user may do without one (the options'
+// The remedies: a driver to install, then what the user may do without one (the options'
 // without_vulkan, when there is anything).
+std::string or_without_vulkan(const VulkanOptions& o) {
+  return o.without_vulkan.empty() ? "" : " or " + o.without_vulkan;
+}
+
 std::string no_device(const VulkanOptions& o) {
   return "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` (lavapipe, CPU)" +
-         (o.without_vulkan.empty() ? "" : " or " + o.without_vulkan);
+         or_without_vulkan(o);
 }
 
 std::string no_loader(const VulkanOptions& o) {
   return "the Vulkan loader (libvulkan.so.1) could not be opened; install it and a driver with "
          "`apt-get install libvulkan1 mesa-vulkan-drivers` (lavapipe, CPU)" +
-         (o.without_vulkan.empty() ? "" : " or " + o.without_vulkan);
+         or_without_vulkan(o);
 }
 
 // volk's function pointers are process-wide: libvulkan is opened once, and each new
@@ -256,8 +260,7 @@ void VulkanContext::pick_device(const VulkanOptions& options) {
     if (chosen < 0 && !rejected.empty())
       throw Error("no usable Vulkan device (" + rejected +
                   "); install a newer driver (Debian 12's mesa-vulkan-drivers gives a lavapipe with "
-                  "Vulkan 1.3)" +
-                  (options.without_vulkan.empty() ? "" : " or " + options.without_vulkan));
+                  "Vulkan 1.3)" + or_without_vulkan(options));
     if (chosen < 0) throw Error(no_device(options));
   }
 

@@ -194,29 +194,27 @@ TEST(RenderCommand, AnAovBeforeTheSceneSaysWhyTheSceneIsMissing) {
 TEST(RenderCommand, EdgesOffNeedsNoVulkan) {
   const fs::path dir = temp_dir();
   // An ICD list that names no driver: Vulkan is unavailable, --edges off still renders.
-  const std::string no_vulkan = "VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json ";
-  auto r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
-                             " --width 32 --height 32 -q --edges off -o " + (dir / "a.png").string());
+  auto render_without_vulkan = [&](const std::string& options) {
+    return test::run_command("VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json " +
+                             test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                             " --width 32 --height 32 -q " + options);
+  };
+  auto r = render_without_vulkan("--edges off -o " + (dir / "a.png").string());
   EXPECT_EQ(r.exit_code, 0) << r.output;
-  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
-                        " --width 32 --height 32 -q -o " + (dir / "b.png").string());
+  r = render_without_vulkan("-o " + (dir / "b.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("--edges off"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(dir / "b.png"));
   // A map wanted only for --aov geo: --edges off would be refused with that AOV, so the
   // remedy is to drop it.
-  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
-                        " --width 32 --height 32 -q --aa none --aov geo " + (dir / "g.png").string() + " -o " +
-                        (dir / "c.png").string());
+  r = render_without_vulkan("--aa none --aov geo " + (dir / "g.png").string() + " -o " + (dir / "c.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("mesa-vulkan-drivers"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("drop --aov geo"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("--edges off"), std::string::npos) << r.output;
   // Adaptive with --aov geo: both must go.
-  r = test::run_command(no_vulkan + test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
-                        " --width 32 --height 32 -q --aov geo " + (dir / "g.png").string() + " -o " +
-                        (dir / "d.png").string());
+  r = render_without_vulkan("--aov geo " + (dir / "g.png").string() + " -o " + (dir / "d.png").string());
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("drop --aov geo and run with --edges off"), std::string::npos) << r.output;
   fs::remove_all(dir);
