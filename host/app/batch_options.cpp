@@ -164,13 +164,20 @@ std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOp
   return warnings;
 }
 
-void preflight_outputs(const BatchOptions& o) {
+std::vector<std::string> batch_inputs(const BatchOptions& o) {
+  std::vector<std::string> inputs;
+  for (const std::string& scene : o.scenes)
+    for (std::string& f : scene_files(scene, load_options(o.render, true))) inputs.push_back(std::move(f));
+  return inputs;
+}
+
+void preflight_outputs(const BatchOptions& o, const std::vector<std::string>& inputs) {
   const std::vector<OutputPattern> patterns = output_patterns(o);
   for (const OutputKey& job : known_jobs(o))
     for (const OutputPattern& p : patterns) {
       const std::filesystem::path path = expand_output_pattern(p.pattern, job, p.option);
       preflight_output(p.option, path, p.option != "--stats");
-      check_not_an_input(p.option, path, o.scenes);  // the scenes' own assets once they are loaded
+      check_not_an_input(p.option, path, inputs, "a file of the batch's scenes,");
     }
 }
 

@@ -68,8 +68,12 @@ std::vector<std::string> inapplicable_options(const CLI::App& cmd, const BatchOp
 // The jobs' keys as far as they are known before loading (see batch_options.cpp).
 std::vector<OutputKey> known_jobs(const BatchOptions& o);
 
-// preflight_output for every output of every known job.
-void preflight_outputs(const BatchOptions& o);
+// Every file the batch's scenes are read from (scene_files of each), listed before the
+// first loads: one scene's output must not replace a file a later scene reads.
+std::vector<std::string> batch_inputs(const BatchOptions& o);
+
+// preflight_output for every output of every known job, and none of them one of `inputs`.
+void preflight_outputs(const BatchOptions& o, const std::vector<std::string>& inputs);
 
 // The output patterns of one batch, with the option each came from.
 std::vector<OutputPattern> output_patterns(const BatchOptions& o);

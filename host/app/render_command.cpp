@@ -209,14 +209,15 @@ struct SceneJob {
   SceneMap* map;                 // null: no visibility map
   double load_s, bvh_s;          // counted in the first camera's total
   double device_wait_s;          // the wait for the device that the load and BVH did not hide (idem)
+  const std::vector<std::string>& batch_inputs;  // every scene's files, listed before the first loaded
 };
 
 void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera);
 
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 // A camera whose job fails is reported and the scene's other cameras still render.
-void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, DeviceSource& device,
-                JobTally& tally) {
+void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, const std::vector<std::string>& inputs,
+                DeviceSource& device, JobTally& tally) {
   const LoadOptions load = load_options(o.render, o.quiet);
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
@@ -238,7 +239,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   std::optional<SceneMap> map;
   if (vulkan) map.emplace(*vulkan, scene);
 
-  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s};
+  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s, inputs};
   for (int camera_index : cameras) {
     ++tally.jobs;
     try {
@@ -294,6 +295,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
     // 8-digit {frame} can take a name past the file system's limit), before the render.
     preflight_output(p.option, path, p.option != "--stats");
     check_not_an_input(p.option, path, scene.source_files);
+    check_not_an_input(p.option, path, job.batch_inputs, "a file of the batch's scenes,");
   }
 
   // The map is made on its own thread while level 1 traces (render_frame awaits it
@@ -441,9 +443,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   add_batch_options(cmd, *o);
   cmd->callback([o, &exit_code, cmd] {
+    std::vector<std::string> inputs;
     as_usage_checks([&] {  // before anything is loaded: a bad invocation costs no render
       validate(*o);
-      preflight_outputs(*o);
+      inputs = batch_inputs(*o);
+      preflight_outputs(*o, inputs);
     });
     if (!o->quiet)
       for (const std::string& w : inapplicable_options(*cmd, *o)) std::fprintf(stderr, "zigzag: warning: %s\n", w.c_str());
@@ -465,7 +469,7 @@ void add_render_command(CLI::App& app, int& exit_code) {
     for (const std::string& scene : o->scenes) {
       const int jobs_before = tally.jobs;
       try {
-        render_job(*o, scene, device, tally);
+        render_job(*o, scene, inputs, device, tally);
       } catch (const std::exception& e) {
         if (device.failed()) device.get();  // rethrows: no device ends the batch
         tally.jobs = jobs_before + 1;  // the scene failed before its cameras: one job

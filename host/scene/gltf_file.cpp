@@ -2,11 +2,14 @@
 
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <vector>
 
@@ -107,6 +110,37 @@ std::optional<std::filesystem::path> external_file(const std::filesystem::path& 
     }
   }
   return gltf.parent_path() / decoded;
+}
+
+std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf) {
+  std::vector<std::filesystem::path> files;
+  std::string json_text;
+  if (lowercase_extension(gltf) == ".glb") {
+    std::ifstream in(gltf, std::ios::binary);
+    std::vector<unsigned char> header(20);
+    if (!in.read(reinterpret_cast<char*>(header.data()), 20) || std::memcmp(header.data() + 16, "JSON", 4) != 0)
+      return files;
+    json_text.resize(std::min<uint32_t>(le32(header, 12), uint32_t(kMaxFileBytes - 1)));
+    if (!in.read(json_text.data(), std::streamsize(json_text.size()))) return files;
+  } else {
+    std::vector<unsigned char> bytes;
+    std::string why;
+    if (!read_regular_file(gltf.string(), kMaxFileBytes, &bytes, &why)) return files;
+    json_text.assign(bytes.begin(), bytes.end());
+  }
+  if (json_nesting_depth(json_text) > kMaxJsonDepth) return files;
+  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (!j.is_object()) return files;
+  for (const char* array : {"buffers", "images"}) {
+    const auto it = j.find(array);
+    if (it == j.end() || !it->is_array()) continue;
+    for (const nlohmann::json& item : *it) {
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      if (std::optional<std::filesystem::path> f = external_file(gltf, item["uri"].get<std::string>()))
+        files.push_back(std::move(*f));
+    }
+  }
+  return files;
 }
 
 void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning) {

@@ -8,6 +8,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace tinygltf {
 class Model;
@@ -32,6 +33,11 @@ int json_nesting_depth(std::string_view text, int limit = kMaxJsonDepth);
 // glTF's folder, percent-decoded and with '+' for a space ("My%20Wood.png" is My Wood.png).
 // None for a URI that names no file (empty, or a data: URI holding the bytes).
 std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri);
+
+// The external files (buffers, images) `gltf` names, read from its JSON alone: a .glb's
+// header and JSON chunk, not its buffers. For checks before a batch loads its scenes, so it
+// never throws: whatever it cannot read is left out, and loading the file says why.
+std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf);
 
 // Reads and parses `path` (.glb by its extension, else glTF JSON); zz::Error naming the
 // file on anything wrong. Images keep their encoded bytes (gltf_image.h). Warnings from

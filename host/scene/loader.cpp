@@ -22,6 +22,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "scene/animation.h"
+#include "scene/gltf_file.h"
 
 namespace zz {
 namespace {
@@ -277,6 +278,12 @@ json parse_rig_file(const fs::path& path) {
   throw Error(rig.string() + ": model '" + model.string() + "' is a rig, not a .gltf or .glb (rigs do not nest)");
 }
 
+// Where a rig's "model" is: "assets:NAME/..." under the assets folder, else beside the rig.
+fs::path rig_model_path(const fs::path& rig, const std::string& model, const LoadOptions& options) {
+  const fs::path dir = rig.parent_path().empty() ? fs::path(".") : rig.parent_path();
+  return model.rfind("assets:", 0) == 0 ? assets_root(dir, options) / model.substr(7) : dir / model;
+}
+
 Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   const std::string file = path.string();
   const json j = parse_rig_file(path);
@@ -303,17 +310,14 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   Scene scene;
   scene.source_files.push_back(file);
   scene.name = j.contains("name") ? J.string(j["name"], "name") : path.stem().string();
-  const fs::path dir = path.parent_path().empty() ? fs::path(".") : path.parent_path();
   const std::string model = J.string(j["model"], "model");
-  fs::path model_path;
+  const fs::path model_path = rig_model_path(path, model, options);
   std::error_code ec;
   if (model.rfind("assets:", 0) == 0) {
-    model_path = assets_root(dir, options) / model.substr(7);
     if (!fs::is_regular_file(model_path, ec))
       throw Error("missing asset: " + model_path.string() + " (referenced by " + file +
                   "; set ZIGZAG_ASSETS or --assets to the folder holding the shared scenes)");
   } else {
-    model_path = dir / model;
     if (fs::path(model).extension() == ".json") reject_rig_model(path, model_path);
     if (fs::is_directory(model_path, ec)) J.fail("model '" + model_path.string() + "' is a directory, not a glTF file");
     if (!fs::is_regular_file(model_path, ec)) J.fail("model '" + model_path.string() + "' not found");
@@ -433,6 +437,23 @@ Camera auto_camera(const Scene& scene, float yfov) {
   c.znear = std::max(dist - radius, radius * 1e-3f);
   c.zfar = dist + 2.0f * radius;
   return c;
+}
+
+std::vector<std::string> scene_files(const std::filesystem::path& path, const LoadOptions& options) {
+  std::vector<std::string> files = {path.string()};
+  fs::path gltf = path;
+  if (lowercase_extension(path) == ".json") {
+    try {
+      const json j = parse_rig_file(path);
+      if (!j.is_object() || !j.contains("model") || !j["model"].is_string()) return files;
+      gltf = rig_model_path(path, j["model"].get<std::string>(), options);
+      files.push_back(gltf.string());
+    } catch (const std::exception&) {
+      return files;  // loading the rig says what is wrong with it
+    }
+  }
+  for (const fs::path& f : gltf::external_files(gltf)) files.push_back(f.string());
+  return files;
 }
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options) {

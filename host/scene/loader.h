@@ -34,6 +34,12 @@ inline constexpr double kDefaultFps = 24.0;
 
 Scene load_scene(const std::filesystem::path& path, const LoadOptions& options = {});
 
+// The files loading `path` would read (the rig, its glTF, the glTF's buffers and images),
+// from their JSON alone, without loading the scene: a batch checks its outputs against
+// every scene's files before it renders the first. Never throws; a file it cannot read
+// ends the list, and loading says why.
+std::vector<std::string> scene_files(const std::filesystem::path& path, const LoadOptions& options = {});
+
 // A camera that frames the bounding sphere of the scene's triangles, looking from the
 // front (+Z), slightly right and above; used when neither the rig nor the model has one.
 Camera auto_camera(const Scene& scene, float yfov = 0.8f);

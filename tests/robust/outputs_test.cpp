@@ -162,8 +162,8 @@ TEST_F(Outputs, JobsThatWouldWriteOneFileAreRefusedNamingThePlaceholder) {
 }
 
 // `--stats {scene}.json` beside the scene would replace room.json with its stats: every
-// output is compared with the files the scene is read from, the rig itself before loading,
-// its glTF, buffers and images once loaded (links and other spellings included). (An
+// output is compared with the files the scene is read from, the rig, its glTF, buffers
+// and images, listed before anything loads (links and other spellings included). (An
 // image output is already refused a .json/.gltf/.bin name by its format.)
 TEST_F(Outputs, NoOutputReplacesAFileTheSceneIsReadFrom) {
   const std::string good = path("good.json").string();
@@ -185,13 +185,32 @@ TEST_F(Outputs, NoOutputReplacesAFileTheSceneIsReadFrom) {
     SCOPED_TRACE(r.err);
     EXPECT_TRUE(r.exited);
     EXPECT_EQ(r.exit_code, kUsageExit);  // refused, before or after the load: not worth a retry
-    EXPECT_NE(r.err.find("is the scene's own file"), std::string::npos);
+    EXPECT_NE(r.err.find("is a file of the batch's scenes"), std::string::npos);
     EXPECT_NE(r.err.find(c.named), std::string::npos);
     EXPECT_EQ(contents(path("good.json")), rig);
     EXPECT_EQ(contents(path("default.gltf")), gltf);
     EXPECT_EQ(contents(path("default.bin")), bin);
     EXPECT_FALSE(fs::exists(path("x.png")));
   }
+}
+
+// A scene earlier in the batch must not replace a file of a later one: its image would
+// become the later scene's texture, or its stats the later scene's buffer, with no word.
+TEST_F(Outputs, NoOutputReplacesAFileOfALaterSceneInTheBatch) {
+  fs::create_directories(path("later"));
+  std::string gltf = contents(path("default.gltf"));
+  const size_t uri = gltf.find("\"default.bin\"");
+  ASSERT_NE(uri, std::string::npos);
+  gltf.replace(uri, 13, "\"good.bin\"");
+  write("later/later.gltf", gltf);
+  fs::copy_file(path("default.bin"), path("later/good.bin"));
+  const std::string bin = contents(path("later/good.bin"));
+  const robust::ChildResult r = render({path("good.json").string(), path("later/later.gltf").string(), "-o",
+                                        path("{scene}.png").string(), "--stats", path("later/{scene}.bin").string()});
+  expect_error(r, "is a file of the batch's scenes", kUsageExit);
+  EXPECT_NE(r.err.find("good.bin"), std::string::npos);
+  EXPECT_EQ(contents(path("later/good.bin")), bin);
+  EXPECT_FALSE(fs::exists(path("good.png")));
 }
 
 TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {

@@ -257,5 +257,49 @@ TEST(JsonScene, ProjectRigsOnlyUseDocumentedKeys) {
   }
 }
 
+// A batch checks its outputs against every scene's files before it loads the first, so
+// scene_files must list what loading reads: the rig, its glTF, the buffers and the images
+// (percent-decoded; data: URIs are no file), from the JSON alone.
+TEST(SceneFiles, ListWhatLoadingReads) {
+  const Rig rig("files");
+  nlohmann::json gltf = nlohmann::json::parse(test::read_text(rig.dir / "model.gltf"));
+  gltf["images"] = {{{"uri", "wood%20grain.png"}}, {{"uri", "data:image/png;base64,AAAA"}}};
+  test::write_text(rig.dir / "model.gltf", gltf.dump());
+  test::write_text(rig.dir / "wood grain.png", "not decoded: no texture uses it");
+  test::write_text(rig.dir / "rig.json", R"({"model": "model.gltf"})");
+  const std::vector<std::string> listed = scene_files(rig.dir / "rig.json", kQuiet);
+  EXPECT_EQ(listed, (std::vector<std::string>{(rig.dir / "rig.json").string(), (rig.dir / "model.gltf").string(),
+                                              (rig.dir / "model.bin").string(), (rig.dir / "wood grain.png").string()}));
+  EXPECT_EQ(listed, load_scene(rig.dir / "rig.json", kQuiet).source_files);
+  EXPECT_EQ(scene_files(rig.dir / "model.gltf", kQuiet), load_scene(rig.dir / "model.gltf", kQuiet).source_files);
+}
+
+TEST(SceneFiles, AGlbIsListedFromItsJsonChunk) {
+  const std::filesystem::path dir = test::temp_dir("glb");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", test::kTriPos, test::kTriNrm)}});
+  b.doc["images"] = {{{"uri", "albedo.png"}}};
+  const std::filesystem::path glb = b.write_glb(dir);
+  test::write_text(dir / "albedo.png", "x");
+  EXPECT_EQ(scene_files(glb, kQuiet), (std::vector<std::string>{glb.string(), (dir / "albedo.png").string()}));
+  EXPECT_EQ(scene_files(glb, kQuiet), load_scene(glb, kQuiet).source_files);
+}
+
+// Listing never throws: what it cannot read ends the list, and loading says why.
+TEST(SceneFiles, WhatCannotBeReadEndsTheList) {
+  const std::filesystem::path dir = test::temp_dir("bad");
+  test::write_text(dir / "broken.json", "{ not json");
+  test::write_text(dir / "to_broken.json", R"({"model": "broken.gltf"})");
+  test::write_text(dir / "broken.gltf", R"({"buffers": [{"uri": "a.bin"}, )");
+  test::write_text(dir / "short.glb", "glTF");
+  test::write_text(dir / "odd.gltf", R"({"buffers": {"uri": "a.bin"}, "images": [3, {"uri": 7}, {"uri": "i.png"}]})");
+  EXPECT_EQ(scene_files(dir / "broken.json"), (std::vector<std::string>{(dir / "broken.json").string()}));
+  EXPECT_EQ(scene_files(dir / "to_broken.json"),
+            (std::vector<std::string>{(dir / "to_broken.json").string(), (dir / "broken.gltf").string()}));
+  EXPECT_EQ(scene_files(dir / "short.glb"), (std::vector<std::string>{(dir / "short.glb").string()}));
+  EXPECT_EQ(scene_files(dir / "missing.gltf"), (std::vector<std::string>{(dir / "missing.gltf").string()}));
+  EXPECT_EQ(scene_files(dir / "odd.gltf"), (std::vector<std::string>{(dir / "odd.gltf").string(), (dir / "i.png").string()}));
+}
+
 }  // namespace
 }  // namespace zz
