@@ -132,7 +132,7 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("scene", o->scene, "Scene file (.json rig, .gltf, .glb)")->required();
   cmd->add_option("--camera", o->camera, "Camera index or name");
   add_render_options(cmd, o->render);
-  cmd->add_option("--preview-scale", o->preview_scale, "Coarse preview at 1/N size before each frame (1 = off)")
+  cmd->add_option("--preview-scale", o->preview_scale, "Coarse preview at 1/N size before each frame, smaller while previews take over 1/30 s (1 = off)")
       ->check(CLI::Range(1, 64));
   cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where the S key saves screenshots");
   CLI::Option* exit_after =

@@ -2,8 +2,16 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace zz {
+
+int next_preview_scale(int scale, double seconds, int smallest) {
+  const double wanted = scale * std::sqrt(std::max(seconds, 0.0) / kPreviewBudget);
+  int next = std::max(smallest, 1);
+  while (next < wanted && next < kMaxPreviewScale) next *= 2;
+  return std::max(smallest, std::min(next, kMaxPreviewScale));
+}
 
 ProgressiveRenderer::ProgressiveRenderer(const Shader& shader, DisplayFrame& display, GeoSource geo)
     : shader_(shader), display_(display), geo_(std::move(geo)) {
@@ -17,6 +25,7 @@ void ProgressiveRenderer::stop() {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
     cancel_ = true;
+    stop_ = true;
   }
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -104,11 +113,11 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
   }
 
   RenderCallbacks callbacks;
-  callbacks.cancel = &cancel_;
 
   if (request.preview_scale > 1) {
     // 1 ray/px at reduced size: cheap enough to follow the mouse, then refined below.
-    const int s = request.preview_scale;
+    // Not cancelled by a newer request (only by stop()): the newest starts after it.
+    const int s = std::max(preview_scale_, request.preview_scale);
     RenderSettings preview = full;
     preview.width = std::max(1, (full.width + s - 1) / s);
     preview.height = std::max(1, (full.height + s - 1) / s);
@@ -116,12 +125,23 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
     preview.centre_out = true;
     Film film;
     RenderStats stats;
+    callbacks.cancel = &stop_;
     callbacks.tile_done = [&](const TileRect& rect, const RayCounters&) { display_.put_tile(film, rect, s, full.tonemap); };
+    const auto preview_start = std::chrono::steady_clock::now();
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
+    if (stop_) return;
+    const double preview_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - preview_start).count();
+    preview_scale_ = next_preview_scale(s, preview_s, request.preview_scale);
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      status_.last_preview_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      ++status_.previews_completed;
+      status_.preview_scale = s;
+    }
+    changed_.notify_all();
     if (cancel_) return;
-    std::lock_guard<std::mutex> lock(mutex_);
-    status_.last_preview_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
+  callbacks.cancel = &cancel_;
 
   // The visibility map after the preview, so the first coarse picture is not delayed.
   const GeoMap geo = geo_ && request.edges ? map_for(request.camera, full.width, full.height) : GeoMap{};

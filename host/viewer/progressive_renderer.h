@@ -1,8 +1,13 @@
 // Progressive rendering for the viewer: a background thread runs render_frame() for the
-// latest request — first a coarse preview (1 ray/px at 1/preview_scale size, shown with
-// nearest upscaling), then the full frame — and every finished tile goes straight into
-// the DisplayFrame. A new request cancels the one in flight (render_frame stops at the
-// next tile) and restarts; the UI thread never waits for a frame.
+// latest request — first a coarse preview (1 ray/px at reduced size, shown with nearest
+// upscaling), then the full frame — and every finished tile goes straight into the
+// DisplayFrame. A new request cancels the map and full frame in flight (render_frame stops
+// at the next tile) and restarts; the UI thread never waits for a frame.
+//
+// A preview always finishes: cancelled at every mouse event, a drag would show a centre
+// of the new pose inside a border of older ones. Its size is chosen so that it takes
+// about kPreviewBudget: the scale doubles (up to kMaxPreviewScale) while previews take
+// longer, and comes back to the request's when they are fast again.
 #pragma once
 
 #include <atomic>
@@ -21,10 +26,18 @@
 
 namespace zz {
 
+inline constexpr double kPreviewBudget = 1.0 / 30.0;  // seconds a preview may take
+inline constexpr int kMaxPreviewScale = 16;
+
+// The preview scale after one that took `seconds` at `scale`: the power of two that
+// brings the next near kPreviewBudget (its cost goes with the pixels, 1/scale^2), within
+// [smallest, kMaxPreviewScale].
+int next_preview_scale(int scale, double seconds, int smallest);
+
 struct FrameRequest {
   Camera camera;
   RenderSettings settings;  // width/height = the display size
-  int preview_scale = 4;    // 0 or 1: no preview pass
+  int preview_scale = 4;    // the smallest preview scale; 0 or 1: no preview pass
   bool edges = true;        // build the visibility map (when a GeoSource exists)
 };
 
@@ -33,6 +46,8 @@ struct ProgressStatus {
   uint64_t completed = 0;     // id of the last request whose full frame finished (0: none yet)
   int frames_completed = 0;   // full frames finished since start
   bool preview = false;       // the preview pass is running
+  int previews_completed = 0; // previews finished since start (each covers the whole frame)
+  int preview_scale = 0;      // the scale of the last preview that ran
   int tiles_done = 0;         // full-frame tiles finished for `request`
   int tiles_total = 0;
   double last_preview_seconds = 0.0; // request to finished coarse preview (the latency of a camera move)
@@ -79,6 +94,8 @@ class ProgressiveRenderer {
   bool stopping_ = false;
   ProgressStatus status_;
   std::atomic<bool> cancel_{false};
+  std::atomic<bool> stop_{false};  // the only thing that cuts a preview short
+  int preview_scale_ = 0;          // render thread only: the next preview's (0: the request's)
   std::atomic<int> tiles_done_{0};
   // The last map made, for the view it was made for (render thread only): a change of eps,
   // filter or AOV view keeps the camera and size, and the map depends on nothing else.

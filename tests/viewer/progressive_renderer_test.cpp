@@ -169,5 +169,46 @@ TEST_F(Progressive, PreviewIsFullyReplacedByTheFullFrame) {
   EXPECT_EQ(display.rgb(ViewMode::Rays), direct.rgb(ViewMode::Rays));
 }
 
+TEST(PreviewScale, GrowsWithTheTimeAPreviewTookAndComesBack) {
+  EXPECT_EQ(next_preview_scale(4, kPreviewBudget, 4), 4);         // on budget: kept
+  EXPECT_EQ(next_preview_scale(4, 4.0 * kPreviewBudget, 4), 8);   // 4x the pixels' time: half the side
+  EXPECT_EQ(next_preview_scale(4, 5.0 * kPreviewBudget, 4), 16);  // a little more: a quarter
+  EXPECT_EQ(next_preview_scale(8, 1000.0, 4), kMaxPreviewScale);
+  EXPECT_EQ(next_preview_scale(16, 0.001, 4), 4);                  // fast again: the request's
+  EXPECT_EQ(next_preview_scale(16, 0.2 * kPreviewBudget, 2), 8);
+  EXPECT_EQ(next_preview_scale(32, 1000.0, 32), 32);               // never below the request's
+}
+
+// A drag sends a request per mouse event, faster than a preview takes. Each preview
+// finishes all the same (one that a newer request cut short would leave the border of
+// the frame showing older poses; before, none finished until the drag stopped), and the
+// newest request's frame completes. The first preview, 2048 x 1536 rays, takes far over
+// the budget on any CPU, so the next ones are smaller.
+TEST_F(Progressive, PreviewsFinishWhileRequestsStreamIn) {
+  DisplayFrame display;
+  ProgressiveRenderer renderer(*shader_, display);
+  FrameRequest r = request(4096, 3072);
+  r.preview_scale = 2;
+  const auto start = std::chrono::steady_clock::now();
+  int sent = 0;
+  while (renderer.status().previews_completed < 4 && std::chrono::steady_clock::now() - start < std::chrono::seconds(60)) {
+    r.camera.position += glm::vec3(0.001f, 0.0f, 0.0f);
+    renderer.request(r);
+    ++sent;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  const ProgressStatus during = renderer.status();
+  EXPECT_GE(during.previews_completed, 4) << sent << " requests";
+  EXPECT_GT(sent, 2 * during.previews_completed);  // the stream outran them: the newest is taken, not each
+  EXPECT_GE(during.preview_scale, 4);              // over budget: smaller previews
+  EXPECT_LE(during.preview_scale, kMaxPreviewScale);
+  EXPECT_EQ(during.completed, 0u);                 // no full frame while the camera moves
+  r.settings.width = 96;  // a small last frame, so the wait is short
+  r.settings.height = 64;
+  const uint64_t last = renderer.request(r);
+  ASSERT_TRUE(renderer.wait_for(last, 120.0));
+  EXPECT_EQ(renderer.status().completed, last);
+}
+
 }  // namespace
 }  // namespace zz
