@@ -42,8 +42,9 @@ struct ViewOptions {
 
 // A screenshot is the 8-bit display image, as the window shows it: checked before anything
 // loads, as render checks -o (a float format would hold display values, not radiance).
-void check_screenshot(const std::string& option, const std::string& path) {
+void check_screenshot(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
   preflight_output(option, path, true);
+  check_not_an_input(option, path, inputs, "a file of the scene,");
   if (is_hdr_extension(path))
     throw Error(option + " " + path + ": a screenshot is the 8-bit display image (.png, .jpg, .tif, ...); for "
                 "linear radiance use `zigzag render -o FILE" + lowercase_extension(path) + "`");
@@ -53,9 +54,10 @@ int view(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
   as_usage_checks([&] {
     validate(o.render);
-    if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot);
+    const std::vector<std::string> inputs = scene_files(o.scene, load_options(o.render, true));
+    if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot, inputs);
     for (const ScriptEvent& e : parse_script(o.script))
-      if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text);
+      if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text, inputs);
   });
   // Fail fast, before loading anything, when no window can be opened.
   require_display();

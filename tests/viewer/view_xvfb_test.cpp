@@ -2,6 +2,8 @@
 // a scripted camera drag, AOV views, closing mid-render, and the no-display error.
 // Validation layers are on in every windowed run and must stay silent.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
@@ -279,6 +281,30 @@ TEST(NoDisplay, ScreenshotsAreCheckedBeforeAnythingLoads) {
     EXPECT_NE(r.output.find(message), std::string::npos) << args << ": " << r.output;
     EXPECT_EQ(r.output.find("no display"), std::string::npos) << args << ": checked after the display";
   }
+}
+
+// A screenshot named as one of the scene's images would replace it: refused before loading.
+TEST(NoDisplay, AScreenshotNeverReplacesAFileOfTheScene) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / ("zz_view_inputs_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  std::ifstream in(std::string(ZZ_SOURCE_DIR) + "/scenes/default.gltf");
+  nlohmann::json gltf = nlohmann::json::parse(in);
+  gltf["images"] = {{{"uri", "tex.png"}}};
+  std::ofstream(dir / "scene.gltf") << gltf.dump();
+  std::filesystem::copy_file(std::string(ZZ_SOURCE_DIR) + "/scenes/default.bin", dir / "default.bin");
+  std::ofstream(dir / "tex.png") << "the scene's image";
+  for (const std::string args : {"--exit-after-frame --screenshot " + (dir / "tex.png").string(),
+                                 "--script \"wait;screenshot:" + (dir / "tex.png").string() + ";quit\""}) {
+    const test::CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY timeout -k 5 60 " + test::zigzag_binary() +
+                                              " view " + (dir / "scene.gltf").string() + " " + args);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.output.find("is a file of the scene"), std::string::npos) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find("no display"), std::string::npos) << args << ": checked after the display";
+  }
+  std::ifstream tex(dir / "tex.png");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(tex), {}), "the scene's image");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(NoDisplay, FailsWithAClearMessage) {
