@@ -120,7 +120,10 @@ std::vector<std::filesystem::path> external_files(const std::filesystem::path& g
     std::vector<unsigned char> header(20);
     if (!in.read(reinterpret_cast<char*>(header.data()), 20) || std::memcmp(header.data() + 16, "JSON", 4) != 0)
       return files;
-    json_text.resize(std::min<uint32_t>(le32(header, 12), uint32_t(kMaxFileBytes - 1)));
+    std::error_code ec;
+    const uintmax_t size = std::filesystem::file_size(gltf, ec);
+    if (ec || le32(header, 12) > size - 20) return files;  // the header's claim, checked before any allocation
+    json_text.resize(le32(header, 12));
     if (!in.read(json_text.data(), std::streamsize(json_text.size()))) return files;
   } else {
     std::vector<unsigned char> bytes;
@@ -164,7 +167,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     throw Error(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels; not a glTF scene");
 
   tinygltf::TinyGLTF gltf;
-  gltf.SetImageLoader(keep_encoded, nullptr);
+  gltf.SetImageLoader(keep_encoded, &model);  // it checks an image's bufferView against the model's buffers
   gltf.SetFsCallbacks({file_exists, tinygltf::ExpandFilePath, read_whole_file, tinygltf::WriteWholeFile, nullptr});
   std::string err;
   // Relative URIs resolve against the file's folder, as tinygltf's *FromFile calls do.

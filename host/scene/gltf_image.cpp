@@ -3,7 +3,9 @@
 #include <tiny_gltf.h>
 
 #include <cmath>
+#include <algorithm>
 #include <cstdint>
+#include <vector>
 
 namespace zz::gltf {
 namespace {
@@ -13,12 +15,58 @@ float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
+// Width, height and bits per channel from a PNG's IHDR or a JPEG's frame header (the
+// formats glTF allows), read before decoding: the decoder allocates what the header
+// claims, and a few kB of compressed zeros can claim gigabytes.
+struct EncodedSize {
+  uint32_t width = 0, height = 0;
+  int bits = 8;
+};
+
+std::optional<EncodedSize> encoded_size(const std::vector<unsigned char>& b) {
+  auto be16 = [&](size_t at) { return uint32_t(b[at]) << 8 | b[at + 1]; };
+  static const unsigned char kPng[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (b.size() >= 25 && std::equal(kPng, kPng + 8, b.begin()) && std::equal(b.begin() + 12, b.begin() + 16, "IHDR"))
+    return EncodedSize{be16(16) << 16 | be16(18), be16(20) << 16 | be16(22), b[24]};
+  if (b.size() < 4 || b[0] != 0xFF || b[1] != 0xD8) return std::nullopt;
+  for (size_t i = 2; i + 9 < b.size();) {
+    if (b[i] != 0xFF) return std::nullopt;
+    const unsigned char marker = b[i + 1];
+    if (marker == 0xFF) {  // fill byte
+      ++i;
+      continue;
+    }
+    if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC)
+      return EncodedSize{be16(i + 7), be16(i + 5), b[i + 4]};  // SOFn: precision, height, width
+    if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) i += 2;  // no length
+    else i += 2 + be16(i + 2);
+  }
+  return std::nullopt;
+}
+
 }  // namespace
+
+uint64_t max_texels(int bits_per_channel) {
+  return bits_per_channel > 8 ? kMaxTexels16 : kMaxTexels8;
+}
 
 // Decoding every image up front would cost seconds on ToyCar (normal, occlusion and
 // clearcoat maps we never sample), so the callback only keeps the encoded bytes.
-bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
-                  const unsigned char* bytes, int size, void*) {
+bool keep_encoded(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+  if (image->bufferView >= 0) {
+    const auto* model = static_cast<const tinygltf::Model*>(user);
+    if (!model) return false;
+    const tinygltf::BufferView& view = model->bufferViews[size_t(image->bufferView)];  // tinygltf checked the indices
+    const uint64_t buffer_size = model->buffers[size_t(view.buffer)].data.size();
+    if (view.byteOffset > buffer_size || view.byteLength > buffer_size - view.byteOffset) {
+      if (err)
+        *err += "image " + std::to_string(index) + ": bufferView " + std::to_string(image->bufferView) + " (offset " +
+                std::to_string(view.byteOffset) + ", " + std::to_string(view.byteLength) + " bytes) exceeds its buffer of " +
+                std::to_string(buffer_size) + " bytes\n";
+      return false;
+    }
+  }
   if (size <= 0 || !bytes) return false;
   image->image.assign(bytes, bytes + size);
   image->as_is = true;
@@ -28,8 +76,18 @@ bool keep_encoded(tinygltf::Image* image, const int, std::string*, std::string*,
 std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, bool srgb, std::string* why) {
   const std::string label = "image " + std::to_string(source) +
                             (encoded.uri.empty() ? "" : " '" + encoded.uri + "'");
+  auto too_big = [&](uint64_t w, uint64_t h, int bits) {
+    if (w * h <= max_texels(bits)) return false;
+    *why = label + " is " + std::to_string(w) + "x" + std::to_string(h) + " at " + std::to_string(bits) +
+           " bits, above the limit of " + std::to_string(max_texels(bits)) + " texels (" +
+           std::to_string(max_texels(bits) >> 20) + " Mi) for that depth";
+    return true;
+  };
   tinygltf::Image img;
   if (encoded.as_is) {
+    if (const std::optional<EncodedSize> size = encoded_size(encoded.image);
+        size && too_big(size->width, size->height, size->bits))
+      return std::nullopt;
     std::string err, warning;
     if (encoded.image.empty() || encoded.image.size() > size_t(INT32_MAX) ||
         !tinygltf::LoadImageData(&img, source, &err, &warning, 0, 0, encoded.image.data(),
@@ -42,9 +100,8 @@ std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, 
   }
   const int w = img.width, h = img.height, comp = img.component;
   const int bytes = img.bits == 16 ? 2 : img.bits == 8 ? 1 : 0;
-  // At most 2^25 texels (512 MiB as 16-bit float RGBA): bigger is a hostile header, not a texture.
-  if (w <= 0 || h <= 0 || comp < 1 || comp > 4 || bytes == 0 || w > 65536 || h > 65536 ||
-      uint64_t(w) * uint64_t(h) > (uint64_t(1) << 25) ||
+  if (w > 0 && h > 0 && bytes > 0 && too_big(uint64_t(w), uint64_t(h), 8 * bytes)) return std::nullopt;
+  if (w <= 0 || h <= 0 || comp < 1 || comp > 4 || bytes == 0 ||
       img.image.size() < size_t(w) * size_t(h) * size_t(comp) * size_t(bytes)) {
     *why = label + " is missing or has an unsupported layout";
     return std::nullopt;

@@ -375,7 +375,10 @@ struct Loader {
       const std::vector<float> nrm = optional_attribute("NORMAL", 3);
       const std::vector<float> uv = optional_attribute("TEXCOORD_0", 2);
       const std::vector<float> uv1 = uses_texcoord1 ? optional_attribute("TEXCOORD_1", 2) : std::vector<float>{};
-      const std::vector<float> tangent = normal_mapped ? optional_attribute("TANGENT", 4) : std::vector<float>{};
+      // Without NORMAL the file's tangents MUST be ignored (glTF 3.7.2.1): flat normals, and
+      // tangents from the UV gradients.
+      const std::vector<float> tangent =
+          normal_mapped && !nrm.empty() ? optional_attribute("TANGENT", 4) : std::vector<float>{};
 
       std::vector<uint32_t> index;
       if (prim.indices >= 0) {
@@ -474,18 +477,33 @@ struct Loader {
     return t * r * s;  // glTF: M = T * R * S
   }
 
-  static constexpr size_t kMaxNodeInstances = size_t(1) << 20;
-  size_t node_instances = 0;
+  // glTF 3.5.3: the node hierarchy MUST be a set of disjoint strict trees. A node reached
+  // twice (a second parent, a root that is also a child, a cycle) is an error: instancing
+  // through shared nodes grew a 17 kB file to millions of triangles. The walk keeps its
+  // own stack, so a valid chain of any depth loads.
+  std::vector<bool> visited;
 
-  void visit(int node_index, const glm::mat4& parent, int depth) {
-    if (node_index < 0 || size_t(node_index) >= model.nodes.size())
-      throw Error(file + ": node " + std::to_string(node_index) + " out of range");
-    if (depth > 256) throw Error(file + ": node hierarchy too deep or cyclic");
-    // A DAG may instance a node exponentially often (each level referencing the next
-    // twice): bound the instances, not only the depth.
-    if (++node_instances > kMaxNodeInstances)
-      throw Error(file + ": node hierarchy instances more than " + std::to_string(kMaxNodeInstances) +
-                  " nodes (exponential instancing)");
+  void visit(int root, const glm::mat4& parent) {
+    visited.resize(model.nodes.size(), false);
+    std::vector<std::pair<int, glm::mat4>> stack = {{root, parent}};
+    while (!stack.empty()) {
+      const auto [node_index, above] = stack.back();
+      stack.pop_back();
+      if (node_index < 0 || size_t(node_index) >= model.nodes.size())
+        throw Error(file + ": node " + std::to_string(node_index) + " out of range");
+      if (visited[size_t(node_index)])
+        throw Error(file + ": node " + std::to_string(node_index) +
+                    (model.nodes[size_t(node_index)].name.empty() ? "" : " '" + model.nodes[size_t(node_index)].name + "'") +
+                    " is reached twice (cyclic, or a second parent); glTF nodes form disjoint trees");
+      visited[size_t(node_index)] = true;
+      const glm::mat4 world = visit_node(node_index, above);
+      const std::vector<int>& children = model.nodes[size_t(node_index)].children;
+      for (auto c = children.rbegin(); c != children.rend(); ++c) stack.emplace_back(*c, world);  // in order, depth first
+    }
+  }
+
+  // One node's own content at its world transform, which it returns for its children.
+  glm::mat4 visit_node(int node_index, const glm::mat4& parent) {
     const tinygltf::Node& node = model.nodes[size_t(node_index)];
     const glm::mat4 world = parent * (animation.animates(node_index)
                                           ? animation.pose(node_index, gltf::rest_pose(node), float(options.time.value_or(0.0))).matrix()
@@ -509,7 +527,7 @@ struct Loader {
       const tinygltf::Value* l = member(*e, "light");
       if (l && l->IsNumber()) add_light(l->GetNumberAsInt(), node, world);
     }
-    for (int child : node.children) visit(child, world, depth + 1);
+    return world;
   }
 
   // A camera the scene cannot use is left out; those after it (--camera N, a rig's
@@ -607,7 +625,7 @@ struct Loader {
     if (s < 0 && !model.scenes.empty()) s = 0;
     if (s >= int(model.scenes.size())) throw Error(file + ": default scene " + std::to_string(s) + " out of range");
     if (s >= 0) {
-      for (int n : model.scenes[size_t(s)].nodes) visit(n, transform, 0);
+      for (int n : model.scenes[size_t(s)].nodes) visit(n, transform);
       return;
     }
     // No scene: render every root node (lenient; the spec leaves this to the application).
@@ -616,7 +634,7 @@ struct Loader {
       for (int c : n.children)
         if (c >= 0 && size_t(c) < is_child.size()) is_child[size_t(c)] = true;
     for (size_t n = 0; n < model.nodes.size(); ++n)
-      if (!is_child[n]) visit(int(n), transform, 0);
+      if (!is_child[n]) visit(int(n), transform);
   }
 };
 

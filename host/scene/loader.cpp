@@ -145,8 +145,13 @@ Light parse_light(const Json& J, const json& l, const std::string& where) {
   if (!std::isfinite(out.intensity.x) || !std::isfinite(out.intensity.y) || !std::isfinite(out.intensity.z))
     J.fail(where + ": color * intensity overflows");
   if (l.contains("range")) out.range = J.number(l["range"], where + ".range");
-  if (l.contains("inner_cone_deg")) out.inner_cone = glm::radians(J.number(l["inner_cone_deg"], where));
-  if (l.contains("outer_cone_deg")) out.outer_cone = glm::radians(J.number(l["outer_cone_deg"], where));
+  // KHR_lights_punctual's range of cone angles: 0 <= inner, outer <= 90 degrees.
+  for (const auto& [key, angle] : {std::pair{"inner_cone_deg", &out.inner_cone}, std::pair{"outer_cone_deg", &out.outer_cone}})
+    if (l.contains(key)) {
+      const float degrees = J.number(l[key], where + "." + key);
+      if (!(degrees >= 0.0f && degrees <= 90.0f)) J.fail(where + "." + key + " must be in [0, 90] degrees");
+      *angle = glm::radians(degrees);
+    }
   if (const std::string problem = light_problem(out); !problem.empty()) J.fail(where + ": " + problem);
   return out;
 }
@@ -452,7 +457,10 @@ std::vector<std::string> scene_files(const std::filesystem::path& path, const Lo
       return files;  // loading the rig says what is wrong with it
     }
   }
-  for (const fs::path& f : gltf::external_files(gltf)) files.push_back(f.string());
+  try {
+    for (const fs::path& f : gltf::external_files(gltf)) files.push_back(f.string());
+  } catch (const std::exception&) {  // an allocation: loading says what is wrong
+  }
   return files;
 }
 

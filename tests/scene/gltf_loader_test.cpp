@@ -68,6 +68,37 @@ TEST(GltfLoader, MatrixNodeAndHierarchyCompose) {
   expect_vec(s.positions[1], {13, 0, 15});
 }
 
+// glTF 3.5.3: nodes form disjoint strict trees. A chain deeper than any recursion would
+// take loads, in the order of the hierarchy; a node with two parents (17 kB of such nodes
+// instanced millions of triangles) or a root that is also a child is an error naming it.
+TEST(GltfLoader, NodesFormDisjointTreesOfAnyDepth) {
+  auto dir = test::temp_dir("trees");
+  {
+    GltfBuilder b;
+    const int m = b.mesh("tri", kTriPos, kTriNrm);
+    int below = b.node({{"mesh", m}, {"translation", {0, 0, 1}}}, false);
+    for (int level = 0; level < 5000; ++level) below = b.node({{"children", {below}}, {"translation", {0, 0, 1}}}, false);
+    b.doc["scenes"][0]["nodes"] = {below};
+    b.node({{"mesh", m}, {"translation", {7, 0, 0}}});  // a second root, after the chain
+    const Scene s = load_scene(b.write(dir, "chain"), kQuiet);
+    ASSERT_EQ(s.triangle_count(), 2u);
+    expect_vec(s.positions[0], {0, 0, 5001});  // the chain first (the scene's first root), each level +1 in z
+    expect_vec(s.positions[3], {7, 0, 0});
+  }
+  auto refused = [&](auto edit, const std::string& needle) {
+    GltfBuilder b;
+    const int m = b.mesh("tri", kTriPos, kTriNrm);
+    const int leaf = b.node({{"mesh", m}, {"name", "shared"}}, false);
+    b.node({{"children", {leaf}}});
+    edit(b, leaf);
+    const auto path = b.write(dir, "shared");
+    expect_error([&] { load_scene(path, kQuiet); }, needle);
+  };
+  refused([](GltfBuilder& b, int leaf) { b.node({{"children", {leaf}}}); }, "node 0 'shared' is reached twice");
+  refused([](GltfBuilder& b, int leaf) { b.doc["nodes"][1]["children"] = {leaf, leaf}; }, "reached twice");
+  refused([](GltfBuilder& b, int leaf) { b.doc["scenes"][0]["nodes"].push_back(leaf); }, "reached twice");
+}
+
 TEST(GltfLoader, NormalsUseInverseTranspose) {
   GltfBuilder b;
   const float k = 1.0f / std::sqrt(3.0f);
@@ -320,6 +351,20 @@ TEST(GltfLoader, OutOfRangeReferencesAreErrors) {
   broken([](auto& d) { d["nodes"][0]["mesh"] = 7; }, "model.gltf");
   broken([](auto& d) { d["scenes"][0]["nodes"] = {5}; }, "model.gltf");
   broken([](auto& d) { d["nodes"][0]["children"] = {0}; }, "cyclic");
+  // tinygltf hands an image's bufferView to the image callback unchecked: 100 MB past a
+  // buffer of a few bytes was read (a crash, or garbage as a texture).
+  broken(
+      [](auto& d) {
+        d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", 100000000}});
+        d["images"] = {{{"bufferView", d["bufferViews"].size() - 1}, {"mimeType", "image/png"}}};
+      },
+      "exceeds its buffer");
+  broken(
+      [](auto& d) {
+        d["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 4000000000u}, {"byteLength", 4}});
+        d["images"] = {{{"bufferView", d["bufferViews"].size() - 1}, {"mimeType", "image/png"}}};
+      },
+      "exceeds its buffer");
 }
 
 TEST(GltfLoader, OutOfRangeIndexIsAnError) {

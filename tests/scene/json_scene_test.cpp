@@ -137,6 +137,12 @@ TEST(JsonScene, ImpossibleLightsAreErrorsAndDirectionsKeepTheirWay) {
   EXPECT_NE(error(R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "outer_cone_deg": 0})")
                 .find("spot cone closed"),
             std::string::npos);
+  EXPECT_NE(error(R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "outer_cone_deg": 200})")
+                .find("lights[0].outer_cone_deg must be in [0, 90] degrees"),
+            std::string::npos);
+  EXPECT_NE(error(R"({"type": "spot", "position": [0, 1, 0], "direction": [0, -1, 0], "inner_cone_deg": "10"})")
+                .find("lights[0].inner_cone_deg"),
+            std::string::npos);
   EXPECT_NE(error(R"({"type": "directional", "direction": [0, 0, 0]})").find("direction must be non-zero"),
             std::string::npos);
   EXPECT_NE(error(R"({"position": [0, 1, 0], "intensity": 3e38})").find("within +-1e30"), std::string::npos);

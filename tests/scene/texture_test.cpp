@@ -115,6 +115,38 @@ TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
   }
 }
 
+// glTF 3.7.2.1: without NORMAL, the file's TANGENT MUST be ignored (flat normals, so
+// tangents from the UV gradients). Here u runs along +x and the file's tangent says +y.
+TEST(Texture, TangentsOfAMeshWithoutNormalsAreIgnored) {
+  auto dir = test::temp_dir("no_normals");
+  const unsigned char pixels[] = {128, 128, 255};
+  auto out = OIIO::ImageOutput::create((dir / "n.png").string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open((dir / "n.png").string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  out->close();
+  for (const bool with_normals : {false, true}) {
+    SCOPED_TRACE(with_normals);
+    test::GltfBuilder b;
+    b.doc["images"] = {{{"uri", "n.png"}}};
+    b.doc["textures"] = {{{"source", 0}}};
+    b.doc["materials"] = {{{"name", "bumpy"}, {"normalTexture", {{"index", 0}}}}};
+    const int mesh = b.mesh("tri", test::kTriPos, with_normals ? test::kTriNrm : std::vector<float>{}, {}, 4, 0,
+                            {0, 0, 1, 0, 0, 1});
+    const std::vector<float> file_tangents = {0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1};
+    const int view = b.view(file_tangents.data(), file_tangents.size() * sizeof(float));
+    b.doc["accessors"].push_back({{"bufferView", view}, {"componentType", 5126}, {"count", 3}, {"type", "VEC4"}});
+    b.doc["meshes"][size_t(mesh)]["primitives"][0]["attributes"]["TANGENT"] = b.doc["accessors"].size() - 1;
+    b.node({{"mesh", mesh}});
+    const Scene s = load_scene(b.write(dir), LoadOptions{{}, true});
+    ASSERT_EQ(s.tangents.size(), 3u);
+    for (const glm::vec4& t : s.tangents) {
+      EXPECT_NEAR(t.x, with_normals ? 0.0f : 1.0f, 1e-6f);
+      EXPECT_NEAR(t.y, with_normals ? 1.0f : 0.0f, 1e-6f);
+    }
+  }
+}
+
 // A width x 1 grey + alpha PNG, stored as given (unassociated alpha, no un-premultiply).
 void write_grey_alpha_png(const std::filesystem::path& path, int width, OIIO::TypeDesc type, const void* pixels) {
   auto out = OIIO::ImageOutput::create(path.string());
@@ -229,6 +261,49 @@ TEST(Texture, EightBitAlphaAndOpaqueImagesDecodeExactly) {
   EXPECT_EQ(t.texel(0), glm::vec4(0, 0, 0, 1));  // alpha byte 255 is exactly 1
   EXPECT_EQ(t.texel(1), glm::vec4(g200, g200, g200, 0));
   EXPECT_EQ(t.texel(2), glm::vec4(1, 1, 1, 128 * (1.0f / 255.0f)));
+}
+
+// Production textures of 8192^2 and more load (they were refused as "an unsupported
+// layout" above 2^25 texels); a header that claims more than the limit for its depth is
+// refused from the header, before the decoder allocates what it claims.
+TEST(Texture, LargeTexturesLoadAndHeadersBeyondTheLimitAreRefusedBeforeDecoding) {
+  auto dir = test::temp_dir("large");
+  const int w = 8192, h = 4200;  // above the old limit
+  {
+    std::vector<unsigned char> grey(size_t(w) * h, 90);
+    auto out = OIIO::ImageOutput::create((dir / "big.png").string());
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open((dir / "big.png").string(), OIIO::ImageSpec(w, h, 1, OIIO::TypeDesc::UINT8)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey.data()));
+    out->close();
+  }
+  {
+    const Scene s = load_emissive_textured(dir, "big.png");
+    ASSERT_EQ(s.textures.size(), 1u);
+    EXPECT_EQ(s.textures[0].width, w);
+    EXPECT_EQ(s.textures[0].height, h);
+  }
+  // The same file claiming 60000 x 60000 (8-bit) or 9000 x 8000 (16-bit) in its IHDR.
+  std::string png = test::read_text(dir / "big.png");
+  auto claim = [&](uint32_t width, uint32_t height, unsigned char bits) {
+    std::string b = png;
+    for (int k = 0; k < 4; ++k) {
+      b[size_t(16 + k)] = char(width >> (24 - 8 * k));
+      b[size_t(20 + k)] = char(height >> (24 - 8 * k));
+    }
+    b[24] = char(bits);
+    test::write_text(dir / "claim.png", b);
+    try {
+      load_emissive_textured(dir, "claim.png");
+      return std::string("no error");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+  };
+  EXPECT_NE(claim(60000, 60000, 8).find("is 60000x60000 at 8 bits, above the limit of 268435456 texels"),
+            std::string::npos);
+  EXPECT_NE(claim(9000, 8000, 16).find("is 9000x8000 at 16 bits, above the limit of 67108864 texels"),
+            std::string::npos);
 }
 
 // A texture the file names but the loader cannot use (its image missing, or the texture
