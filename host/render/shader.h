@@ -180,5 +180,8 @@ class Shader {
 // Exact unpolarised Fresnel reflectance of a dielectric interface for cos_i >= 0 and
 // relative index eta = n_incident / n_transmitted; 1 on total internal reflection.
 float fresnel_dielectric(float cos_i, float eta);
+// cos of the refracted angle by Snell's law (eta = n_incident / n_transmitted), or -1 for
+// total internal reflection, which eta <= 1 never gives.
+float cos_transmitted(float cos_i, float eta);
 
 }  // namespace zz

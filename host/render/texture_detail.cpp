@@ -175,7 +175,7 @@ glm::vec3 direct_light(int lights, glm::vec3 albedo, glm::vec3 specular, float s
 // False where there is none.
 bool facing_frame(const Scene& scene, size_t t3, float u, float v, float side, glm::vec3 frame[3]) {
   const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-  const glm::vec3 ng = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  const glm::vec3 ng = triangle_normal(p0, p1, p2);
   if (!normal_map_frame(scene, t3, u, v, interpolated_normal(scene, t3, u, v, ng), frame)) return false;
   for (int axis = 0; axis < 3; ++axis) frame[axis] *= side;
   return true;

@@ -27,6 +27,21 @@ struct Light {
 // ~1e-19 underflowed (a light node scaled by 1e20 or 1e-23 lost its direction).
 std::optional<glm::vec3> unit_direction(glm::vec3 v);
 
+// The unit normal of triangle (p0, p1, p2) by its winding: glm::normalize's bits where
+// |cross|^2 is a normal float, else unit_direction's (edges past ~1e9 overflowed |cross|^2
+// to a zero normal, and under the workers' flush-to-zero, edges below ~1e-10 gave NaN).
+inline glm::vec3 triangle_normal(const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2) {
+  const glm::vec3 c = glm::cross(p1 - p0, p2 - p0);
+  const float length2 = glm::dot(c, c);
+  if (length2 >= 1.17549435e-38f && length2 <= 3.40282347e38f) return glm::normalize(c);
+  return unit_direction(c).value_or(glm::vec3(0.0f, 0.0f, 1.0f));
+}
+
+// A point or spot light's shadow segment ends this fraction of its length short of the
+// light, so a surface the light lies on (a lamp set on the ceiling) does not shadow
+// it: t = 1 is the light, and a hit there is rounding (pbrt's ShadowEpsilon).
+inline constexpr float kShadowEpsilon = 1e-4f;
+
 // Why `light` is not one KHR_lights_punctual allows (a negative colour, intensity or range,
 // a closed spot cone), or empty. The loaders refuse such a light: it would light nothing,
 // or darken. A spot's inner cone at or past its outer one is left alone: exporters write

@@ -174,19 +174,43 @@ TEST_F(PacketTest, ActiveMaskAndBadLanes) {
 }
 
 TEST_F(PacketTest, OcclusionStopsAtTmax) {
-  // Shadow-style rays: towards a point light, tmax just short of it.
+  // Shadow packets as the shader makes them: four points close together towards one point
+  // light, so the packet kernel runs (random origins all over the scene were mostly traced
+  // lane by lane). Each lane's segment is cut just before and at its own first hit: the
+  // packet must see the blocker at tmax = t_hit and not below it.
   std::mt19937 rng(8);
-  glm::vec3 light(0.0f, 2.5f, 0.0f);
-  int blocked = 0, total = 0;
+  const glm::vec3 light(0.0f, 2.5f, 0.0f);
+  int blocked = 0, total = 0, packets = 0, cut = 0;
   for (int i = 0; i < 2000; ++i) {
+    const glm::vec3 centre = 1.2f * test::random_unit(rng);
     Ray r[4];
     for (auto& ray : r) {
-      glm::vec3 o = 1.2f * test::random_unit(rng);
+      const glm::vec3 o = centre + 0.05f * test::random_unit(rng);
       ray = Ray{o, light - o, 0.999f};
     }
+    packets += takes_packet_path(r);
     check_packet(bvh_, r, mask4(true));
     for (auto& ray : r) blocked += bvh_.occluded1(ray), ++total;
+    Ray before[4], at[4];
+    bool any = false;
+    for (int k = 0; k < 4; ++k) {
+      const Hit h = bvh_.intersect1(Ray{r[k].origin, r[k].dir, kInfinity});
+      before[k] = at[k] = Ray{r[k].origin, r[k].dir, 0.0f};
+      if (!h.hit()) continue;
+      before[k].tmax = h.t * (1.0f - 1e-4f);
+      at[k].tmax = h.t;
+      any = true;
+    }
+    if (!any) continue;
+    ++cut;
+    const mask4 none = bvh_.occluded4(pack(before), mask4(true)), all = bvh_.occluded4(pack(at), mask4(true));
+    for (int k = 0; k < 4; ++k) {
+      EXPECT_FALSE(none[k]) << "packet " << i << " lane " << k << ": blocked before its first hit";
+      EXPECT_EQ(all[k], at[k].tmax > 0.0f) << "packet " << i << " lane " << k << ": not blocked at its first hit";
+    }
   }
+  EXPECT_GT(packets, 1500);
+  EXPECT_GT(cut, 500);
   EXPECT_GT(blocked, total / 10);
   EXPECT_LT(blocked, total);
 }

@@ -55,6 +55,23 @@ TEST(Shader, OccluderCastsAHardShadow) {
   EXPECT_EQ(counters.shadow, 4u);
 }
 
+// A light set on a surface (a lamp on the ceiling) lights the room: the surface meets its
+// shadow segments at t = 1 up to rounding, which shadowed most of the floor.
+TEST(Shader, ALightOnASurfaceIsNotShadowedByIt) {
+  for (int k = 0; k < 16; ++k) {
+    SCOPED_TRACE(k);
+    Scene open = test::lit_floor(0.5f, 100.0f, 3.0f);
+    open.cameras[0] = Camera::look_at({0, 0, 2.5f}, {0, 0, 0}, {0, 1, 0}, 0.5f);
+    open.lights[0].position = {0.1234f + 0.0711f * float(k), 0.377f - 0.0529f * float(k), 3.0f};
+    Scene ceiling = open;
+    test::add_quad(ceiling, {-10, -10, 3}, {-10, 10, 3}, {10, 10, 3}, {10, -10, 3}, 0);  // facing down
+    ceiling.finalize_materials();
+    const glm::vec3 lit = centre_radiance(open), under = centre_radiance(ceiling);
+    ASSERT_GT(lit.r, 0.0f);
+    EXPECT_EQ(under.r, lit.r);
+  }
+}
+
 TEST(Shader, NoLightsMeansNoShadowRays) {
   Scene s = test::lit_floor(0.5f, 100.0f, 3.0f);
   s.lights.clear();
@@ -135,6 +152,20 @@ TEST(Fresnel, NormalIncidence) {
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-6f);
   EXPECT_EQ(fresnel_dielectric(1.0f, 1.0f), 0.0f);
+}
+
+// An interface of index ratio 1 is no interface, at any angle: below cos_i ~2.4e-4,
+// 1 - eta^2 (1 - cos^2_i) rounded to 0 and it reflected everything. Nor does light
+// entering a denser medium ever reflect totally.
+TEST(Fresnel, NoInterfaceAtRatioOneAndNoTotalReflectionIntoADenserMedium) {
+  for (const float c : {1e-7f, 1e-5f, 1e-4f, 2e-4f, 3e-4f, 1e-3f, 0.3f, 1.0f}) {
+    SCOPED_TRACE(c);
+    EXPECT_EQ(fresnel_dielectric(c, 1.0f), 0.0f);
+    EXPECT_EQ(cos_transmitted(c, 1.0f), c);
+    EXPECT_LT(fresnel_dielectric(c, 1.0f / 1.0001f), 1.0f);
+    EXPECT_GE(cos_transmitted(c, 1.0f / 1.5f), 0.0f);
+  }
+  EXPECT_EQ(cos_transmitted(0.1f, 1.5f), -1.0f);  // beyond glass -> air's critical angle
 }
 
 TEST(Fresnel, TotalInternalReflectionBeyondTheCriticalAngle) {

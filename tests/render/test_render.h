@@ -1,6 +1,8 @@
 // A whole-frame render of a scene built in code, for the render and robustness tests.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include "accel/bvh.h"
 #include "core/geo_map.h"
 #include "render/renderer.h"
@@ -16,6 +18,8 @@ inline Film render(const Scene& scene, const RenderSettings& settings, RenderSta
   Film film;
   RenderStats stats;
   render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
+  // The shader sets a NaN sample to black and counts it: the film alone cannot show one.
+  EXPECT_EQ(stats.rays.nan_radiance, 0u) << scene.name << ": the shader made NaN radiance";
   if (stats_out) *stats_out = stats;
   return film;
 }

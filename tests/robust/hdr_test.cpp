@@ -4,6 +4,7 @@
 // Tone mapping of NaN / +-Inf / negative radiance through the whole output pipeline.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -64,17 +65,34 @@ TEST(Hdr, LightsFrom1eMinus6To1e9AreLinearAndClean) {
     s.lights[0].intensity = glm::vec3(float(intensity));
     const Film f = robust::render(s, rs);
     expect_clean_outputs(f, ToneMap{}, "light_" + std::to_string(int(std::log10(intensity))));
-    // Radiance is linear in the light (same paths, one multiplication).
+    // Radiance is linear in the light (same paths, one multiplication). Refinement
+    // depends on displayed values, so it differs between exposures: the check holds where
+    // every pixel within the filter's reach (2) traced the same rays at the same level.
+    auto same_decisions = [&](int x, int y) {
+      for (int dy = -2; dy <= 2; ++dy)
+        for (int dx = -2; dx <= 2; ++dx) {
+          const int u = std::clamp(x + dx, 0, f.width - 1), v = std::clamp(y + dy, 0, f.height - 1);
+          const size_t j = size_t(v) * size_t(f.width) + size_t(u);
+          if (f.rays[j] != reference.rays[j] || f.level[j] != reference.level[j]) return false;
+        }
+      return true;
+    };
     double worst = 0.0;
-    for (size_t i = 0; i < f.radiance.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        const double expect = double(reference.radiance[i][k]) * intensity;
-        worst = std::max(worst, std::abs(double(f.radiance[i][k]) - expect) / std::max(expect, 1e-30 + 1e-3 * intensity));
+    int compared = 0;
+    for (int y = 0; y < f.height; ++y)
+      for (int x = 0; x < f.width; ++x) {
+        if (!same_decisions(x, y)) continue;
+        ++compared;
+        const size_t i = size_t(y) * size_t(f.width) + size_t(x);
+        for (int k = 0; k < 3; ++k) {
+          const double expect = double(reference.radiance[i][k]) * intensity;
+          worst = std::max(worst, std::abs(double(f.radiance[i][k]) - expect) / std::max(expect, 1e-30 + 1e-3 * intensity));
+        }
       }
-    std::printf("[ hdr ] light %-6g: worst relative deviation from linear %.3g\n", intensity, worst);
-    // Adaptive refinement depends on displayed values, so refined pixels differ: compare
-    // with --aa none for the strict check below; here bound the loose deviation.
-    EXPECT_TRUE(std::isfinite(worst));
+    std::printf("[ hdr ] light %-6g: %d of %d pixels decided alike, worst relative deviation from linear %.3g\n",
+                intensity, compared, f.width * f.height, worst);
+    EXPECT_GT(compared, f.width * f.height / 4);  // 46 % at 1e3 and brighter, where the display saturates
+    EXPECT_LT(worst, 1e-5);
   }
   // Strict linearity without adaptive decisions.
   const RenderSettings none = robust::settings(48, 32, AaMode::None);
