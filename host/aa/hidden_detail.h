@@ -36,6 +36,9 @@ inline constexpr uint32_t kAllLatticePoints = (1u << 25) - 1;
 struct MissedDetail {
   float4 radiance{0.0f};
   uint32_t points = 0;
+  // Of `radiance`, what may as well make the pixel darker (texture detail: |box - corners|;
+  // a highlight only adds). T is concave, so the same amount moves the display more down.
+  float4 darker{0.0f};
 };
 
 // A pixel's hidden-detail flag: 0, or kHiddenFlag with the lattice points at which the
@@ -95,8 +98,10 @@ HiddenFlag hidden_detail_shows(const S& source, const typename S::Probe* tl, ptr
   const MissedDetail missed = source.hidden_radiance(tl, stride, corner_mean, visible);
   const float4 hidden = missed.radiance;
   if (!(hidden > float4(0.0f)).any()) return 0;
-  const float4 moved = tonemap.apply4(corner_mean + hidden) - tonemap.apply4(corner_mean);
-  return ((moved > eps).bits() & 0x7) != 0 ? kHiddenFlag | (missed.points & kAllLatticePoints) : 0;
+  const float4 shown = tonemap.apply4(corner_mean);
+  const float4 up = tonemap.apply4(corner_mean + hidden) - shown;
+  const float4 down = shown - tonemap.apply4(max(corner_mean - missed.darker, float4(0.0f)));
+  return (((up > eps) | (down > eps)).bits() & 0x7) != 0 ? kHiddenFlag | (missed.points & kAllLatticePoints) : 0;
 }
 
 }  // namespace zz

@@ -125,16 +125,19 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   add_choice(cmd, "--aa", o.aa, kAaModes, "Antialiasing");
   add_adaptive_options(cmd, o.adaptive);
   size_t before = cmd->get_options().size();
-  cmd->add_option("--spp", o.spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->check(CLI::Range(1, 4096));
+  cmd->add_option("--spp", o.spp, "Samples per pixel for --aa uniform (4, 9, 16, 25, ...)")->capture_default_str()->check(CLI::Range(1, 4096));
   add_choice(cmd, "--pattern", o.pattern, kUniformPatterns, "Uniform pattern");
   group_options_since(cmd, before, kUniformGroup);
   add_choice(cmd, "--edges", o.edges, kEdgeModes, "Visibility map of geometric edges");
   before = cmd->get_options().size();
   cmd->add_option("--edge-ss", o.edge_ss, "Visibility map supersampling per axis (4 normal, 6 high quality)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 16));
   cmd->add_option("--edge-angle", o.edge_angle, "Visibility map: normal angle threshold, degrees")
+      ->capture_default_str()
       ->check(number_in(0.0, 180.0));
   cmd->add_option("--edge-depth", o.edge_depth, "Visibility map: relative distance threshold")
+      ->capture_default_str()
       ->check(number_in(1e-6, 100.0));
   add_choice(cmd, "--edge-material", o.edge_material, kOnOff,
              "Visibility map: samples on different materials are an edge too (material boundaries on flat "

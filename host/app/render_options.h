@@ -63,17 +63,17 @@ struct AdaptiveOptions {
   bool textures = false;
   // Unrefined pixels take the texture's mean over the pixel, relit at each sample's
   // normal-mapped normal (render/texture_detail.h): no rays, on because it removes error
-  // (car 1024^2, FLIP: 2.07x -> 1.48x the lattice's) for time only (+0.6 s of car's 1.8 s).
+  // (car's FLIP most of all) for shading time only; measured in README's option table.
   bool footprint = true;
   // Unrefined pixels corrected for the shading's curvature (aa/adaptive_pixel.h).
   bool curvature = true;
   // Zones interpolated across more radiance than the display shows are traced
-  // (aa/adaptive_pixel.h; room 1024²: 1.13x -> 1.06x the lattice's display error at the
-  // same rays/px).
+  // (aa/adaptive_pixel.h; room's display error most of all, for +0.001 rays/px; measured
+  // in README's option table).
   bool hdr_zones = true;
   // Geo pixels whose corners leave the orientation open are oriented by the map's edge
-  // direction (aa/adaptive_pixel.h; 1024² display error x the lattice's: glass 1.170 ->
-  // 1.166, lamp 1.027 -> 1.018, vase 1.516 -> 1.507 at the same rays/px).
+  // direction (aa/adaptive_pixel.h; glass, lamp and vase gain at the same rays/px;
+  // measured in README's option table).
   bool geo_orient = true;
   // Geo pixels trace the zones the map saw their edge meet, and only those where no
   // level-2 mask fired (aa/adaptive_pixel.h decide_zones).

@@ -89,7 +89,10 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
     });
   };
   auto cancelled = [&] { return callbacks.cancel && callbacks.cancel->load(std::memory_order_relaxed); };
-  const HiddenDetail detail = settings.aa == AaMode::Adaptive ? HiddenDetail(shader.scene(), adaptive) : HiddenDetail();
+  // Made inside the arena: its tables of normal-map spread are built in parallel, and
+  // --threads holds for them too (a farm worker's share of the cores).
+  HiddenDetail detail;
+  if (settings.aa == AaMode::Adaptive) arena.execute([&] { detail = HiddenDetail(shader.scene(), adaptive); });
 
   // Level 1 of the whole region first: it needs no map, so a pending map is made alongside.
   // Corners are pure functions of their positions, so the image is that of the per-tile path.

@@ -178,7 +178,7 @@ class SceneSource {
   MissedDetail hidden_radiance(const Probe* tl, ptrdiff_t stride, float4 mean, float4 visible) const {
     if (!detail_) return {};
     const glm::vec3 shown(visible[0], visible[1], visible[2]);
-    glm::vec3 h(0.0f);
+    glm::vec3 h(0.0f), darker(0.0f);
     uint32_t points = 0;
     if (detail_->highlights)
       // Only the nodes with a highlight at all four corners: most have none at some corner.
@@ -196,8 +196,9 @@ class SceneSource {
           hidden_texture_detail(shader_.scene(), detail_->pyramids, corners, glm::vec3(mean[0], mean[1], mean[2]));
       if (t.r > 0.0f || t.g > 0.0f || t.b > 0.0f) points = kAllLatticePoints;  // anywhere between the corners
       h += t;
+      darker = t;
     }
-    return {float4(h.r, h.g, h.b, 0.0f), points};
+    return {float4(h.r, h.g, h.b, 0.0f), points, float4(darker.r, darker.g, darker.b, 0.0f)};
   }
 
   // Whether all four corners' primary hits show mostly a reflected or refracted image, or

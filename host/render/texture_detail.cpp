@@ -20,6 +20,7 @@ TexturePyramid::TexturePyramid(const Texture& base) {
   if (base.width <= 0 || base.height <= 0 || base.texel_count() < size_t(base.width) * size_t(base.height)) return;
   levels.emplace_back();  // level 0 is `base`
   int w = base.width, h = base.height;
+  std::vector<float> parent_count;  // base texels under each texel of the level above (none: 1 each)
   while (w > 1 || h > 1) {
     const int nw = std::max(1, w / 2), nh = std::max(1, h / 2);
     const Texture* parent = levels.size() == 1 ? &base : &levels.back();
@@ -29,16 +30,21 @@ TexturePyramid::TexturePyramid(const Texture& base) {
     level.wrap_s = base.wrap_s;
     level.wrap_t = base.wrap_t;
     level.filter = TextureFilter::Linear;
-    level.texels.resize(size_t(nw) * size_t(nh));
-    for (int y = 0; y < nh; ++y)
-      for (int x = 0; x < nw; ++x) {
-        // The 2x2 block under the texel (an odd last row or column joins its neighbour).
-        const int x0 = std::min(2 * x, w - 1), x1 = std::min(2 * x + 1, w - 1);
-        const int y0 = std::min(2 * y, h - 1), y1 = std::min(2 * y + 1, h - 1);
-        level.texels[size_t(y) * nw + x] =
-            0.25f * (parent->texel(size_t(y0) * w + x0) + parent->texel(size_t(y0) * w + x1) +
-                     parent->texel(size_t(y1) * w + x0) + parent->texel(size_t(y1) * w + x1));
+    // The mean of the base texels under each texel: the 2x2 block of the level above, an
+    // odd last row or column joining the block beside it (2x3, 3x2 or 3x3), each weighed
+    // by the base texels it holds, so every texel counts once at every level.
+    level.texels.assign(size_t(nw) * size_t(nh), glm::vec4(0.0f));
+    std::vector<float> count(size_t(nw) * size_t(nh), 0.0f);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const size_t from = size_t(y) * size_t(w) + size_t(x);
+        const size_t i = size_t(std::min(y / 2, nh - 1)) * size_t(nw) + size_t(std::min(x / 2, nw - 1));
+        const float n = parent_count.empty() ? 1.0f : parent_count[from];
+        level.texels[i] += n * parent->texel(from);
+        count[i] += n;
       }
+    for (size_t i = 0; i < level.texels.size(); ++i) level.texels[i] /= count[i];
+    parent_count = std::move(count);
     levels.push_back(std::move(level));
     w = nw;
     h = nh;

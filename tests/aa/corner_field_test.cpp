@@ -52,6 +52,34 @@ struct StencilSource : PositionProbes<StencilSource> {
 };
 static_assert(HiddenDetailSource<StencilSource>);
 
+// Texture detail the corners miss may make the pixel darker as well as brighter, and the
+// tone map's concavity moves the display more for the same radiance down: detail 0.01
+// below a mean of 0.02 moves it past eps where 0.01 above does not, so it flags.
+struct TextureDetailSource : PositionProbes<TextureDetailSource> {
+  bool two_sided = false;
+  Rgb4 colour(float4, float4) const { return {float4(0.02f), float4(0.02f), float4(0.02f)}; }
+  bool specular_corners(const Probe*, ptrdiff_t) const { return false; }
+  MissedDetail hidden_radiance(const Probe*, ptrdiff_t, float4, float4) const {
+    const float4 h(0.01f, 0.01f, 0.01f, 0.0f);
+    return {h, kAllLatticePoints, two_sided ? h : float4(0.0f)};
+  }
+};
+static_assert(HiddenDetailSource<TextureDetailSource>);
+
+TEST(HiddenDetail, DetailThatMayDarkenIsJudgedDownwardToo) {
+  const ToneMap tonemap;
+  const float4 mean(0.02f, 0.02f, 0.02f, 0.0f), eps(0.05f);
+  const float up = (tonemap.apply4(mean + float4(0.01f)) - tonemap.apply4(mean))[0];
+  const float down = (tonemap.apply4(mean) - tonemap.apply4(mean - float4(0.01f)))[0];
+  ASSERT_LT(up, 0.05f);  // the case: only the downward move shows
+  ASSERT_GT(down, 0.05f);
+  TextureDetailSource source;
+  TextureDetailSource::Probe probes[16];
+  EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), 0u);  // a highlight's, only upward
+  source.two_sided = true;
+  EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), kHiddenFlag | kAllLatticePoints);
+}
+
 bool same(const Film& a, const Film& b) {
   return a.radiance.size() == b.radiance.size() &&
          std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0 &&

@@ -39,10 +39,7 @@ Scene box_scene() {
 
 using test::render;
 
-bool bit_identical(const Film& a, const Film& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0;
-}
+using test::bit_identical;
 
 TEST(Renderer, OneRayPerPixelCountsExactly) {
   RenderSettings s;

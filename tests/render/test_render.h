@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "accel/bvh.h"
 #include "core/geo_map.h"
 #include "render/renderer.h"
@@ -22,6 +24,14 @@ inline Film render(const Scene& scene, const RenderSettings& settings, RenderSta
   EXPECT_EQ(stats.rays.nan_radiance, 0u) << scene.name << ": the shader made NaN radiance";
   if (stats_out) *stats_out = stats;
   return film;
+}
+
+// The same image to the bit, and the same rays and levels per pixel: what determinism
+// across threads, tiles and orders promises.
+inline bool bit_identical(const Film& a, const Film& b) {
+  return a.width == b.width && a.height == b.height && a.radiance.size() == b.radiance.size() &&
+         std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0 &&
+         a.rays == b.rays && a.level == b.level;
 }
 
 }  // namespace zz::test

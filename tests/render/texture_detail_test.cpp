@@ -33,11 +33,19 @@ TEST(TextureDetail, PyramidLevelsAreBoxMeans) {
   // The whole texture: its mean; a box inside one texel: that texel.
   EXPECT_NEAR(p.box_mean(checker, {0.0f, 0.0f}, {1.0f, 1.0f}).r, 0.5f, 1e-6f);
   EXPECT_NEAR(p.box_mean(checker, {0.5f / 8, 1.5f / 8}, {0.5f / 8, 1.5f / 8}).r, 1.0f, 1e-6f);  // texel (0, 1)
-  // An odd size keeps its last row and column.
+  // An odd size keeps its last row and column: they join the block beside them, so every
+  // level's mean is the texture's (texel 4 of 5 was in no level, and the 1x1 level of
+  // a width of 3 was the mean of texels 0 and 1).
   const Texture odd = grey_texture(5, 3, [](int x, int) { return float(x); });
   const TexturePyramid q(odd);
-  EXPECT_EQ(q.levels.back().width, 1);
-  EXPECT_EQ(q.levels.back().height, 1);
+  ASSERT_EQ(q.levels.size(), 3u);  // 5x3 (the texture), 2x1, 1x1
+  EXPECT_EQ(q.levels[1].width, 2);
+  EXPECT_EQ(q.levels[1].height, 1);
+  EXPECT_FLOAT_EQ(q.levels[1].texels[0].r, 0.5f);  // columns 0, 1
+  EXPECT_FLOAT_EQ(q.levels[1].texels[1].r, 3.0f);  // columns 2, 3, 4
+  EXPECT_FLOAT_EQ(q.levels.back().texels[0].r, 2.0f);  // the mean of 0..4
+  const Texture three = grey_texture(3, 3, [](int x, int y) { return float(x + 3 * y); });
+  EXPECT_FLOAT_EQ(TexturePyramid(three).levels.back().texels[0].r, 4.0f);
 }
 
 // One emissive material whose texture is black but for a white column one texel wide

@@ -38,10 +38,7 @@ inline size_t bad_values(const Film& film) {
   return bad;
 }
 
-inline bool bit_identical(const Film& a, const Film& b) {
-  return a.width == b.width && a.height == b.height &&
-         std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0;
-}
+using test::bit_identical;
 
 // A point mapped by p' = scale * p + offset, computed in double and rounded once.
 struct Placement {
