@@ -114,12 +114,10 @@ GeoMap analytic_geo_map(const AnalyticImage& image, int ss) {
   geo.flags.assign(size_t(n) * n, 0);
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
-      const uint32_t first = ids[size_t(y * ss) * gn + x * ss];
-      bool differ = false;
-      for (int b = y * ss; b < y * ss + ss + 2; ++b)
-        for (int a = x * ss; a < x * ss + ss + 2; ++a) differ |= ids[size_t(b) * gn + a] != first;
-      // Which way the edge runs and which zones it meets, as the compute pass says it (pixel
-      // sample i of row j is stored at (y * ss + 1 + j) * gn + x * ss + 1 + i).
+      // The compute pass's rule (shaders/geo_flags.comp): a pixel is geo where two
+      // neighbouring samples differ, one of them inside it; the ring's corners and pairs
+      // of ring samples are never compared. Which way the edge runs and which zones it
+      // meets come with it (pixel sample i of row j is at (y * ss + 1 + j) * gn + x * ss + 1 + i).
       GeoPairs pairs{ss};
       auto at = [&](int i, int j) { return ids[size_t(y * ss + 1 + j) * gn + size_t(x * ss + 1 + i)]; };
       for (int j = 0; j < ss; ++j)
@@ -128,7 +126,7 @@ GeoMap analytic_geo_map(const AnalyticImage& image, int ss) {
       for (int j = -1; j < ss; ++j)
         for (int i = 0; i < ss; ++i)
           if (at(i, j) != at(i, j + 1)) pairs.vertical(i, j);
-      geo.flags[size_t(y) * n + x] = differ ? uint8_t(pairs.byte() | kGeoEdge) : 0;
+      geo.flags[size_t(y) * n + x] = pairs.byte();
     }
   return geo;
 }
