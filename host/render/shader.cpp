@@ -379,7 +379,7 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 
 template <unsigned kEffects>
 Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                         RayCounters& counters, PathSignature4* signature) const {
+                         const Media& media, RayCounters& counters, PathSignature4* signature) const {
   constexpr bool kTextured = (kEffects & kTextures) != 0;
   constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
@@ -398,6 +398,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   alignas(16) float out[3][4] = {};
   SurfacePoint sp[4];
   bool shaded[4] = {false, false, false, false};
+  int hit_material[4] = {-1, -1, -1, -1};
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1)) continue;
     const int prim = hits.prim[i];
@@ -412,6 +413,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     SurfacePoint& s = sp[i];
     glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
+    hit_material[i] = int(mat_index);
     if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
     glm::vec2 uv0(0.0f), uv1(0.0f);  // the hit's texture coordinates, for the probe
@@ -566,6 +568,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   if constexpr ((kEffects & (kReflection | kRefraction)) != 0) {
     if (depth < scene_.max_depth) {  // depth = bounces taken so far
       PacketBuilder reflected, refracted;
+      Media refracted_media = media;  // reflected rays stay in the media of their parent
       glm::vec3 reflect_weight[4], refract_weight[4];
       alignas(16) float path[4], reflect_path[4] = {}, refract_path[4] = {};
       throughput.store(path);
@@ -581,8 +584,26 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         float eta = 1.0f;
         if constexpr ((kEffects & kRefraction) != 0) {
           if (m.transmits()) {
-            // n_incident / n_transmitted; a thin wall has air on both sides of its sheet.
-            eta = s.front || m.thin_walled ? 1.0f / m.ior : m.ior;
+            // n_incident / n_transmitted; a thin wall has air on both sides of its sheet. A
+            // ray enters this volume from the one it is in, or leaves it for the one around.
+            const int here = media.inside[i], self = hit_material[i];
+            if (m.thin_walled) {
+              eta = 1.0f / m.ior;
+            } else if (s.front) {
+              // Entering `self` from the medium the ray is in; a front face of the volume it
+              // is already inside (an open mesh, panes of one glass) counts as from air.
+              const int from = here == self ? -1 : here;
+              eta = (from >= 0 ? scene_.whitted[size_t(from)].ior : 1.0f) / m.ior;
+              refracted_media.inside[i] = self;
+              refracted_media.outside[i] = from;
+            } else {
+              // Leaving `self`; a ray not known to be inside it (it started there, or the mesh
+              // is open) stays in the medium it is in.
+              const int next = here == self ? media.outside[i] : here;
+              eta = m.ior / (next >= 0 ? scene_.whitted[size_t(next)].ior : 1.0f);
+              refracted_media.inside[i] = next;
+              refracted_media.outside[i] = here == self ? -1 : media.outside[i];
+            }
             const float f = fresnel_dielectric(cos_i, eta);
             kr = glm::vec3(f);
             refract_weight[i] = (1.0f - f) * m.transmission;
@@ -633,7 +654,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         if (probe_reflected) seen_reflected->probes = signature->probes;
         if (footprint_reflected) seen_reflected->footprint = signature->footprint;
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                        float4::load(reflect_path), counters, seen_reflected ? &*seen_reflected : nullptr);
+                                             float4::load(reflect_path), media, counters,
+                                             seen_reflected ? &*seen_reflected : nullptr);
         if (seen_reflected) {
           const PathSignature4& seen = *seen_reflected;
           for (int i = 0; i < 4; ++i)
@@ -664,7 +686,8 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (probe_refracted) seen_refracted->probes = signature->probes;
           if (footprint_refracted) seen_refracted->footprint = signature->footprint;
           const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                        float4::load(refract_path), counters, seen_refracted ? &*seen_refracted : nullptr);
+                                               float4::load(refract_path), refracted_media, counters,
+                                               seen_refracted ? &*seen_refracted : nullptr);
           if (seen_refracted) {
             const PathSignature4& seen = *seen_refracted;
             for (int i = 0; i < 4; ++i)
@@ -688,12 +711,17 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     }
   }
 
-  // Beer-Lambert: a ray that hits a surface from inside crossed the volume behind it.
+  // Beer-Lambert over the segment to this hit, by the medium it crossed: the volume the
+  // ray is in, whatever it hits there (an object inside a tinted glass too); for a ray not
+  // known to be inside one that hits a surface from inside, the volume behind that surface.
   if constexpr ((kEffects & kRefraction) != 0) {
     if (effects_.absorption) {
       for (int i = 0; i < 4; ++i) {
-        if (!shaded[i] || sp[i].front) continue;
-        const glm::vec3 sigma = sp[i].material->absorption;
+        if (!shaded[i]) continue;
+        const int medium = media.inside[i];
+        if (medium < 0 && sp[i].front) continue;
+        const glm::vec3 sigma = medium >= 0 ? scene_.whitted[size_t(medium)].absorption : sp[i].material->absorption;
+        if (!(sigma.r > 0.0f || sigma.g > 0.0f || sigma.b > 0.0f)) continue;
         glm::vec3 kept;
         for (int c = 0; c < 3; ++c) {
           kept[c] = std::exp(-sigma[c] * sp[i].distance);
@@ -738,10 +766,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
       if (probed_lanes != 0)
         c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
-                                  counters, &*seen_behind);
+                                  media, counters, &*seen_behind);
       if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
         const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1, throughput,
-                                             counters, nullptr);
+                                             media, counters, nullptr);
         c = select(mask4::from_bits(unprobed), u, c);
       }
       for (int i = 0; i < 4; ++i) {

@@ -131,7 +131,7 @@ class Shader {
   // bookkeeping only, the same rays are traced either way.
   Rgb4 trace4(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters,
               PathSignature4* signature = nullptr) const {
-    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), counters, signature);
+    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), Media{}, counters, signature);
   }
 
   // Throughput cutoff: a reflected or refracted ray is spawned only while the path's
@@ -156,12 +156,22 @@ class Shader {
   enum : unsigned { kShadows = 1, kReflection = 2, kRefraction = 4, kTextures = 8, kAlpha = 16, kAllEffects = 31 };
 
  private:
+  // What each lane's ray travels through: the material of the volume it is inside (-1:
+  // none, air) and of the volume around that one. Refraction enters and leaves volumes by
+  // it: the index ratio at an interface is that of the two media, and Beer-Lambert takes
+  // the medium a segment crossed, also where it ends on an object inside a volume.
+  struct Media {
+    int inside[4] = {-1, -1, -1, -1};
+    int outside[4] = {-1, -1, -1, -1};
+  };
+
   // `blend_layers` counts the BLEND surfaces already seen through along this ray.
   template <unsigned kEffects>
   Rgb4 trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                   RayCounters& counters, PathSignature4* signature) const;
+                   const Media& media, RayCounters& counters, PathSignature4* signature) const;
 
-  using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, RayCounters&, PathSignature4*) const;
+  using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, const Media&, RayCounters&,
+                                  PathSignature4*) const;
   template <unsigned... kE>
   static Kernel pick_kernel(unsigned effects, std::integer_sequence<unsigned, kE...>);
 

@@ -147,6 +147,66 @@ TEST(Shader, GlassOfIorOneVanishes) {
   EXPECT_GE(counters.refraction, 8u);  // into and out of the box
 }
 
+// Nested volumes: a ray inside a tinted glass that meets an object there crossed the
+// glass (Beer-Lambert was applied only where a ray left a volume through its back face, so
+// a light inside the glass shone untinted); and an interface between two media of one
+// index is no interface (the index ratio was taken against air on the outside).
+Scene glass_block_around(const Material& inner, glm::vec3 camera) {
+  Scene s;
+  s.name = "nested";
+  Material glow;
+  glow.base_color = glm::vec3(0.0f);
+  glow.emissive = glm::vec3(1.0f);
+  s.materials.push_back(glow);
+  Material tinted = test::glass_material(1.5f);
+  tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);  // red: sigma = -ln(0.05) / 0.5 per unit
+  tinted.attenuation_distance = 0.5f;
+  s.materials.push_back(tinted);
+  s.materials.push_back(inner);
+  test::add_quad(s, {-20, -20, -3}, {20, -20, -3}, {20, 20, -3}, {-20, 20, -3}, 0);  // a glowing wall behind
+  test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 1);
+  test::add_box(s, {-0.2f, -0.2f, -0.2f}, {0.2f, 0.2f, 0.2f}, 2);
+  s.cameras.push_back(Camera::look_at(camera, {0, 0, 0}, {0, 1, 0}, 0.3f));
+  s.background = glm::vec3(0.0f);
+  s.max_depth = 16;  // the inner cube's faces take bounces too: both scenes' paths end on their weight
+  s.finalize_materials();
+  return s;
+}
+
+TEST(Shader, AbsorptionTintsWhatLiesInsideAVolume) {
+  Material glow;
+  glow.base_color = glm::vec3(0.0f);
+  glow.emissive = glm::vec3(1.0f);
+  // Straight in: through 0.8 units of the tinted glass to the glowing cube inside it.
+  const glm::vec3 l = centre_radiance(glass_block_around(glow, {0, 0, 5}));
+  const float sigma = -std::log(0.05f) / 0.5f;
+  ASSERT_GT(l.g, 0.5f);
+  EXPECT_NEAR(l.r / l.g, std::exp(-sigma * 0.8f), 1e-4f);
+  EXPECT_EQ(l.g, l.b);
+}
+
+TEST(Shader, AnInterfaceBetweenMediaOfOneIndexIsNone) {
+  Material same = test::glass_material(1.5f);
+  same.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);  // the outer glass's medium too
+  same.attenuation_distance = 0.5f;
+  Material empty = test::glass_material(1.5f);  // a cube of the outer glass: no inner object
+  empty.transmission = 0.0f;
+  for (const glm::vec3 camera : {glm::vec3(0, 0, 5), glm::vec3(1.5f, 0.7f, 4.5f)}) {
+    SCOPED_TRACE(camera.x);
+    Scene without = glass_block_around(empty, camera);
+    without.positions.resize(without.positions.size() - 36);  // drop the inner cube
+    without.normals.resize(without.normals.size() - 36);
+    without.uvs.resize(without.uvs.size() - 36);
+    without.material_of.resize(without.material_of.size() - 12);
+    RayCounters counters;
+    const glm::vec3 a = centre_radiance(without), b = centre_radiance(glass_block_around(same, camera), &counters);
+    ASSERT_GT(a.g, 0.1f);
+    EXPECT_NEAR(b.r, a.r, 1e-5f * a.g);
+    EXPECT_NEAR(b.g, a.g, 1e-5f * a.g);
+    EXPECT_GE(counters.refraction, 16u);  // the inner cube's two faces were crossed
+  }
+}
+
 TEST(Fresnel, NormalIncidence) {
   // ((n1 - n2) / (n1 + n2))^2 = 0.04 for air/glass 1.5, either direction.
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
