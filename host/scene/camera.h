@@ -21,7 +21,7 @@ struct Camera {
   glm::vec3 forward{0.0f, 0.0f, -1.0f};
   float yfov = 0.8f;     // vertical field of view, radians
   float aspect = 0.0f;   // width / height of the scene's intended frame; 0 = unknown
-  float znear = 0.01f;   // only the raster pass needs near/far
+  float znear = 0.01f;   // as read; neither the tracer nor the map clips by them (scenes/README.md)
   float zfar = 1000.0f;
 
   static Camera look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov);
