@@ -335,6 +335,21 @@ Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), e
   if (effects_.textures) bits |= kTextures;
   if (effects_.alpha_mask || effects_.alpha_blend) bits |= kAlpha;
   kernel_ = pick_kernel(bits, std::make_integer_sequence<unsigned, kAllEffects + 1>{});
+  volume_bounds_.resize(scene.whitted.size());
+  for (size_t t = 0; t < scene.material_of.size(); ++t) {
+    const uint32_t m = scene.material_of[t];
+    if (m >= scene.whitted.size() || !scene.whitted[m].transmits() || scene.whitted[m].thin_walled) continue;
+    for (int k = 0; k < 3; ++k) {
+      volume_bounds_[m].lo = glm::min(volume_bounds_[m].lo, scene.positions[3 * t + size_t(k)]);
+      volume_bounds_[m].hi = glm::max(volume_bounds_[m].hi, scene.positions[3 * t + size_t(k)]);
+    }
+  }
+  for (VolumeBounds& b : volume_bounds_) {
+    if (!(b.lo.x <= b.hi.x)) continue;
+    const glm::vec3 margin = 1e-5f * (glm::abs(b.lo) + glm::abs(b.hi)) + 1e-30f;  // hits on the surface count as inside
+    b.lo -= margin;
+    b.hi += margin;
+  }
   const bool textured = (bits & kTextures) != 0, see_through = (bits & kAlpha) != 0;
   primary_kernel_ = textured ? (see_through ? &Shader::primary4_impl<true, true> : &Shader::primary4_impl<true, false>)
                              : (see_through ? &Shader::primary4_impl<false, true> : &Shader::primary4_impl<false, false>);
@@ -399,6 +414,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   SurfacePoint sp[4];
   bool shaded[4] = {false, false, false, false};
   int hit_material[4] = {-1, -1, -1, -1};
+  // The volume each lane's segment crossed: media.inside, unless the hit shows the ray left
+  // it through an open surface (outside its bounds, or on a front face of that volume).
+  Media crossed = media;
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1)) continue;
     const int prim = hits.prim[i];
@@ -451,6 +469,9 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     out[1][i] = emission.g;
     out[2][i] = emission.b;
     shaded[i] = true;
+    if (const int here = media.inside[i];
+        here >= 0 && (!volume_bounds_[size_t(here)].contains(s.hit.p) || (s.front && here == int(mat_index))))
+      crossed.inside[i] = crossed.outside[i] = -1;
   }
 
   // Direct light: one shadow packet per light, lanes that face it. The lanes are shaded
@@ -568,7 +589,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   if constexpr ((kEffects & (kReflection | kRefraction)) != 0) {
     if (depth < scene_.max_depth) {  // depth = bounces taken so far
       PacketBuilder reflected, refracted;
-      Media refracted_media = media;  // reflected rays stay in the media of their parent
+      Media refracted_media = crossed;  // reflected rays stay in the media of their parent
       glm::vec3 reflect_weight[4], refract_weight[4];
       alignas(16) float path[4], reflect_path[4] = {}, refract_path[4] = {};
       throughput.store(path);
@@ -586,23 +607,21 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (m.transmits()) {
             // n_incident / n_transmitted; a thin wall has air on both sides of its sheet. A
             // ray enters this volume from the one it is in, or leaves it for the one around.
-            const int here = media.inside[i], self = hit_material[i];
+            const int here = crossed.inside[i], self = hit_material[i];
             if (m.thin_walled) {
               eta = 1.0f / m.ior;
             } else if (s.front) {
-              // Entering `self` from the medium the ray is in; a front face of the volume it
-              // is already inside (an open mesh, panes of one glass) counts as from air.
-              const int from = here == self ? -1 : here;
-              eta = (from >= 0 ? scene_.whitted[size_t(from)].ior : 1.0f) / m.ior;
+              // Entering `self` from the medium the ray is in (air after an open surface).
+              eta = (here >= 0 ? scene_.whitted[size_t(here)].ior : 1.0f) / m.ior;
               refracted_media.inside[i] = self;
-              refracted_media.outside[i] = from;
+              refracted_media.outside[i] = here;
             } else {
               // Leaving `self`; a ray not known to be inside it (it started there, or the mesh
               // is open) stays in the medium it is in.
-              const int next = here == self ? media.outside[i] : here;
+              const int next = here == self ? crossed.outside[i] : here;
               eta = m.ior / (next >= 0 ? scene_.whitted[size_t(next)].ior : 1.0f);
               refracted_media.inside[i] = next;
-              refracted_media.outside[i] = here == self ? -1 : media.outside[i];
+              refracted_media.outside[i] = here == self ? -1 : crossed.outside[i];
             }
             const float f = fresnel_dielectric(cos_i, eta);
             kr = glm::vec3(f);
@@ -654,7 +673,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
         if (probe_reflected) seen_reflected->probes = signature->probes;
         if (footprint_reflected) seen_reflected->footprint = signature->footprint;
         const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                             float4::load(reflect_path), media, counters,
+                                             float4::load(reflect_path), crossed, counters,
                                              seen_reflected ? &*seen_reflected : nullptr);
         if (seen_reflected) {
           const PathSignature4& seen = *seen_reflected;
@@ -718,7 +737,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (effects_.absorption) {
       for (int i = 0; i < 4; ++i) {
         if (!shaded[i]) continue;
-        const int medium = media.inside[i];
+        const int medium = crossed.inside[i];
         if (medium < 0 && sp[i].front) continue;
         const glm::vec3 sigma = medium >= 0 ? scene_.whitted[size_t(medium)].absorption : sp[i].material->absorption;
         if (!(sigma.r > 0.0f || sigma.g > 0.0f || sigma.b > 0.0f)) continue;
@@ -766,10 +785,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
       if (probed_lanes != 0)
         c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
-                                  media, counters, &*seen_behind);
+                                  crossed, counters, &*seen_behind);
       if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
         const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1, throughput,
-                                             media, counters, nullptr);
+                                             crossed, counters, nullptr);
         c = select(mask4::from_bits(unprobed), u, c);
       }
       for (int i = 0; i < 4; ++i) {

@@ -12,6 +12,7 @@
 // alpha never tests coverage (ALGORITHM-independent: the AA code only sees a SampleSource).
 #pragma once
 
+#include <limits>
 #include <vector>
 
 #include "accel/bvh.h"
@@ -183,6 +184,16 @@ class Shader {
   const Bvh& bvh_;
   EffectSet effects_;
   std::vector<LightConstants> light_constants_;  // per scene light, made once for the SoA light loop
+  // Per material, the bounds of its triangles (widened by their rounding), for volumes
+  // only: a ray "inside" a volume whose hit lies outside its bounds went through an open
+  // surface (a pane modelled as one sheet) and is in air again.
+  struct VolumeBounds {
+    glm::vec3 lo{std::numeric_limits<float>::infinity()}, hi{-std::numeric_limits<float>::infinity()};
+    bool contains(const glm::vec3& p) const {
+      return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+    }
+  };
+  std::vector<VolumeBounds> volume_bounds_;
   Kernel kernel_;
   PrimaryKernel primary_kernel_;
 };

@@ -185,6 +185,43 @@ TEST(Shader, AbsorptionTintsWhatLiesInsideAVolume) {
   EXPECT_EQ(l.g, l.b);
 }
 
+// A volume's surface that is open (a pane modelled as one sheet of tinted glass, or the
+// see-through share of a BLEND volume) leaves the ray in air behind it: what lies behind is
+// not tinted by its distance from the pane.
+TEST(Shader, AnOpenVolumeSurfaceTintsNothingBehindIt) {
+  for (const bool blend : {false, true}) {
+    glm::vec3 seen[2];
+    for (int k = 0; k < 2; ++k) {
+      const float wall = k == 0 ? -2.0f : -20.0f;
+      Scene s;
+      s.name = "pane";
+      Material glow;
+      glow.base_color = glm::vec3(0.0f);
+      glow.emissive = glm::vec3(1.0f);
+      s.materials.push_back(glow);
+      Material tinted = test::glass_material(1.5f);
+      tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);
+      tinted.attenuation_distance = 10.0f;
+      if (blend) {
+        tinted.alpha_mode = AlphaMode::Blend;
+        tinted.base_alpha = 0.5f;
+      }
+      s.materials.push_back(tinted);
+      test::add_quad(s, {-200, -200, wall}, {200, -200, wall}, {200, 200, wall}, {-200, 200, wall}, 0);
+      test::add_quad(s, {-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}, 1);  // one sheet, facing the camera
+      s.cameras.push_back(Camera::look_at({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 0.3f));
+      s.background = glm::vec3(0.0f);
+      s.max_depth = 4;
+      s.finalize_materials();
+      seen[k] = centre_radiance(s);
+    }
+    SCOPED_TRACE(blend);
+    ASSERT_GT(seen[0].g, 0.5f);
+    EXPECT_NEAR(seen[1].r, seen[0].r, 1e-6f);
+    EXPECT_NEAR(seen[1].g, seen[0].g, 1e-6f);
+  }
+}
+
 TEST(Shader, AnInterfaceBetweenMediaOfOneIndexIsNone) {
   Material same = test::glass_material(1.5f);
   same.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);  // the outer glass's medium too
