@@ -118,8 +118,12 @@ std::string expand_output_pattern(const std::string& pattern, const OutputKey& k
 void check_not_an_input(const std::string& option, const std::filesystem::path& output,
                         const std::vector<std::string>& inputs, const std::string& inputs_are) {
   for (const std::string& input : inputs) {
-    std::error_code ec;  // either missing: not the same file
-    if (std::filesystem::equivalent(output, input, ec))  // a usage error: a re-run fails the same way
+    std::error_code ec;
+    // The same file under any name; a file not there yet (a later scene's texture an earlier
+    // output would create) by its path, as outputs are compared with one another.
+    const bool same = std::filesystem::exists(input, ec) ? std::filesystem::equivalent(output, input, ec)
+                                                         : output_identity(output) == output_identity(input);
+    if (same)  // a usage error: a re-run fails the same way
       throw UsageError(option + " " + output.string() + " is " + inputs_are + " " + input +
                        ": writing it would replace it");
   }

@@ -114,13 +114,14 @@ std::optional<std::filesystem::path> external_file(const std::filesystem::path& 
 
 std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf) {
   std::vector<std::filesystem::path> files;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(gltf, ec)) return files;  // a FIFO would block the read
   std::string json_text;
   if (lowercase_extension(gltf) == ".glb") {
     std::ifstream in(gltf, std::ios::binary);
     std::vector<unsigned char> header(20);
     if (!in.read(reinterpret_cast<char*>(header.data()), 20) || std::memcmp(header.data() + 16, "JSON", 4) != 0)
       return files;
-    std::error_code ec;
     const uintmax_t size = std::filesystem::file_size(gltf, ec);
     if (ec || le32(header, 12) > size - 20) return files;  // the header's claim, checked before any allocation
     json_text.resize(le32(header, 12));

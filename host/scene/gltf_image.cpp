@@ -67,7 +67,10 @@ bool keep_encoded(tinygltf::Image* image, const int index, std::string* err, std
       return false;
     }
   }
-  if (size <= 0 || !bytes) return false;
+  if (size <= 0 || !bytes) {
+    if (err) *err += "image " + std::to_string(index) + ": no bytes, or more than 2 GiB\n";
+    return false;
+  }
   image->image.assign(bytes, bytes + size);
   image->as_is = true;
   return true;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -211,6 +212,28 @@ TEST_F(Outputs, NoOutputReplacesAFileOfALaterSceneInTheBatch) {
   EXPECT_NE(r.err.find("good.bin"), std::string::npos);
   EXPECT_EQ(contents(path("later/good.bin")), bin);
   EXPECT_FALSE(fs::exists(path("good.png")));
+  // A file the later scene names but that is not there yet: the earlier output would
+  // create it, and the later scene would load it as its own.
+  fs::remove(path("later/good.bin"));
+  const robust::ChildResult missing =
+      render({path("good.json").string(), path("later/later.gltf").string(), "-o", path("later/{scene}.bin.png").string(),
+              "--stats", path("later/{scene}.bin").string()});
+  expect_error(missing, "is a file of the batch's scenes", kUsageExit);
+  EXPECT_FALSE(fs::exists(path("later/good.bin")));
+}
+
+// Listing a batch's files reads each scene's JSON before anything loads: a FIFO named as a
+// scene must fail as a load does ("not a regular file"), not block that read.
+TEST_F(Outputs, AFifoNamedAsASceneFailsWithoutBlocking) {
+  for (const char* name : {"pipe.glb", "pipe.gltf", "pipe.json"}) {
+    SCOPED_TRACE(name);
+    ASSERT_EQ(::mkfifo(path(name).c_str(), 0600), 0);
+    const robust::ChildResult r = render({path(name).string(), "-o", path("x.png").string()});
+    ASSERT_TRUE(r.exited) << "timed out " << r.timed_out;
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;
+    EXPECT_LT(r.seconds, 10.0);
+  }
 }
 
 TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
