@@ -25,7 +25,7 @@ void ProgressiveRenderer::stop() {
     std::lock_guard<std::mutex> lock(mutex_);
     stopping_ = true;
     cancel_ = true;
-    stop_ = true;
+    cut_preview_ = true;
   }
   changed_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -38,7 +38,14 @@ uint64_t ProgressiveRenderer::request(const FrameRequest& request) {
     id = ++next_id_;
     pending_ = request;
     pending_id_ = id;
+    pending_time_ = std::chrono::steady_clock::now();
     cancel_ = true;  // the frame in flight stops at its next tile
+    // A preview in flight finishes, unless it has already run far over its budget.
+    const int64_t began = preview_started_.load();
+    if (began != 0 && std::chrono::duration<double>(pending_time_.time_since_epoch() -
+                                                    std::chrono::steady_clock::duration(began))
+                              .count() > kPreviewCutAfter * kPreviewBudget)
+      cut_preview_ = true;
   }
   changed_.notify_all();
   return id;
@@ -61,6 +68,7 @@ void ProgressiveRenderer::run() {
   for (;;) {
     FrameRequest request;
     uint64_t id;
+    std::chrono::steady_clock::time_point requested;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       changed_.wait(lock, [&] { return stopping_ || pending_.has_value(); });
@@ -68,10 +76,11 @@ void ProgressiveRenderer::run() {
       request = std::move(*pending_);
       pending_.reset();
       id = pending_id_;
+      requested = pending_time_;
       cancel_ = false;  // under the lock: a request() after this point cancels this frame
     }
     try {
-      render(request, id);
+      render(request, id, requested);
     } catch (const std::exception& e) {
       // Reported through status(): the UI thread decides how to fail, this thread lives on.
       std::lock_guard<std::mutex> lock(mutex_);
@@ -99,8 +108,9 @@ GeoMap ProgressiveRenderer::map_for(const Camera& camera, int width, int height)
   return map;
 }
 
-void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
-  const auto start = std::chrono::steady_clock::now();
+void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id,
+                                 std::chrono::steady_clock::time_point requested) {
+  const auto start = requested;  // latencies count the wait behind the preview in flight
   const RenderSettings& full = request.settings;
   display_.resize(full.width, full.height);
   const int full_tiles = int(make_tiles(full.width, full.height, full.tile_size).size());
@@ -125,13 +135,21 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id) {
     preview.centre_out = true;
     Film film;
     RenderStats stats;
-    callbacks.cancel = &stop_;
+    callbacks.cancel = &cut_preview_;
     callbacks.tile_done = [&](const TileRect& rect, const RayCounters&) { display_.put_tile(film, rect, s, full.tonemap); };
     const auto preview_start = std::chrono::steady_clock::now();
+    {
+      std::lock_guard<std::mutex> lock(mutex_);  // with request(): a cut is either seen here or not at all
+      if (stopping_) return;
+      cut_preview_ = false;
+      preview_started_ = preview_start.time_since_epoch().count();
+    }
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
-    if (stop_) return;
     const double preview_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - preview_start).count();
+    preview_started_ = 0;
+    // A cut preview took over kPreviewCutAfter budgets for part of the frame: smaller still.
     preview_scale_ = next_preview_scale(s, preview_s, request.preview_scale);
+    if (cut_preview_) return;  // stop(), or a newer request: it starts now
     {
       std::lock_guard<std::mutex> lock(mutex_);
       status_.last_preview_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,10 +4,12 @@
 // DisplayFrame. A new request cancels the map and full frame in flight (render_frame stops
 // at the next tile) and restarts; the UI thread never waits for a frame.
 //
-// A preview always finishes: cancelled at every mouse event, a drag would show a centre
-// of the new pose inside a border of older ones. Its size is chosen so that it takes
-// about kPreviewBudget: the scale doubles (up to kMaxPreviewScale) while previews take
-// longer, and comes back to the request's when they are fast again.
+// A preview finishes before the next request starts: cancelled at every mouse event, a
+// drag would show a centre of the new pose inside a border of older ones. Its size is
+// chosen so that it takes about kPreviewBudget: the scale doubles (up to
+// kMaxPreviewScale) while previews take longer, and comes back to the request's when they
+// are fast again. A preview that has run kPreviewCutAfter budgets is cut by the next
+// request (the first after a resize, or a slow scene at 1/16), so no move waits long.
 #pragma once
 
 #include <atomic>
@@ -28,6 +30,7 @@ namespace zz {
 
 inline constexpr double kPreviewBudget = 1.0 / 30.0;  // seconds a preview may take
 inline constexpr int kMaxPreviewScale = 16;
+inline constexpr double kPreviewCutAfter = 4.0;  // budgets
 
 // The preview scale after one that took `seconds` at `scale`: the power of two that
 // brings the next near kPreviewBudget (its cost goes with the pixels, 1/scale^2), within
@@ -79,7 +82,7 @@ class ProgressiveRenderer {
 
  private:
   void run();
-  void render(const FrameRequest& request, uint64_t id);
+  void render(const FrameRequest& request, uint64_t id, std::chrono::steady_clock::time_point requested);
 
   const Shader& shader_;
   DisplayFrame& display_;
@@ -94,7 +97,9 @@ class ProgressiveRenderer {
   bool stopping_ = false;
   ProgressStatus status_;
   std::atomic<bool> cancel_{false};
-  std::atomic<bool> stop_{false};  // the only thing that cuts a preview short
+  std::atomic<bool> cut_preview_{false};     // set by stop(), or by a request once the preview ran long
+  std::atomic<int64_t> preview_started_{0};  // steady_clock ticks when the running preview began; 0: none
+  std::chrono::steady_clock::time_point pending_time_;  // when the pending request was made
   int preview_scale_ = 0;          // render thread only: the next preview's (0: the request's)
   std::atomic<int> tiles_done_{0};
   // The last map made, for the view it was made for (render thread only): a change of eps,

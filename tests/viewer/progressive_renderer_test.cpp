@@ -169,6 +169,29 @@ TEST_F(Progressive, PreviewIsFullyReplacedByTheFullFrame) {
   EXPECT_EQ(display.rgb(ViewMode::Rays), direct.rgb(ViewMode::Rays));
 }
 
+// A preview far over its budget (the first after a resize, or a slow scene at 1/16) is
+// cut by the next request once it has run kPreviewCutAfter budgets, so a move never waits
+// for it; the next previews are smaller.
+TEST_F(Progressive, APreviewFarOverItsBudgetIsCutByTheNextRequest) {
+  DisplayFrame display;
+  ProgressiveRenderer renderer(*shader_, display);
+  FrameRequest slow = request(6144, 6144);  // a 3072^2 preview: seconds of rays
+  slow.preview_scale = 2;
+  const uint64_t a = renderer.request(slow);
+  for (int i = 0; i < 3000 && renderer.status().request != a; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(renderer.status().request, a);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // over 4 budgets (133 ms)
+  FrameRequest next = request(64, 48);
+  next.preview_scale = 2;
+  const uint64_t b = renderer.request(next);
+  ASSERT_TRUE(renderer.wait_for(b, 120.0));
+  const ProgressStatus s = renderer.status();
+  EXPECT_EQ(s.completed, b);
+  EXPECT_EQ(s.previews_completed, 1);  // b's: a's was cut
+  EXPECT_GT(s.last_preview_seconds, 0.0);
+}
+
 TEST(PreviewScale, GrowsWithTheTimeAPreviewTookAndComesBack) {
   EXPECT_EQ(next_preview_scale(4, kPreviewBudget, 4), 4);         // on budget: kept
   EXPECT_EQ(next_preview_scale(4, 4.0 * kPreviewBudget, 4), 8);   // 4x the pixels' time: half the side
