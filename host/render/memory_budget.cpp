@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "render/renderer.h"
+#include "render/texture_detail.h"
 #include "render/texture_range.h"
 
 namespace zz {
@@ -29,6 +30,7 @@ uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, co
   const int threads = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
   uint64_t need = frame_bytes(region.width(), region.height(), threads) + corner_field_plan(settings).bytes;
   if (settings.aa == AaMode::Adaptive && settings.adaptive.highlights) need += normal_map_spread_bytes(scene);
+  if (settings.aa == AaMode::Adaptive && settings.adaptive.textures) need += texture_pyramid_bytes(scene);
   return need;
 }
 

@@ -61,11 +61,36 @@ glm::vec3 TexturePyramid::box_mean(const Texture& base, glm::vec2 lo, glm::vec2 
   return t > 0.0f ? (1.0f - t) * at(l0) + t * at(l1) : at(l0);
 }
 
-std::vector<TexturePyramid> texture_pyramids(const Scene& scene) {
+namespace {
+
+// The textures that colour light directly (base colour, emissive): those with a pyramid.
+std::vector<bool> pyramid_textures(const Scene& scene) {
   std::vector<bool> wanted(scene.textures.size(), false);
   for (const Material& m : scene.materials)
     for (const TextureRef* ref : {&m.base_color_texture, &m.emissive_texture})
       if (ref->used() && size_t(ref->index) < wanted.size()) wanted[size_t(ref->index)] = true;
+  return wanted;
+}
+
+}  // namespace
+
+uint64_t texture_pyramid_bytes(const Scene& scene) {
+  const std::vector<bool> wanted = pyramid_textures(scene);
+  uint64_t bytes = 0, largest_level = 0;
+  for (size_t i = 0; i < wanted.size(); ++i) {
+    if (!wanted[i]) continue;
+    uint64_t w = uint64_t(std::max(scene.textures[i].width, 0)), h = uint64_t(std::max(scene.textures[i].height, 0));
+    while (w > 1 || h > 1) {
+      w = std::max<uint64_t>(1, w / 2), h = std::max<uint64_t>(1, h / 2);
+      bytes += w * h * sizeof(glm::vec4);
+      largest_level = std::max(largest_level, w * h);
+    }
+  }
+  return bytes + 2 * largest_level * sizeof(float);  // the counts of one level and of the one above
+}
+
+std::vector<TexturePyramid> texture_pyramids(const Scene& scene) {
+  const std::vector<bool> wanted = pyramid_textures(scene);
   std::vector<TexturePyramid> pyramids(scene.textures.size());
   for (size_t i = 0; i < pyramids.size(); ++i)
     if (wanted[i]) pyramids[i] = TexturePyramid(scene.textures[i]);

@@ -38,6 +38,9 @@ struct TexturePyramid {
 // Pyramids of the scene's textures that colour light directly (base colour, emissive);
 // the others stay empty.
 std::vector<TexturePyramid> texture_pyramids(const Scene& scene);
+// What texture_pyramids(scene) holds (float RGBA levels), and the largest level's texel
+// counts it sums with on the way: for the memory check before a frame with --textures on.
+uint64_t texture_pyramid_bytes(const Scene& scene);
 
 // The radiance (linear RGB) by which the pixel with these corners (TL, TR, BL, BR) may differ
 // from `corner_mean`, the mean of their radiance, because of texture detail between them:

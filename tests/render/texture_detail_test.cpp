@@ -48,6 +48,26 @@ TEST(TextureDetail, PyramidLevelsAreBoxMeans) {
   EXPECT_FLOAT_EQ(TexturePyramid(three).levels.back().texels[0].r, 4.0f);
 }
 
+// The memory check before a --textures frame counts the pyramids' levels (a 16384^2
+// texture's are 1.4 GiB of float RGBA, which went unestimated: an OOM kill, not a message).
+TEST(TextureDetail, PyramidBytesAreTheLevelsHeld) {
+  Scene scene;
+  scene.textures.push_back(grey_texture(37, 19, [](int x, int) { return float(x); }));
+  scene.textures.push_back(grey_texture(8, 8, [](int, int) { return 0.5f; }));  // not a colour's: no pyramid
+  Material m;
+  m.base_color_texture.index = 0;
+  scene.materials.push_back(m);
+  const std::vector<TexturePyramid> pyramids = texture_pyramids(scene);
+  ASSERT_EQ(pyramids.size(), 2u);
+  EXPECT_TRUE(pyramids[1].levels.empty());
+  uint64_t held = 0, largest = 0;
+  for (const Texture& level : pyramids[0].levels) {
+    held += level.texels.size() * sizeof(glm::vec4);
+    largest = std::max<uint64_t>(largest, level.texels.size());
+  }
+  EXPECT_EQ(texture_pyramid_bytes(scene), held + 2 * largest * sizeof(float));
+}
+
 // One emissive material whose texture is black but for a white column one texel wide
 // (or, given, any other grey texture of 64 x 64).
 float stroke(int x, int) { return x == 32 ? 1.0f : 0.0f; }
