@@ -151,17 +151,27 @@ TEST(Shader, GlassOfIorOneVanishes) {
 // glass (Beer-Lambert was applied only where a ray left a volume through its back face, so
 // a light inside the glass shone untinted); and an interface between two media of one
 // index is no interface (the index ratio was taken against air on the outside).
-Scene glass_block_around(const Material& inner, glm::vec3 camera) {
-  Scene s;
-  s.name = "nested";
+// A black surface that emits 1: what the tests below see through glass.
+Material glow_material() {
   Material glow;
   glow.base_color = glm::vec3(0.0f);
   glow.emissive = glm::vec3(1.0f);
-  s.materials.push_back(glow);
+  return glow;
+}
+
+// Glass that absorbs red: sigma_r = -ln(0.05) / distance per unit, green and blue pass.
+Material red_absorbing_glass(float distance) {
   Material tinted = test::glass_material(1.5f);
-  tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);  // red: sigma = -ln(0.05) / 0.5 per unit
-  tinted.attenuation_distance = 0.5f;
-  s.materials.push_back(tinted);
+  tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);
+  tinted.attenuation_distance = distance;
+  return tinted;
+}
+
+Scene glass_block_around(const Material& inner, glm::vec3 camera) {
+  Scene s;
+  s.name = "nested";
+  s.materials.push_back(glow_material());
+  s.materials.push_back(red_absorbing_glass(0.5f));
   s.materials.push_back(inner);
   test::add_quad(s, {-20, -20, -3}, {20, -20, -3}, {20, 20, -3}, {-20, 20, -3}, 0);  // a glowing wall behind
   test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 1);
@@ -174,11 +184,8 @@ Scene glass_block_around(const Material& inner, glm::vec3 camera) {
 }
 
 TEST(Shader, AbsorptionTintsWhatLiesInsideAVolume) {
-  Material glow;
-  glow.base_color = glm::vec3(0.0f);
-  glow.emissive = glm::vec3(1.0f);
   // Straight in: through 0.8 units of the tinted glass to the glowing cube inside it.
-  const glm::vec3 l = centre_radiance(glass_block_around(glow, {0, 0, 5}));
+  const glm::vec3 l = centre_radiance(glass_block_around(glow_material(), {0, 0, 5}));
   const float sigma = -std::log(0.05f) / 0.5f;
   ASSERT_GT(l.g, 0.5f);
   EXPECT_NEAR(l.r / l.g, std::exp(-sigma * 0.8f), 1e-4f);
@@ -195,13 +202,8 @@ TEST(Shader, AnOpenVolumeSurfaceTintsNothingBehindIt) {
       const float wall = k == 0 ? -2.0f : -20.0f;
       Scene s;
       s.name = "pane";
-      Material glow;
-      glow.base_color = glm::vec3(0.0f);
-      glow.emissive = glm::vec3(1.0f);
-      s.materials.push_back(glow);
-      Material tinted = test::glass_material(1.5f);
-      tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);
-      tinted.attenuation_distance = 10.0f;
+      s.materials.push_back(glow_material());
+      Material tinted = red_absorbing_glass(10.0f);
       if (blend) {
         tinted.alpha_mode = AlphaMode::Blend;
         tinted.base_alpha = 0.5f;
@@ -223,9 +225,7 @@ TEST(Shader, AnOpenVolumeSurfaceTintsNothingBehindIt) {
 }
 
 TEST(Shader, AnInterfaceBetweenMediaOfOneIndexIsNone) {
-  Material same = test::glass_material(1.5f);
-  same.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);  // the outer glass's medium too
-  same.attenuation_distance = 0.5f;
+  const Material same = red_absorbing_glass(0.5f);  // the outer glass's medium too
   Material empty = test::glass_material(1.5f);  // a cube of the outer glass: no inner object
   empty.transmission = 0.0f;
   for (const glm::vec3 camera : {glm::vec3(0, 0, 5), glm::vec3(1.5f, 0.7f, 4.5f)}) {

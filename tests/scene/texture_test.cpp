@@ -88,17 +88,22 @@ TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   EXPECT_TRUE(s.effects().textures);
 }
 
+// A 1 x 1 normal map of the unperturbed normal (128, 128, 255).
+void write_flat_normal_map(const std::filesystem::path& path) {
+  const unsigned char pixels[] = {128, 128, 255};
+  auto out = OIIO::ImageOutput::create(path.string());
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path.string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
+  out->close();
+}
+
 // A normal map on TEXCOORD_1 gets its tangents from TEXCOORD_1's gradients (glTF: the
 // texture's texCoord), not TEXCOORD_0's: with only TEXCOORD_1 they were all zero, and the
 // normal map vanished. Here u_1 runs along +y: the tangent is +y.
 TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
   auto dir = test::temp_dir("normal_uv1");
-  const unsigned char pixels[] = {128, 128, 255};
-  auto out = OIIO::ImageOutput::create((dir / "n.png").string());
-  ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open((dir / "n.png").string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
-  out->close();
+  ASSERT_NO_FATAL_FAILURE(write_flat_normal_map(dir / "n.png"));
   test::GltfBuilder b;
   b.doc["images"] = {{{"uri", "n.png"}}};
   b.doc["textures"] = {{{"source", 0}}};
@@ -119,12 +124,7 @@ TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
 // tangents from the UV gradients). Here u runs along +x and the file's tangent says +y.
 TEST(Texture, TangentsOfAMeshWithoutNormalsAreIgnored) {
   auto dir = test::temp_dir("no_normals");
-  const unsigned char pixels[] = {128, 128, 255};
-  auto out = OIIO::ImageOutput::create((dir / "n.png").string());
-  ASSERT_TRUE(out);
-  ASSERT_TRUE(out->open((dir / "n.png").string(), OIIO::ImageSpec(1, 1, 3, OIIO::TypeDesc::UINT8)));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, pixels));
-  out->close();
+  ASSERT_NO_FATAL_FAILURE(write_flat_normal_map(dir / "n.png"));
   for (const bool with_normals : {false, true}) {
     SCOPED_TRACE(with_normals);
     test::GltfBuilder b;
