@@ -142,7 +142,9 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id,
       std::lock_guard<std::mutex> lock(mutex_);  // with request(): a cut is either seen here or not at all
       if (stopping_) return;
       cut_preview_ = false;
-      preview_started_ = preview_start.time_since_epoch().count();
+      // At the smallest size a preview can have, cutting it would only leave older poses
+      // on screen for good: such a preview always finishes.
+      preview_started_ = s < kMaxPreviewScale ? preview_start.time_since_epoch().count() : 0;
     }
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
     const double preview_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - preview_start).count();

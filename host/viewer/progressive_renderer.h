@@ -9,7 +9,8 @@
 // chosen so that it takes about kPreviewBudget: the scale doubles (up to
 // kMaxPreviewScale) while previews take longer, and comes back to the request's when they
 // are fast again. A preview that has run kPreviewCutAfter budgets is cut by the next
-// request (the first after a resize, or a slow scene at 1/16), so no move waits long.
+// request (the first after a resize, say), so no move waits long for it, unless it is
+// already at kMaxPreviewScale: a scene too slow for that keeps its previews whole.
 #pragma once
 
 #include <atomic>
