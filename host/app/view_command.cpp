@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "accel/bvh.h"
@@ -54,10 +55,14 @@ int view(const ViewOptions& o) {
   const auto started = std::chrono::steady_clock::now();
   as_usage_checks([&] {
     validate(o.render);
-    const std::vector<std::string> inputs = scene_files(o.scene, load_options(o.render, true));
-    if (!o.screenshot.empty()) check_screenshot("--screenshot", o.screenshot, inputs);
+    std::optional<std::vector<std::string>> inputs;  // the scene's files, read once a screenshot asks
+    auto check = [&](const std::string& option, const std::string& path) {
+      if (!inputs) inputs = scene_files(o.scene, load_options(o.render, true));
+      check_screenshot(option, path, *inputs);
+    };
+    if (!o.screenshot.empty()) check("--screenshot", o.screenshot);
     for (const ScriptEvent& e : parse_script(o.script))
-      if (e.kind == ScriptEvent::Kind::Screenshot) check_screenshot("--script screenshot:", e.text, inputs);
+      if (e.kind == ScriptEvent::Kind::Screenshot) check("--script screenshot:", e.text);
   });
   // Fail fast, before loading anything, when no window can be opened.
   require_display();

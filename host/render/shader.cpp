@@ -206,6 +206,15 @@ constexpr int kMaxSeeThroughLayers = 16;
 // Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
 constexpr int kMaxBlendLayers = 8;
 
+// Where a ray going on along `dir` past the hit at barycentrics (u, v) of the triangle at
+// t3 starts: just behind the surface, on the side `dir` leaves it by.
+glm::vec3 origin_behind(const Scene& scene, size_t t3, float u, float v, const glm::vec3& dir) {
+  const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
+  glm::vec3 n = triangle_normal(p0, p1, p2);
+  if (glm::dot(n, dir) < 0.0f) n = -n;
+  return offset_ray_origin(interpolate_hit(p0, p1, p2, u, v), n);
+}
+
 // Moves the active lanes that hit a cut-out texel (MASK below the cutoff, BLEND alpha 0)
 // on to the first surface behind it, one packet per layer; `skipped` gets the distance
 // travelled through them. Bounded: beyond kMaxSeeThroughLayers a ray escapes (a miss).
@@ -224,10 +233,7 @@ void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, in
         continue;
       }
       const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
-      const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-      glm::vec3 n = triangle_normal(p0, p1, p2);
-      if (glm::dot(n, dir) < 0.0f) n = -n;
-      const glm::vec3 origin = offset_ray_origin(interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]), n);
+      const glm::vec3 origin = origin_behind(scene, t3, hits.u[i], hits.v[i], dir);
       skipped[i] += hits.t[i] * glm::length(dir);
       behind.set(i, origin, dir, kInfinity);
       again |= 1 << i;
@@ -293,10 +299,7 @@ void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light
         continue;
       }
       // Continue from just behind the surface, towards the same light.
-      const SurfacePosition hit = interpolate_hit(p0, p1, p2, hits.u[i], hits.v[i]);
-      glm::vec3 n = triangle_normal(p0, p1, p2);
-      if (glm::dot(n, dir) < 0.0f) n = -n;
-      const glm::vec3 origin = offset_ray_origin(hit, n);
+      const glm::vec3 origin = origin_behind(scene, t3, hits.u[i], hits.v[i], dir);
       if (light.type == Light::Type::Directional) rays.set(i, origin, dir, kInfinity);
       else rays.set(i, origin, light.position - origin, 1.0f - kShadowEpsilon);
       next |= 1 << i;
@@ -413,7 +416,6 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   alignas(16) float out[3][4] = {};
   SurfacePoint sp[4];
   bool shaded[4] = {false, false, false, false};
-  int hit_material[4] = {-1, -1, -1, -1};
   // The volume each lane's segment crossed: media.inside, unless the hit shows the ray left
   // it through an open surface (outside its bounds, or on a front face of that volume).
   Media crossed = media;
@@ -431,7 +433,6 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     SurfacePoint& s = sp[i];
     glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
-    hit_material[i] = int(mat_index);
     if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
     glm::vec2 uv0(0.0f), uv1(0.0f);  // the hit's texture coordinates, for the probe
@@ -607,7 +608,7 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
           if (m.transmits()) {
             // n_incident / n_transmitted; a thin wall has air on both sides of its sheet. A
             // ray enters this volume from the one it is in, or leaves it for the one around.
-            const int here = crossed.inside[i], self = hit_material[i];
+            const int here = crossed.inside[i], self = int(scene_.material_of[size_t(hits.prim[i])]);
             if (m.thin_walled) {
               eta = 1.0f / m.ior;
             } else if (s.front) {

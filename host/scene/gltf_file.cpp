@@ -116,21 +116,22 @@ std::vector<std::filesystem::path> external_files(const std::filesystem::path& g
   std::vector<std::filesystem::path> files;
   std::error_code ec;
   if (!std::filesystem::is_regular_file(gltf, ec)) return files;  // a FIFO would block the read
-  std::string json_text;
+  std::vector<unsigned char> bytes;
+  std::string_view json_text;
   if (lowercase_extension(gltf) == ".glb") {
+    // The header and the JSON chunk only: the buffers that follow can be hundreds of MB.
     std::ifstream in(gltf, std::ios::binary);
-    std::vector<unsigned char> header(20);
-    if (!in.read(reinterpret_cast<char*>(header.data()), 20) || std::memcmp(header.data() + 16, "JSON", 4) != 0)
-      return files;
+    bytes.resize(20);
+    if (!in.read(reinterpret_cast<char*>(bytes.data()), 20)) return files;
     const uintmax_t size = std::filesystem::file_size(gltf, ec);
-    if (ec || le32(header, 12) > size - 20) return files;  // the header's claim, checked before any allocation
-    json_text.resize(le32(header, 12));
-    if (!in.read(json_text.data(), std::streamsize(json_text.size()))) return files;
+    if (ec || le32(bytes, 12) > size - 20) return files;  // the header's claim, checked before any allocation
+    bytes.resize(20 + size_t(le32(bytes, 12)));
+    if (!in.read(reinterpret_cast<char*>(bytes.data() + 20), std::streamsize(bytes.size() - 20))) return files;
+    json_text = glb_json(bytes);
   } else {
-    std::vector<unsigned char> bytes;
     std::string why;
     if (!read_regular_file(gltf.string(), kMaxFileBytes, &bytes, &why)) return files;
-    json_text.assign(bytes.begin(), bytes.end());
+    json_text = std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
   if (json_nesting_depth(json_text) > kMaxJsonDepth) return files;
   const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);

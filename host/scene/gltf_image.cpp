@@ -44,11 +44,14 @@ std::optional<EncodedSize> encoded_size(const std::vector<unsigned char>& b) {
   return std::nullopt;
 }
 
-}  // namespace
-
+// The largest texture: 8-bit images stay 4 bytes a texel (16384^2: 1 GiB), 16-bit ones
+// become float RGBA, 16 bytes a texel (8192^2: 1 GiB). Checked from the file's header
+// before decoding where it is a PNG or JPEG.
 uint64_t max_texels(int bits_per_channel) {
-  return bits_per_channel > 8 ? kMaxTexels16 : kMaxTexels8;
+  return bits_per_channel > 8 ? uint64_t(1) << 26 : uint64_t(1) << 28;
 }
+
+}  // namespace
 
 // Decoding every image up front would cost seconds on ToyCar (normal, occlusion and
 // clearcoat maps we never sample), so the callback only keeps the encoded bytes.

@@ -3,7 +3,6 @@
 // tinygltf::LoadImageData (Debian's libtinygltf links libstb) for the images we sample.
 #pragma once
 
-#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -14,13 +13,6 @@ struct Image;
 }
 
 namespace zz::gltf {
-
-// The largest texture: 8-bit images stay 4 bytes a texel (16384^2: 1 GiB), 16-bit ones
-// become float RGBA, 16 bytes a texel (8192^2: 1 GiB). Checked from the file's header
-// before decoding where it is a PNG or JPEG.
-inline constexpr uint64_t kMaxTexels8 = uint64_t(1) << 28;
-inline constexpr uint64_t kMaxTexels16 = uint64_t(1) << 26;
-uint64_t max_texels(int bits_per_channel);
 
 // tinygltf image-loader callback (signature of tinygltf::LoadImageDataFunction). `user`
 // is the tinygltf::Model being loaded: tinygltf hands over a bufferView's bytes without

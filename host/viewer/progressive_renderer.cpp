@@ -41,10 +41,8 @@ uint64_t ProgressiveRenderer::request(const FrameRequest& request) {
     pending_time_ = std::chrono::steady_clock::now();
     cancel_ = true;  // the frame in flight stops at its next tile
     // A preview in flight finishes, unless it has already run far over its budget.
-    const int64_t began = preview_started_.load();
-    if (began != 0 && std::chrono::duration<double>(pending_time_.time_since_epoch() -
-                                                    std::chrono::steady_clock::duration(began))
-                              .count() > kPreviewCutAfter * kPreviewBudget)
+    if (preview_began_ &&
+        std::chrono::duration<double>(pending_time_ - *preview_began_).count() > kPreviewCutAfter * kPreviewBudget)
       cut_preview_ = true;
   }
   changed_.notify_all();
@@ -126,7 +124,7 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id,
 
   if (request.preview_scale > 1) {
     // 1 ray/px at reduced size: cheap enough to follow the mouse, then refined below.
-    // Not cancelled by a newer request (only by stop()): the newest starts after it.
+    // A newer request waits for it, unless it runs far over its budget (see the header).
     const int s = std::max(preview_scale_, request.preview_scale);
     RenderSettings preview = full;
     preview.width = std::max(1, (full.width + s - 1) / s);
@@ -144,11 +142,14 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id,
       cut_preview_ = false;
       // At the smallest size a preview can have, cutting it would only leave older poses
       // on screen for good: such a preview always finishes.
-      preview_started_ = s < kMaxPreviewScale ? preview_start.time_since_epoch().count() : 0;
+      if (s < kMaxPreviewScale) preview_began_ = preview_start;
     }
     render_frame(shader_, request.camera, GeoMap{}, preview, film, stats, callbacks);
     const double preview_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - preview_start).count();
-    preview_started_ = 0;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      preview_began_.reset();
+    }
     // A cut preview took over kPreviewCutAfter budgets for part of the frame: smaller still.
     preview_scale_ = next_preview_scale(s, preview_s, request.preview_scale);
     if (cut_preview_) return;  // stop(), or a newer request: it starts now

@@ -14,6 +14,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -99,7 +100,8 @@ class ProgressiveRenderer {
   ProgressStatus status_;
   std::atomic<bool> cancel_{false};
   std::atomic<bool> cut_preview_{false};     // set by stop(), or by a request once the preview ran long
-  std::atomic<int64_t> preview_started_{0};  // steady_clock ticks when the running preview began; 0: none
+  // When the running preview began, while a request may still cut it (under mutex_).
+  std::optional<std::chrono::steady_clock::time_point> preview_began_;
   std::chrono::steady_clock::time_point pending_time_;  // when the pending request was made
   int preview_scale_ = 0;          // render thread only: the next preview's (0: the request's)
   std::atomic<int> tiles_done_{0};
