@@ -408,6 +408,7 @@ struct Loader {
                                           : uv_gradient_tangents(pos, nrm, normal_uv1 ? uv1 : uv, tri);
       if (normal_mapped) scene.tangents.resize(scene.positions.size(), glm::vec4(0.0f));
       if (uses_texcoord1) scene.uvs1.resize(scene.positions.size(), glm::vec2(0.0f));
+      size_t rewound = 0;
       for (size_t t = 0; t + 2 < tri.size(); t += 3) {
         uint32_t v[3] = {tri[t], tri[t + 1], tri[t + 2]};
         if (flip) std::swap(v[1], v[2]);
@@ -426,17 +427,30 @@ struct Loader {
           continue;
         }
         const glm::vec3 flat = c / std::sqrt(area2);
-        for (int k = 0; k < 3; ++k) {
-          scene.positions.push_back(w[k]);
-          glm::vec3 n = flat;
-          if (!nrm.empty()) {
+        glm::vec3 n[3] = {flat, flat, flat};
+        if (!nrm.empty()) {
+          for (int k = 0; k < 3; ++k) {
             const float* q = &nrm[size_t(v[k]) * 3];
             glm::vec3 tn = normal_matrix * glm::vec3(q[0], q[1], q[2]);
             float len = glm::length(tn);
-            if (len > 1e-20f && std::isfinite(len)) n = tn / len;
-            else if (const std::optional<glm::vec3> u = unit_direction(tn)) n = *u;  // |tn|^2 over- or underflowed
+            if (len > 1e-20f && std::isfinite(len)) n[k] = tn / len;
+            else if (const std::optional<glm::vec3> u = unit_direction(tn)) n[k] = *u;  // |tn|^2 over- or underflowed
           }
-          scene.normals.push_back(n);
+          // Wound against its vertex normals: the renderer takes the winding's side as the
+          // front (shading normals turned to it, volumes entered through it), so such a mesh
+          // rendered flat-shaded and its glass refracted the wrong way. Like pbrt-v4, which
+          // turns the geometric normal to the shading normal, the normals decide: swap the
+          // winding. Per triangle, from the three normals, so the choice is constant over it.
+          if (glm::dot(n[0] + n[1] + n[2], flat) < 0.0f) {
+            std::swap(v[1], v[2]);
+            std::swap(w[1], w[2]);
+            std::swap(n[1], n[2]);
+            ++rewound;
+          }
+        }
+        for (int k = 0; k < 3; ++k) {
+          scene.positions.push_back(w[k]);
+          scene.normals.push_back(n[k]);
           auto uv_at = [&](const std::vector<float>& set) {
             return set.empty() ? glm::vec2(0.0f) : glm::vec2(set[size_t(v[k]) * 2], set[size_t(v[k]) * 2 + 1]);
           };
@@ -445,7 +459,7 @@ struct Loader {
           if (normal_mapped) {
             const float* q = tangents.empty() ? nullptr : &tangents[size_t(v[k]) * 4];
             glm::vec3 tw = q ? linear * glm::vec3(q[0], q[1], q[2]) : glm::vec3(0.0f);
-            tw -= n * glm::dot(n, tw);  // orthogonal to the (transformed) shading normal
+            tw -= n[k] * glm::dot(n[k], tw);  // orthogonal to the (transformed) shading normal
             const float len = glm::length(tw);
             // A mirroring transform flips the bitangent relative to cross(N, T).
             const float sign = (q && q[3] < 0.0f ? -1.0f : 1.0f) * (flip ? -1.0f : 1.0f);
@@ -456,6 +470,9 @@ struct Loader {
         }
         scene.material_of.push_back(material);
       }
+      if (rewound > 0)
+        warn(mesh_name + " primitive " + std::to_string(p) + ": " + std::to_string(rewound) + " of " +
+             std::to_string(tri.size() / 3) + " triangles wound against their normals; their normals' side is the front");
     }
   }
 

@@ -123,6 +123,28 @@ TEST(GltfLoader, NegativeScaleFlipsWinding) {
   EXPECT_LE(s.positions[1].x + s.positions[2].x, -0.99f);
 }
 
+// A triangle wound against its vertex normals is rewound so its front is the normals'
+// side (the shader turns shading normals to the front: flat shading otherwise), also
+// under a mirroring node; a triangle that agrees keeps its order.
+TEST(GltfLoader, TrianglesWoundAgainstTheirNormalsAreRewound) {
+  for (const float mirror : {1.0f, -1.0f}) {
+    GltfBuilder b;
+    const int against = b.mesh("against", kTriPos, {0, 0, -1, 0.1f, 0, -1, 0, 0.1f, -1});
+    const int along = b.mesh("along", kTriPos, kTriNrm);
+    b.node({{"mesh", against}, {"scale", {mirror, 1, 1}}});
+    b.node({{"mesh", along}, {"scale", {mirror, 1, 1}}});
+    Scene s = load_scene(b.write(test::temp_dir("rewound")), kQuiet);
+    ASSERT_EQ(s.triangle_count(), 2u);
+    expect_vec(geometric_normal(s, 0), {0, 0, -1});
+    expect_vec(geometric_normal(s, 1), {0, 0, 1});
+    // Vertex attributes follow their positions: vertex (±1,0,0) keeps its normal's x tilt.
+    for (int k = 0; k < 3; ++k)
+      EXPECT_EQ(s.normals[size_t(k)].x * mirror > 0.01f, s.positions[size_t(k)].x * mirror > 0.5f) << mirror << " " << k;
+    EXPECT_EQ(s.positions[3], glm::vec3(0.0f));
+    EXPECT_EQ(s.positions[4].x * mirror > 0.5f, mirror > 0.0f);  // (1,0,0) second unless mirrored
+  }
+}
+
 TEST(GltfLoader, IndexedAndNonIndexedGiveSameTriangles) {
   const std::vector<float> quad = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
   const std::vector<uint16_t> idx = {0, 1, 2, 0, 2, 3};
