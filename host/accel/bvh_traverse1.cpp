@@ -15,6 +15,7 @@ constexpr float kFloatMax = std::numeric_limits<float>::max();
 
 struct SingleSetup {
   float4 ox, oy, oz;     // origin, broadcast
+  float origin[3];
   float4 rdx, rdy, rdz;  // safe reciprocal direction, broadcast
   watertight::RayShear shear;
   watertight::SpawnReach<float4> reach;  // broadcast
@@ -101,6 +102,11 @@ bool traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock>
       float4 c[3] = {float4::load(b.v2x) - s.ox, float4::load(b.v2y) - s.oy, float4::load(b.v2z) - s.oz};
       auto h = watertight::intersect<float4>(a[kx], a[ky], a[kz], bb[kx], bb[ky], bb[kz], c[kx],
                                              c[ky], c[kz], sx, sy, sz, s.reach);
+      watertight::settle_uncertain(h, [&](int i) {
+        const float p0[3] = {b.v0x[i], b.v0y[i], b.v0z[i]}, p1[3] = {b.v1x[i], b.v1y[i], b.v1z[i]},
+                    p2[3] = {b.v2x[i], b.v2y[i], b.v2z[i]};
+        return watertight::exact_intersect(p0, p1, p2, s.origin, kx, ky, kz, s.shear.sx, s.shear.sy, s.shear.sz);
+      });
       unsigned hit = unsigned((h.hit & (h.t <= float4(s.best))).bits());
       if (hit) {
         if constexpr (kAnyHit) {
@@ -143,6 +149,7 @@ bool setup(const Ray& ray, SingleSetup& s) {
       !std::isfinite(ray.origin.z) || std::isnan(ray.tmax))
     return false;
   s.ox = float4(ray.origin.x), s.oy = float4(ray.origin.y), s.oz = float4(ray.origin.z);
+  s.origin[0] = ray.origin.x, s.origin[1] = ray.origin.y, s.origin[2] = ray.origin.z;
   const watertight::SpawnReach<float> reach =
       watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
   s.reach = {float4(reach.origin), float4(reach.per_unit)};

@@ -162,6 +162,13 @@ mask4 traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
             PY::get(bx, by, bz, p.ky0, p.ky1), PZ::get(bx, by, bz, p.kz0, p.kz1),
             PX::get(cx, cy, cz, p.kx0, p.kx1), PY::get(cx, cy, cz, p.ky0, p.ky1),
             PZ::get(cx, cy, cz, p.kz0, p.kz1), p.sx, p.sy, p.sz, p.reach);
+        watertight::settle_uncertain(h, [&](int i) {
+          const float p0[3] = {b.v0x[j], b.v0y[j], b.v0z[j]}, p1[3] = {b.v1x[j], b.v1y[j], b.v1z[j]},
+                      p2[3] = {b.v2x[j], b.v2y[j], b.v2z[j]}, o[3] = {p.ox[i], p.oy[i], p.oz[i]};
+          auto axis = [i](mask4 is0, mask4 is1) { return is0[i] ? 0 : is1[i] ? 1 : 2; };
+          return watertight::exact_intersect(p0, p1, p2, o, axis(p.kx0, p.kx1), axis(p.ky0, p.ky1),
+                                             axis(p.kz0, p.kz1), p.sx[i], p.sy[i], p.sz[i]);
+        });
         if constexpr (kAnyHit) {
           mask4 hit = h.hit & (h.t <= p.best);
           if (hit.any()) {

@@ -7,6 +7,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -87,6 +88,9 @@ template <class F>
 struct Result {
   decltype(F() < F()) hit;
   F t, u, v;  // u, v: barycentrics of vertices 1 and 2
+  // Hits refused only because t >= 0 lay within both bounds below: settle them with
+  // exact_intersect (a floor 1e5 across loses every hit nearer than ~5e-6 of its size).
+  decltype(F() < F()) uncertain;
 };
 
 // Hits this near the origin and within t's rounding bound are refused (intersect): 256
@@ -149,6 +153,7 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   // Most tests end here (the ray misses the triangle): skip the division.
   if (!any(r.hit)) {
     r.t = r.u = r.v = zero;
+    r.uncertain = r.hit;
     return r;
   }
   // Hit z of ray space, scaled by det (the paper's T; two-sided, no culling).
@@ -177,8 +182,95 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   const F max_vertex = max(max(max(max(abs(akx), abs(aky)), abs(akz)), max(max(abs(bkx), abs(bky)), abs(bkz))),
                            max(max(abs(ckx), abs(cky)), abs(ckz)));
   const F near = reach.origin + reach.per_unit * max_vertex;
-  r.hit = r.hit & (r.t >= zero) & ((r.t > delta_t) | (r.t > near));
+  const auto trusted = (r.t > delta_t) | (r.t > near);
+  r.hit = r.hit & (r.t >= zero);
+  // Worth the exact test only beyond one rounding step of the coordinates (near / 256):
+  // nearer, interpolated hit points cannot place the hit anyway, and most of what lies
+  // there is the surface the ray left, met again at t ~ 0 (glass +6 % time tested it too).
+  r.uncertain = r.hit & !trusted & (r.t * F(256.0f) > near);
+  r.hit = r.hit & trusted;
   return r;
+}
+
+// gamma for doubles: n rounded double operations, eps = 2^-53.
+constexpr double gamma_d(int n) {
+  constexpr double eps = 0x1p-53;
+  return (double(n) * eps) / (1.0 - double(n) * eps);
+}
+
+struct ExactHit {
+  bool hit = false;
+  float t = 0.0f, u = 0.0f, v = 0.0f;
+};
+
+// intersect's test again in double, from the float vertices and origin, for a hit whose
+// float t lay within its rounding bound. The float translation v - o alone errs by half an
+// ULP of the larger coordinate, so near a triangle 1e5 across a real hit at t = 0.3 and
+// the spawning surface met again at t ~ 0 look alike in float; in double (v - o exact,
+// each product within 2^-53) they do not. A surface a ray was spawned from lies behind the
+// offset origin (ray_offset.cpp bounds the hit point's error), so its exact t is <= 0 and
+// the bound refuses it; `near`'s spawn reach is not needed here. Same shear constants as
+// the float test (same ray), the bound of pbrt-v4 6.8.4 with double gammas, two more for
+// the translation and the float-to-double steps. Lanes of a packet and single rays call it
+// with the same floats, so they agree bit for bit.
+inline ExactHit exact_intersect(const float p0[3], const float p1[3], const float p2[3], const float o[3], int kx,
+                                int ky, int kz, float sx, float sy, float sz) {
+  double a[3], b[3], c[3];
+  for (int i = 0; i < 3; ++i) {
+    a[i] = double(p0[i]) - double(o[i]);
+    b[i] = double(p1[i]) - double(o[i]);
+    c[i] = double(p2[i]) - double(o[i]);
+  }
+  const double Sx = sx, Sy = sy, Sz = sz;
+  const double ax = a[kx] - Sx * a[kz], ay = a[ky] - Sy * a[kz];
+  const double bx = b[kx] - Sx * b[kz], by = b[ky] - Sy * b[kz];
+  const double cx = c[kx] - Sx * c[kz], cy = c[ky] - Sy * c[kz];
+  const double u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
+  ExactHit e;
+  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return e;
+  const double det = u + v + w;
+  if (!(det > 0.0 || det < 0.0)) return e;
+  const double az = Sz * a[kz], bz = Sz * b[kz], cz = Sz * c[kz];
+  const double rcp = 1.0 / det;
+  const double t = (u * az + v * bz + w * cz) * rcp;
+  const double max_z = std::max({std::fabs(az), std::fabs(bz), std::fabs(cz)});
+  const double max_x = std::max({std::fabs(ax), std::fabs(bx), std::fabs(cx)});
+  const double max_y = std::max({std::fabs(ay), std::fabs(by), std::fabs(cy)});
+  const double delta_z = gamma_d(5) * max_z;
+  const double delta_x = gamma_d(7) * (max_x + max_z);
+  const double delta_y = gamma_d(7) * (max_y + max_z);
+  const double delta_e = 2.0 * (gamma_d(2) * max_x * max_y + delta_y * max_x + delta_x * max_y);
+  const double max_e = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
+  const double delta_t = 3.0 * (gamma_d(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(rcp);
+  if (!(t > delta_t)) return e;
+  e.t = float(t);
+  e.u = float(v * rcp);
+  e.v = float(w * rcp);
+  e.hit = e.t > 0.0f && std::isfinite(e.t);
+  return e;
+}
+
+// Settles the uncertain lanes of r: `lane_hit(i)` is exact_intersect for lane i. Out of
+// line: a handful of lanes per frame take it, and the leaf loops keep their registers.
+template <class LaneHit>
+[[gnu::noinline, gnu::cold]] void settle_lanes(Result<float4>& r, int bits, LaneHit& lane_hit) {
+  alignas(16) float t[4], u[4], v[4];
+  r.t.store(t), r.u.store(u), r.v.store(v);
+  bool hit[4];
+  for (int i = 0; i < 4; ++i) {
+    hit[i] = r.hit[i];
+    if (!((bits >> i) & 1)) continue;
+    const ExactHit e = lane_hit(i);
+    if (!e.hit) continue;
+    hit[i] = true, t[i] = e.t, u[i] = e.u, v[i] = e.v;
+  }
+  r.t = float4::load(t), r.u = float4::load(u), r.v = float4::load(v);
+  r.hit = mask4(hit[0], hit[1], hit[2], hit[3]);
+}
+template <class LaneHit>
+inline void settle_uncertain(Result<float4>& r, LaneHit&& lane_hit) {
+  if (const int bits = r.uncertain.bits(); bits != 0) [[unlikely]]
+    settle_lanes(r, bits, lane_hit);
 }
 
 }  // namespace zz::watertight

@@ -28,6 +28,41 @@ TEST(Triangle, KnownHitAndBarycentrics) {
   EXPECT_FALSE(bvh.intersect1(Ray{{0.6f, 0.6f, 0.0f}, {0.0f, 0.0f, 1.0f}}).hit());
 }
 
+// A floor a million units across, hit at 0.2-3 units from origins near the world's origin
+// (a mirror ball resting on it, a contact shadow): the float test's t bound grows with the
+// vertices, not with t, and refused these hits, so the ball saw the sky through the floor
+// (at 1e6 the camera saw no floor at all). The double-precision re-test finds them. Hits
+// nearer than the vertices' own rounding (gamma(8) of 1e6 is 0.5) stay out of reach: an
+// interpolated hit point could not place them. t is as exact as the float coordinates
+// allow, and rays leaving the floor from offset origins still never meet it.
+TEST(Triangle, NearHitsOnAHugeTriangleAreFound) {
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
+  for (const float size : {1e3f, 1e5f, 1e6f}) {
+    std::vector<glm::vec3> p;
+    test::add_tri(p, {-size, 0, -size}, {size, 0, size}, {size, 0, -size});
+    test::add_tri(p, {-size, 0, -size}, {-size, 0, size}, {size, 0, size});
+    Bvh bvh = Bvh::build(p);
+    const float lowest = std::max(0.2f, 2e-6f * size);
+    int found = 0, self_hits = 0;
+    for (int i = 0; i < 500; ++i) {
+      const glm::vec3 o(u(rng), lowest + unit(rng), u(rng));
+      const glm::vec3 d(u(rng), -0.2f - unit(rng), u(rng));
+      const Hit h = bvh.intersect1(Ray{o, d});
+      found += h.hit();
+      if (!h.hit()) continue;
+      EXPECT_NEAR(h.t, o.y / -d.y, gamma(8) * size / -d.y) << "size " << size;
+      // Leave from the hit point, offset as the shader does, upwards: never the floor again.
+      const size_t t3 = 3 * size_t(h.prim);
+      const glm::vec3 up = offset_ray_origin(interpolate_hit(p[t3], p[t3 + 1], p[t3 + 2], h.u, h.v), {0, 1, 0});
+      self_hits += bvh.intersect1(Ray{up, glm::vec3(d.x, -d.y, d.z)}).hit();
+      self_hits += bvh.occluded1(Ray{up, glm::vec3(-d.z, 1.0f, d.x)});
+    }
+    EXPECT_EQ(found, 500) << size;
+    EXPECT_EQ(self_hits, 0) << size;
+  }
+}
+
 TEST(Triangle, HitPointReconstructsFromBarycentrics) {
   std::mt19937 rng(17);
   auto p = test::random_soup(rng, 400, 0.5f);
