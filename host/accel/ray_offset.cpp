@@ -58,7 +58,7 @@ glm::vec3 offset_ray_origin(const SurfacePosition& hit, glm::vec3 n) {
   // Round away from the surface: the addition above may have rounded back towards it.
   // Stepping by the normal's sign (not the offset's, as pbrt does) also moves a point
   // whose error bound is exactly 0 (an axis-aligned plane at 0) off the plane. The BVH
-  // itself refuses t = 0 (watertight.h keeps only t > delta_t or t > near, both >= 0);
+  // itself refuses t = 0 (watertight.h keeps t above its rounding bound, or settles it in double);
   // leaving the plane means the spawned ray does not depend on its own surface's t
   // rounding to exactly 0.
   for (int i = 0; i < 3; ++i) {

@@ -88,18 +88,18 @@ template <class F>
 struct Result {
   decltype(F() < F()) hit;
   F t, u, v;  // u, v: barycentrics of vertices 1 and 2
-  // Hits refused only because t >= 0 lay within both bounds below: settle them with
-  // exact_intersect (a floor 1e5 across loses every hit nearer than ~5e-6 of its size).
+  // Hits whose float t its bound does not prove positive, beyond the spawn reach's
+  // rounding step: settle them with exact_intersect (intersect's end).
   decltype(F() < F()) uncertain;
 };
 
-// Hits this near the origin and within t's rounding bound are refused (intersect): 256
-// rounding errors of the largest coordinate of the origin and the triangle's vertices, in
-// units of |d|. Nearer, a hit may be the surface the ray was spawned from, which the
-// rounding cannot tell from a real one; farther, it is trusted even where t's bound is
-// wider (a ray grazing a plane at 1e-6 radians, whose t is uncertain by more than t
-// itself, still hits it). Per ray: `origin` = 256 gamma(8) max|o_i| / |d| and `per_unit` =
-// 256 gamma(8) / |d|, to which intersect adds the vertices' part.
+// A hit whose t its rounding bound does not prove positive is refused if its t interval
+// stays within 1/256 of this reach: one rounding step, gamma(8), of the largest coordinate
+// of the origin and the triangle's vertices, in units of |d|. There a hit may be the
+// surface the ray was spawned from, which the rounding cannot tell from a real one;
+// beyond, the double-precision test decides (a ray grazing a plane at 1e-6 radians, whose
+// t is uncertain by more than t itself, still hits it). Per ray: `origin` = 256 gamma(8)
+// max|o_i| / |d| and `per_unit` = 256 gamma(8) / |d|, to which intersect adds the vertices' part.
 inline constexpr float kSpawnReach = 256.0f * gamma(8);
 template <class F>
 struct SpawnReach {
@@ -113,9 +113,9 @@ inline SpawnReach<F> spawn_reach(F ox, F oy, F oz, F dx, F dy, F dz) {
 
 // The triangle's vertices relative to the ray origin, already permuted: a* = A[kx],
 // A[ky], A[kz] and so on. sx, sy, sz from RayShear; `reach` from spawn_reach. Returns the
-// hit mask for 0 <= t and a non-degenerate, not-missed triangle, less the hits nearer than
-// both `reach` and t's rounding bound (so t = 0 is always refused: the test is t > bound,
-// and both bounds are >= 0); the caller compares t against its tmax.
+// hit mask for t above its rounding bound on a non-degenerate, not-missed triangle (so
+// t = 0 is always refused), and the lanes in doubt for exact_intersect to settle; the
+// caller compares t against its tmax.
 template <class F>
 inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F cky, F ckz, F sx,
                            F sy, F sz, SpawnReach<F> reach) {
@@ -182,13 +182,13 @@ inline Result<F> intersect(F akx, F aky, F akz, F bkx, F bky, F bkz, F ckx, F ck
   const F max_vertex = max(max(max(max(abs(akx), abs(aky)), abs(akz)), max(max(abs(bkx), abs(bky)), abs(bkz))),
                            max(max(abs(ckx), abs(cky)), abs(ckz)));
   const F near = reach.origin + reach.per_unit * max_vertex;
-  const auto trusted = (r.t > delta_t) | (r.t > near);
-  r.hit = r.hit & (r.t >= zero);
-  // Worth the exact test only beyond one rounding step of the coordinates (near / 256):
-  // nearer, interpolated hit points cannot place the hit anyway, and most of what lies
-  // there is the surface the ray left, met again at t ~ 0 (glass +6 % time tested it too).
-  r.uncertain = r.hit & !trusted & (r.t * F(256.0f) > near);
-  r.hit = r.hit & trusted;
+  // Proven: t exceeds its bound. In doubt: the float t may be off by its whole bound
+  // (0.33 for a true 0.46 on a floor 1e6 across), so the double test settles every hit
+  // whose interval [t - delta_t, t + delta_t] reaches beyond one rounding step of the
+  // coordinates (near / 256). Nearer, interpolated hit points could not place the hit
+  // anyway, and what lies there is mostly the surface the ray left, met again at t ~ 0.
+  r.uncertain = r.hit & !(r.t > delta_t) & ((r.t + delta_t) * F(256.0f) > near);
+  r.hit = r.hit & (r.t > delta_t);
   return r;
 }
 
@@ -203,7 +203,7 @@ struct ExactHit {
   float t = 0.0f, u = 0.0f, v = 0.0f;
 };
 
-// intersect's test again in double, from the float vertices and origin, for a hit whose
+// intersect's t again in double, from the float vertices and origin, for a hit whose
 // float t lay within its rounding bound. The float translation v - o alone errs by half an
 // ULP of the larger coordinate, so near a triangle 1e5 across a real hit at t = 0.3 and
 // the spawning surface met again at t ~ 0 look alike in float; in double (v - o exact,
@@ -227,7 +227,9 @@ inline ExactHit exact_intersect(const float p0[3], const float p1[3], const floa
   const double cx = c[kx] - Sx * c[kz], cy = c[ky] - Sy * c[kz];
   const double u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
   ExactHit e;
-  if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return e;
+  // Inside or out stays the float test's call: its edge tests are watertight with the
+  // neighbour's, and a double verdict here, next to the neighbour's float one, would
+  // open a crack along the shared edge (a ray through a floor's diagonal fell through).
   const double det = u + v + w;
   if (!(det > 0.0 || det < 0.0)) return e;
   const double az = Sz * a[kz], bz = Sz * b[kz], cz = Sz * c[kz];
@@ -243,9 +245,13 @@ inline ExactHit exact_intersect(const float p0[3], const float p1[3], const floa
   const double max_e = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
   const double delta_t = 3.0 * (gamma_d(3) * max_e * max_z + delta_e * max_z + delta_z * max_e) * std::fabs(rcp);
   if (!(t > delta_t)) return e;
+  // Barycentrics of the point on the plane, an edge's sign lost to rounding set to 0.
+  const double sign = det > 0.0 ? 1.0 : -1.0;
+  const double bu = std::max(0.0, sign * u), bv = std::max(0.0, sign * v), bw = std::max(0.0, sign * w);
+  const double sum = bu + bv + bw;
   e.t = float(t);
-  e.u = float(v * rcp);
-  e.v = float(w * rcp);
+  e.u = sum > 0.0 ? float(bv / sum) : 0.0f;
+  e.v = sum > 0.0 ? float(bw / sum) : 0.0f;
   e.hit = e.t > 0.0f && std::isfinite(e.t);
   return e;
 }
@@ -266,6 +272,11 @@ template <class LaneHit>
   }
   r.t = float4::load(t), r.u = float4::load(u), r.v = float4::load(v);
   r.hit = mask4(hit[0], hit[1], hit[2], hit[3]);
+}
+template <class LaneHit>
+inline void settle_uncertain(Result<float>& r, LaneHit&& lane_hit) {
+  if (!r.uncertain) return;
+  if (const ExactHit e = lane_hit(0); e.hit) r.hit = true, r.t = e.t, r.u = e.u, r.v = e.v;
 }
 template <class LaneHit>
 inline void settle_uncertain(Result<float4>& r, LaneHit&& lane_hit) {

@@ -88,6 +88,11 @@ inline Hit brute_force(const std::vector<glm::vec3>& p, const Ray& ray) {
     glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
     auto h = watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz],
                                           c[s.kx], c[s.ky], c[s.kz], s.sx, s.sy, s.sz, reach);
+    watertight::settle_uncertain(h, [&](int) {
+      const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+      return watertight::exact_intersect(&p[3 * t].x, &p[3 * t + 1].x, &p[3 * t + 2].x, o, s.kx, s.ky, s.kz, s.sx,
+                                         s.sy, s.sz);
+    });
     if (!h.hit || !(h.t <= tmax)) continue;
     if (best.hit() && !(h.t < best.t)) continue;  // ties keep the lower index
     best = Hit{h.t, h.u, h.v, int32_t(t)};

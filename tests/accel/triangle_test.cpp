@@ -28,22 +28,23 @@ TEST(Triangle, KnownHitAndBarycentrics) {
   EXPECT_FALSE(bvh.intersect1(Ray{{0.6f, 0.6f, 0.0f}, {0.0f, 0.0f, 1.0f}}).hit());
 }
 
-// A floor a million units across, hit at 0.2-3 units from origins near the world's origin
-// (a mirror ball resting on it, a contact shadow): the float test's t bound grows with the
+// A floor up to 1e7 across, hit at 0.2-2 units from origins near the world's origin (a
+// mirror ball resting on it, a contact shadow): the float test's t bound grows with the
 // vertices, not with t, and refused these hits, so the ball saw the sky through the floor
 // (at 1e6 the camera saw no floor at all). The double-precision re-test finds them. Hits
-// nearer than the vertices' own rounding (gamma(8) of 1e6 is 0.5) stay out of reach: an
-// interpolated hit point could not place them. t is as exact as the float coordinates
-// allow, and rays leaving the floor from offset origins still never meet it.
+// within about one rounding step of the vertices (gamma(8) of 1e6 is 0.5) may stay out of
+// reach, so the origins rise with the floor's size there: an interpolated hit point could
+// not place them. t is as exact as the float coordinates allow, and rays leaving the floor
+// from offset origins still never meet it.
 TEST(Triangle, NearHitsOnAHugeTriangleAreFound) {
   std::mt19937 rng(41);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f), unit(0.0f, 1.0f);
-  for (const float size : {1e3f, 1e5f, 1e6f}) {
+  for (const float size : {1e3f, 1e5f, 1e6f, 1e7f}) {
     std::vector<glm::vec3> p;
     test::add_tri(p, {-size, 0, -size}, {size, 0, size}, {size, 0, -size});
     test::add_tri(p, {-size, 0, -size}, {-size, 0, size}, {size, 0, size});
     Bvh bvh = Bvh::build(p);
-    const float lowest = std::max(0.2f, 2e-6f * size);
+    const float lowest = std::max(0.2f, 1e-6f * size);
     int found = 0, self_hits = 0;
     for (int i = 0; i < 500; ++i) {
       const glm::vec3 o(u(rng), lowest + unit(rng), u(rng));
