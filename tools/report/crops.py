@@ -1,5 +1,6 @@
 """Side-by-side crops (1 ray/px, uniform 25 lattice, adaptive, reference, rays/px heatmap) at the
-windows where 1 ray/px differs most from the reference: edges, shadow borders, glass."""
+windows where the adaptive image's error exceeds the lattice's most: where it misses what 25
+rays/px get (the adaptive error alone when the lattice image is missing)."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,9 +16,13 @@ def load(path: Path) -> np.ndarray | None:
     return np.asarray(Image.open(path).convert("RGB")) if path.exists() else None
 
 
-def worst_windows(a: np.ndarray, b: np.ndarray, w: int, count: int) -> list[tuple[int, int]]:
-    """Top-left corners of `count` non-overlapping w x w windows with the largest |a - b| sum."""
-    diff = np.abs(a.astype(np.float32) - b.astype(np.float32)).sum(axis=2)
+def squared_error(img: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """Per-pixel squared display error (summed over RGB, 8-bit PNG values scaled to [0, 1])."""
+    return (((img.astype(np.float64) - ref.astype(np.float64)) / 255.0) ** 2).sum(axis=2)
+
+
+def worst_windows(diff: np.ndarray, w: int, count: int) -> list[tuple[int, int]]:
+    """Top-left corners of `count` non-overlapping w x w windows with the largest sum of `diff`."""
     h_, w_ = diff.shape
     step = max(w // 2, 1)
     scored = []
@@ -40,12 +45,16 @@ def scene_crops(scene_dir: Path, adaptive_label: str, out: Path, count: int = 3)
                ("reference", scene_dir / "reference.png"),
                ("rays/px (dark 1 → bright 25)", scene_dir / f"{adaptive_label}_rays.png")]
     images = [(name, load(p)) for name, p in columns]
-    if any(img is None for _, img in images[:4]):
+    lattice, adaptive, ref = images[1][1], images[2][1], images[3][1]
+    if adaptive is None or ref is None:
         return None
-    ref, none = images[3][1], images[0][1]
     size = ref.shape[0]
     w = max(size // 8, 16)
-    windows = worst_windows(none, ref, w, count)
+    # The adaptive image's excess squared error over the lattice's, window by window.
+    excess = squared_error(adaptive, ref)
+    if lattice is not None:
+        excess = excess - squared_error(lattice, ref)
+    windows = worst_windows(excess, w, count)
     fig, axes = plt.subplots(len(windows), len(images), figsize=(1.9 * len(images), 1.9 * len(windows) + 0.3),
                              squeeze=False)
     for i, (y, x) in enumerate(windows):
@@ -59,7 +68,8 @@ def scene_crops(scene_dir: Path, adaptive_label: str, out: Path, count: int = 3)
                 ax.set_title(name, fontsize=8)
             if j == 0:
                 ax.set_ylabel(f"({x},{y})", fontsize=7)
-    fig.suptitle(f"{scene_dir.name}: {w}x{w} crops where 1 ray/px errs most; adaptive = {adaptive_label}", fontsize=8)
+    where = "adaptive's error exceeds the lattice's most" if lattice is not None else "adaptive errs most (no lattice image)"
+    fig.suptitle(f"{scene_dir.name}: {w}x{w} crops where the {where}; adaptive = {adaptive_label}", fontsize=8)
     fig.tight_layout()
     path = out / f"crops_{scene_dir.name}.png"
     fig.savefig(path, dpi=80)
@@ -72,5 +82,5 @@ def all_crops(rows: list[dict], work: Path, out: Path, choice: dict) -> list[tup
     for scene in dict.fromkeys(r["scene"] for r in rows if r["scene"] != "star"):
         path = scene_crops(work / scene, choice["label"], out)
         if path:
-            figs.append((f"crops: {scene}", path))
+            figs.append((f"crops: {scene} (where the adaptive image's error exceeds the lattice's most)", path))
     return figs

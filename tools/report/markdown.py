@@ -52,9 +52,11 @@ def config_summary(rows: list[dict], scenes: list[str]) -> list[dict]:
         rr = [ratios(pts[s], lattice[s]) for s in scenes]
         sp = [lattice[s]["image_s"] / pts[s]["image_s"] for s in scenes]
         mean = {k: sum(r[k] for r in rr) / len(rr) for k, _ in METRICS}
+        worst = [r["rmse_display"] for r in rr]
         out.append({"label": label, "row": pts[scenes[0]],
                     "rays": sum(pts[s]["rays_per_px"] for s in scenes) / len(scenes),
-                    "err": max(r["rmse_display"] for r in rr),
+                    # NaN when a scene's error was not measured: max() would drop a NaN unless first.
+                    "err": max(worst) if all(ok(v) for v in worst) else math.nan,
                     "mean": mean, "speedup": geomean(sp)})
     return sorted(out, key=lambda c: c["rays"])
 
@@ -69,6 +71,15 @@ RULE = ("if some settings keep the display RMSE within 1.1x the uniform 25 latti
         "Rays/px and errors are deterministic; wall times on a shared machine are not, so time does not enter the rule.")
 
 
+def nan_last(v: float) -> float:
+    """A sort key: an unmeasured (NaN) ratio ranks after every measured one."""
+    return v if ok(v) else math.inf
+
+
+def accuracy_key(c: dict) -> tuple:
+    return nan_last(c["err"]), nan_last(c["mean"]["rmse_display"]), nan_last(c["mean"]["flip"])
+
+
 def choose_defaults(rows: list[dict], target_scenes: list[str]) -> dict:
     scenes = [s for s in target_scenes if any(r["scene"] == s for r in rows)]
     table = config_summary(rows, scenes)
@@ -78,10 +89,10 @@ def choose_defaults(rows: list[dict], target_scenes: list[str]) -> dict:
     if meeting:
         chosen, why = min(meeting, key=lambda c: c["rays"]), "meets the display RMSE target at the fewest rays"
     elif cheap:
-        chosen, why = min(cheap, key=lambda c: (c["err"], c["mean"]["rmse_display"], c["mean"]["flip"])), (
+        chosen, why = min(cheap, key=accuracy_key), (
             f"no setting meets the error target; the most accurate of those within {RAYS_TARGET} rays/px")
     elif table:
-        chosen, why = (min(table, key=lambda c: (c["err"], c["mean"]["rmse_display"], c["mean"]["flip"])),
+        chosen, why = (min(table, key=accuracy_key),
                        "no setting meets the error or the rays target; the most accurate")
     label = chosen["label"] if chosen else PAPER_POINT.label
     return {"label": label, "summary": chosen, "why": why, "table": table, "scenes": scenes}
@@ -107,17 +118,128 @@ def bound(note: str) -> str:
 
 
 def equal_error_speedup(rows: list[dict], scene: str, adaptive: dict, key: str = "rmse") -> tuple[float, str]:
-    """Best uniform curve (grid or stratified, from 1 ray/px) at the adaptive point's error."""
-    none = [r for r in rows if r["scene"] == scene and r["mode"] == "none"]
-    best, note = math.nan, ""
+    """The best uniform sampler's time at the adaptive point's error, ÷ the adaptive time, and a
+    note: its bound (≤, ≥ or none) and the sampler that sets it.
+
+    Candidates: the grid and the stratified curves (from 1 ray/px, log-log interpolated), and the
+    25-point lattice, measured at 25 rays/px only. A sampler at or below the adaptive error (the
+    lattice, or 1 ray/px when adaptive is worse than it) reaches it in at most its time: an upper
+    bound on the best uniform time, so the speed-up is ≤. A curve whose every point is above
+    the adaptive error needs more than its last point's time: a lower bound, ≥. An interpolated
+    time or an upper bound beats every lower bound (that sampler does reach the error), so ≥ is
+    left only when no candidate reaches it, and then the smallest bound holds for all of them."""
+    if not ok(adaptive.get(key)) or not ok(adaptive.get("image_s")) or adaptive["image_s"] <= 0:
+        return math.nan, ""
+    err = adaptive[key]
+    here = [r for r in rows if r["scene"] == scene]
+    none = [r for r in here if r["mode"] == "none"]
+    candidates = []  # (uniform time, note)
     for pattern in ("grid", "stratified"):
-        pts = none + [r for r in rows if r["scene"] == scene and r["pattern"] == pattern]
-        curve = sorted((r["image_s"], r[key]) for r in pts)
-        t, n = interp_time_at_error(curve, adaptive[key])
-        if ok(t) and not (ok(best) and best <= t):
-            best, note = t, f"{n}{pattern}"
-    # A lower bound ("≥") from one pattern and an interpolated time from the other: keep the smaller.
-    return (best / adaptive["image_s"] if ok(best) else math.nan), note
+        pts = none + [r for r in here if r["mode"] == "uniform" and r["pattern"] == pattern]
+        t, n = interp_time_at_error(sorted((r["image_s"], r[key]) for r in pts), err)
+        if ok(t):
+            candidates.append((t, n + ("1 ray/px" if n == "≤" else pattern)))
+    lattice = by_scene(here, LATTICE25.label).get(scene)
+    if lattice and ok(lattice.get(key)) and ok(lattice.get("image_s")) and lattice["image_s"] > 0:
+        candidates.append((lattice["image_s"], ("≤" if lattice[key] <= err else "≥") + "lattice"))
+    if not candidates:
+        return math.nan, ""
+    reach = [c for c in candidates if bound(c[1]) != "≥"]
+    t, note = min(reach or candidates, key=lambda c: c[0])
+    return t / adaptive["image_s"], note
+
+
+def speedup_cell(v: float, note: str) -> str:
+    return f"{bound(note)}{fmt(v, '.1f')}×"
+
+
+EQUAL_ERROR_NOTE = ("Equal-error speed-up: the time the best uniform sampler needs to reach the adaptive error, divided "
+                    "by the adaptive time. Candidates: the grid and the stratified curves (from 1 ray/px, log-log "
+                    "interpolated between their measured points) and uniform 25 lattice (measured at 25 rays/px only). "
+                    "A plain number is interpolated; **≤** (an upper bound) when a measured uniform point already has "
+                    "the adaptive error or less — usually the lattice — so uniform needs at most its time; **≥** (a "
+                    "lower bound) when every uniform point, the lattice included, is above the adaptive error, so "
+                    "uniform needs more rays than measured and at least the fastest 25-ray point's time.")
+
+
+def equal_error_phrase(v: float, note: str, metric: str) -> str:
+    """The equal-error speed-up in a sentence, its bound and the sampler that sets it in words."""
+    who = {"lattice": "uniform 25 lattice", "1 ray/px": "1 ray/px"}.get(note.lstrip("≤≥"), f"uniform {note.lstrip('≤≥')}")
+    head = f"speed-up at equal {metric} over the best uniform sampler"
+    if not ok(v):
+        return f"{head}: not computed"
+    if bound(note) == "≤":
+        return f"{head} ≤{v:.1f}× ({who} already reaches that error)"
+    if bound(note) == "≥":
+        return f"{head} ≥{v:.1f}× (no measured uniform point reaches that error)"
+    return f"{head} {v:.1f}× ({who}, interpolated)"
+
+
+Q_RANGE = (0.05, 3.0)  # the fitted convergence exponent q of the RMSE (N^-q) must lie inside
+
+
+def reference_noise(rows: list[dict], scene: str, key: str = "rmse_display") -> dict:
+    """The reference's own MSE against the truth, s², estimated from the scene's stratified curve.
+
+    The reference is a stratified render at R rays/px: against it a stratified image at N rays/px
+    measures m(N)² = A·N^(-2q) + A·R^(-2q), its own error plus the reference's (independent, and
+    converging alike). A least-squares fit of log m² over the stratified points (4, 9, 16, 25)
+    gives A and q; s² = A·R^(-2q). Returns {"s2", "q", "R", "points"} or {"why"} when the fit is
+    degenerate (fewer than 3 points, R not above them, q at the edge of its range)."""
+    pts = [r for r in rows if r["scene"] == scene and r["mode"] == "uniform" and r["pattern"] == "stratified"]
+    refs = {r.get("ref_spp") for r in pts}
+    R = next(iter(refs)) if len(refs) == 1 else None
+    data = [(float(r["spp"]), r[key] ** 2) for r in pts if ok(r.get(key)) and r[key] > 0 and ok(r.get("spp"))]
+    if len(data) < 3:
+        return {"why": f"{len(data)} stratified point{'' if len(data) == 1 else 's'}, 3 needed"}
+    if not ok(R) or R <= max(n for n, _ in data):
+        return {"why": "no single reference rays/px above the stratified points"}
+
+    def fit(q: float) -> tuple[float, float]:  # (squared residual, log A) at this q
+        g = [math.log(n ** (-2 * q) + R ** (-2 * q)) for n, _ in data]
+        log_a = sum(math.log(m2) - gi for (_, m2), gi in zip(data, g)) / len(data)
+        return sum((math.log(m2) - gi - log_a) ** 2 for (_, m2), gi in zip(data, g)), log_a
+
+    steps = 2950
+    qs = [Q_RANGE[0] + (Q_RANGE[1] - Q_RANGE[0]) * i / steps for i in range(steps + 1)]
+    q = min(qs, key=lambda q: fit(q)[0])
+    if q in (qs[0], qs[-1]):
+        return {"why": f"fitted q at the edge of [{Q_RANGE[0]}, {Q_RANGE[1]}]"}
+    s2 = math.exp(fit(q)[1]) * R ** (-2 * q)
+    return {"s2": s2, "q": q, "R": R, "points": len(data)} if ok(s2) else {"why": "NaN"}
+
+
+def noise_removed_ratio(point: dict, lattice: dict, noise: dict, key: str = "rmse_display") -> float:
+    """sqrt((MSE_a − s²) / (MSE_lattice − s²)); NaN when either is not above s² or s² is unknown."""
+    s2 = noise.get("s2", math.nan)
+    if not (ok(s2) and ok(point.get(key)) and ok(lattice.get(key))):
+        return math.nan
+    a, b = point[key] ** 2 - s2, lattice[key] ** 2 - s2
+    return math.sqrt(a / b) if a > 0 and b > 0 else math.nan
+
+
+def reference_noise_table(per: dict) -> list[str]:
+    lines = ["### Reference noise (estimate)", "",
+             "The reference is itself a stratified render, so its own error adds to every measured MSE — the "
+             "adaptive image's and the lattice's alike — and pulls the × lattice ratios towards 1. Its display MSE "
+             "s² is estimated per scene from the stratified curve: a least-squares fit (on log m²) of "
+             "m(N)² = A·(N^(−2q) + R^(−2q)) to the 4/9/16/25 rays/px points, R = the reference's rays/px, "
+             "assuming the reference converges as those images do and its error is independent of theirs; "
+             "s² = A·R^(−2q). An estimate from four points, not a measurement: the targets stay on the measured "
+             "ratio; n/a when the fit is degenerate or the lattice's MSE is not above s².", "",
+             "| scene | reference rays/px | fitted q (RMSE ∝ N^−q) | reference display RMSE (est.) | "
+             "lattice display RMSE | display RMSE × lattice | same, reference noise removed (est.) |",
+             "|---|---:|---:|---:|---:|---:|---:|"]
+    for scene, p in per.items():
+        n = p["noise"]
+        if "s2" not in n:
+            lines.append(f"| {scene} | – | n/a ({n['why']}) | n/a | {fmt(p['lattice'].get('rmse_display'), '.5f')} | "
+                         f"{fmt(p['ratios']['rmse_display'], '.3f')} | n/a |")
+            continue
+        lines.append(f"| {scene} | {n['R']} | {n['q']:.2f} | {math.sqrt(n['s2']):.5f} | "
+                     f"{fmt(p['lattice'].get('rmse_display'), '.5f')} | {fmt(p['ratios']['rmse_display'], '.3f')} | "
+                     f"{fmt(p['clean'], '.3f') if ok(p['clean']) else 'n/a'} |")
+    return lines
 
 
 def table2(rows: list[dict], label: str, refs: dict) -> list[str]:
@@ -138,7 +260,7 @@ def table2(rows: list[dict], label: str, refs: dict) -> list[str]:
 def speedups(rows: list[dict], label: str) -> tuple[list[str], dict]:
     lat = by_scene(rows, LATTICE25.label)
     lines = ["| scene | rays/px | L2 / L3 share | RMSE lin. | RMSE disp. | FLIP | × lattice (lin. / disp. / FLIP) | "
-             "time, s | lattice ÷ adaptive time | equal-error speed-up vs best uniform (lin. / disp. / FLIP) |",
+             "time, s | lattice ÷ adaptive time | equal-error speed-up vs best uniform: grid, stratified, lattice (lin. / disp. / FLIP) |",
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     per = {}
     for scene, r in by_scene(rows, label).items():
@@ -147,9 +269,10 @@ def speedups(rows: list[dict], label: str) -> tuple[list[str], dict]:
         L = lat[scene]
         rat = ratios(r, L)
         eq = {k: equal_error_speedup(rows, scene, r, k) for k, _ in METRICS}
+        noise = reference_noise(rows, scene)
         per[scene] = {"rays": r["rays_per_px"], "ratios": rat, "lat_speedup": L["image_s"] / r["image_s"],
-                      "eq": eq, "row": r}
-        eqs = " / ".join(f"{bound(n)}{fmt(v, '.1f')}×" for v, n in eq.values())
+                      "eq": eq, "row": r, "lattice": L, "noise": noise, "clean": noise_removed_ratio(r, L, noise)}
+        eqs = " / ".join(speedup_cell(v, n) for v, n in eq.values())
         lines.append(f"| {scene} | {r['rays_per_px']:.2f} | {fmt(r['level2_fraction'], '.1%')} / {fmt(r['level3_fraction'], '.1%')} | "
                      f"{r['rmse']:.5f} | {fmt(r.get('rmse_display'), '.5f')} | {r['flip']:.4f} | "
                      f"{fmt(rat['rmse'], '.2f')} / {fmt(rat['rmse_display'], '.2f')} / {fmt(rat['flip'], '.2f')} | "
@@ -175,11 +298,11 @@ def targets(per: dict, scenes: list[str]) -> list[str]:
         v = ("unknown (an error was not measured)" if not ok(err) else
              "met" if err <= ERROR_TARGET else f"missed by {err / ERROR_TARGET - 1:.0%}")
         sp = "met" if p["lat_speedup"] >= SPEEDUP_TARGET else f"missed: {p['lat_speedup'] / SPEEDUP_TARGET:.0%} of the target"
-        eq = p["eq"]["rmse"][0]
         lines.append(f"- {s}: error {fmt(rat['rmse'], '.2f')}× (linear RMSE) / {fmt(rat['rmse_display'], '.2f')}× (display RMSE) "
                      f"the lattice's — target ≤ {ERROR_TARGET}×: **{v}** (FLIP {fmt(rat['flip'], '.2f')}×); "
                      f"{p['lat_speedup']:.1f}× faster than uniform 25 lattice — target ≥ {SPEEDUP_TARGET:.0f}×: **{sp}**; "
-                     f"at equal linear RMSE {bound(p['eq']['rmse'][1])}{fmt(eq, '.1f')}× faster than the best uniform curve.")
+                     f"{equal_error_phrase(*p['eq']['rmse'], 'linear RMSE')}; "
+                     f"{equal_error_phrase(*p['eq']['rmse_display'], 'display RMSE')}.")
     return lines
 
 
@@ -189,7 +312,8 @@ def quality_targets(per: dict) -> list[str]:
     if not got:
         return ["No scene of issue 10 was measured."]
     lines = [f"Display RMSE ≤ {ERROR_TARGET}× and mean FLIP ≤ {FLIP_TARGET}× the lattice's in each scene:", "",
-             "| scene | rays/px | display RMSE × lattice | FLIP × lattice |", "|---|---:|---:|---:|"]
+             "| scene | rays/px | display RMSE × lattice | same, reference noise removed (estimate, see below) | "
+             "FLIP × lattice |", "|---|---:|---:|---:|---:|"]
 
     def meets(v: float, target: float) -> bool:
         return ok(v) and v <= target
@@ -200,15 +324,17 @@ def quality_targets(per: dict) -> list[str]:
     missed = []
     for s in got:
         rat = per[s]["ratios"]
+        clean = per[s]["clean"]
         lines.append(f"| {s} | {per[s]['rays']:.2f} | {verdict(rat['rmse_display'], ERROR_TARGET)} | "
-                     f"{verdict(rat['flip'], FLIP_TARGET)} |")
+                     f"{fmt(clean, '.3f') if ok(clean) else 'n/a'} | {verdict(rat['flip'], FLIP_TARGET)} |")
         if not (meets(rat["rmse_display"], ERROR_TARGET) and meets(rat["flip"], FLIP_TARGET)):
             missed.append(s)
     if missed:
         lines += ["", f"Missed in {', '.join(missed)}: the crops below (`crops_<scene>.png`) set 1 ray/px, the "
-                  "lattice, the adaptive image and the reference side by side where 1 ray/px errs most; where the "
-                  "excess error lies and why, as measured so far, is in docs/beyond_corners.md (\"What they still "
-                  "miss\")."]
+                  "lattice, the adaptive image and the reference side by side in the windows where the adaptive "
+                  "image's squared display error exceeds the lattice's most (where it misses what the lattice gets); "
+                  "where the excess error lies and why, as measured so far, is in docs/beyond_corners.md (\"What "
+                  "they still miss\")."]
     return lines
 
 
@@ -240,8 +366,8 @@ def config_table(choice: dict) -> list[str]:
     for c in choice["table"]:
         mark = " **←**" if c["label"] == choice["label"] else ""
         m = c["mean"]
-        lines.append(f"| `{c['label']}`{mark} | {c['rays']:.2f} | {c['err']:.2f} | {m['rmse']:.2f} | "
-                     f"{fmt(m['rmse_display'], '.2f')} | {m['flip']:.2f} | {c['speedup']:.1f}× |")
+        lines.append(f"| `{c['label']}`{mark} | {c['rays']:.2f} | {fmt(c['err'], '.2f')} | {fmt(m['rmse'], '.2f')} | "
+                     f"{fmt(m['rmse_display'], '.2f')} | {fmt(m['flip'], '.2f')} | {fmt(c['speedup'], '.1f')}× |")
     return lines
 
 
@@ -336,8 +462,10 @@ def recommendation(choice: dict) -> list[str]:
              f"--fill-gaps {r.get('gaps') or 'off'}")
     return [f"Recommended defaults (for the lead to set in the CLI): `{flags}`.", "",
             f"Rule: {RULE}", "",
-            f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error {c['err']:.2f}× "
-            f"the lattice's, mean FLIP {c['mean']['flip']:.2f}× the lattice's, {c['speedup']:.1f}× faster than the lattice."]
+            f"Outcome: {choice['why']} — mean {c['rays']:.2f} rays/px, worst-scene error "
+            + (f"{c['err']:.2f}×" if ok(c["err"]) else "unknown (a display RMSE was not measured)")
+            + f" the lattice's, mean FLIP {fmt(c['mean']['flip'], '.2f')}× the lattice's, "
+            f"{fmt(c['speedup'], '.1f')}× faster than the lattice."]
 
 
 def extra_table2(extra: list[dict], chosen: str) -> list[str]:
@@ -391,15 +519,55 @@ def observations(rows: list[dict], label: str) -> list[str]:
     return out
 
 
+def row_values(rows: list[dict], key: str, fallback, skip_star: bool = False) -> dict[str, list[str]]:
+    """Each distinct value of `key` over the rows -> the scenes measured with it (`fallback`,
+    the run's own value, when no row has the key)."""
+    out: dict[str, list[str]] = {}
+    for r in rows:
+        if skip_star and r["scene"] == "star":
+            continue
+        v = r.get(key)
+        if v in (None, ""):
+            continue
+        scenes = out.setdefault(str(v), [])
+        if r["scene"] not in scenes:
+            scenes.append(r["scene"])
+    return out or {str(fallback): []}
+
+
+def provenance(rows: list[dict], env: dict) -> tuple[str, str]:
+    """The binary and the reference rays/px of the rows; every distinct value, with its scenes,
+    when rows kept by --resume or rewritten by --report-only were measured under several."""
+    binaries = row_values(rows, "binary", env["binary_digest"])
+    spps = row_values(rows, "ref_spp", env["ref_spp"], skip_star=True)  # the star's reference is exact
+    if len(binaries) == 1:
+        text = f"zigzag binary {next(iter(binaries))}"
+    else:
+        text = ("**rows from several zigzag binaries** — " + "; ".join(f"{b} ({', '.join(sc)})" for b, sc in binaries.items())
+                + ": numbers from different binaries are not comparable")
+    if len(spps) == 1:
+        return text, f"reference = uniform stratified {next(iter(spps))} rays/px"
+    return text, ("**references of several sample counts** — uniform stratified "
+                  + "; ".join(f"{n} rays/px ({', '.join(sc)})" for n, sc in spps.items())
+                  + ": errors against different references are not comparable")
+
+
+def timing_text(runs: int) -> str:
+    if runs <= 1:
+        return "one timed run per point"
+    return (f"median of {runs} runs per adaptive, 1 ray/px and lattice point (every time of a row from the run "
+            "with the median frame time; uniform grid and stratified points: 1 run)")
+
+
 def write_report(path: Path, rows, env, refs, skipped, choice, figures, grid_doc: str,
                  extra: list[dict] | None = None) -> None:
     label = choice["label"]
+    binary, reference = provenance(rows, env)
     lines = ["# zigzag accuracy / time report", "",
              f"Generated by `report.py {env.get('argv', '')}` on {env['date']} at commit {env['commit']}"
-             f"{' (host/, shaders/, tools/ or scenes/ modified)' if env['dirty'] else ''}; zigzag binary {env['binary_digest']}. "
-             f"Frame {env['size']}², {env['threads']} render threads, median of {env['runs']} run(s) per adaptive, "
-             f"1 ray/px and lattice point (uniform grid and stratified points: 1 run), "
-             f"reference = uniform stratified {env['ref_spp']} rays/px. Machine: {env['cores']} cores, load average "
+             f"{' (host/, shaders/, tools/ or scenes/ modified)' if env['dirty'] else ''}; {binary}. "
+             f"Frame {env['size']}², {env['threads']} render threads, {timing_text(env['runs'])}, "
+             f"{reference}. Machine: {env['cores']} cores, load average "
              f"{env['loadavg'][0]:.1f} at start and {env['loadavg_end'][0]:.1f} at end; the points run one after "
              "another, not interleaved, so a drift in the machine's speed lands on some points and not others: "
              "the frame benchmark (reports/bench_frame.md) gives interleaved medians for the speed targets. "
@@ -423,13 +591,10 @@ def write_report(path: Path, rows, env, refs, skipped, choice, figures, grid_doc
               f"## Table 2 (our run) — adaptive `{label}`", ""] + table2(rows, label, refs) + extra_table2(extra or [], label)
     lines += ["", "## Adaptive vs uniform 25 lattice", ""]
     sp_lines, per = speedups(rows, label)
-    lines += sp_lines + ["", "Equal-error speed-up: the time the best uniform curve (grid or stratified, starting at 1 ray/px) "
-                         "needs to reach the adaptive error, log-log interpolated between measured points, divided by the "
-                         "adaptive time; ≥ when the adaptive error is below every uniform point (uniform would need more "
-                         "rays than its largest measured count: the bound uses that point's time), ≤ when it is above "
-                         "1 ray/px's.", ""]
+    lines += sp_lines + ["", EQUAL_ERROR_NOTE, ""]
     lines += ["## Targets of issue 5", ""] + targets(per, TARGET_SCENES)
     lines += ["", "## Targets of issue 10 (quality, each scene)", ""] + quality_targets(per)
+    lines += [""] + reference_noise_table(per)
     lines += ["", "### Where the time goes", ""] + where_time_goes(rows, label, choice["scenes"]) + [""]
     obs = observations(rows, label)
     lines += (["### Observations", ""] + obs + [""]) if obs else []

@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import json
-import statistics
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -72,8 +71,11 @@ def stage_times(stats: dict) -> dict:
     return out
 
 
-def median_of(dicts: list[dict], key: str) -> float:
-    return float(statistics.median(d[key] for d in dicts))
+def median_run(runs: list[dict]) -> dict:
+    """The run whose frame time (image_s) is the median, the lower of the middle two for an even
+    count. A row takes every time from this one run: medians taken key by key would mix runs, so
+    the map's time could exceed the frame's or the stages stop adding up."""
+    return sorted(runs, key=lambda r: r["timing"]["image_s"])[(len(runs) - 1) // 2]
 
 
 def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference | None) -> dict:
@@ -84,20 +86,20 @@ def measure_render(ctx: Context, scene: Path, setting: Setting, ref: Reference |
     (folder / f"{setting.label}.png").unlink(missing_ok=True)  # a failed run leaves no older image for the crops
     aov = folder / f"{setting.label}_rays.png" if setting.mode == "adaptive" else None
     args = [*setting.render_args(), "--assets", str(ctx.assets)]
-    timings = []
+    runs = []
     for i in range(setting.timed_runs(ctx.runs)):
         res = zzrun.render(ctx.zigzag, scene, ctx.size, ctx.threads, args, exr,
                            folder / f"{setting.label}.json", aov if i == 0 else None)
-        timings.append({**stage_times(res.stats), "wall_s": res.wall_s, "cpu_s": res.cpu_s,
-                        "maxrss_mb": res.maxrss_mb})
-        stats = res.stats
+        runs.append({"timing": {**stage_times(res.stats), "wall_s": res.wall_s, "cpu_s": res.cpu_s},
+                     "maxrss_mb": res.maxrss_mb, "stats": res.stats})
     linear = metrics.read_exr(exr)
     disp = metrics.display(linear, exposure_of(scene))
     save_png(disp, folder / f"{setting.label}.png")
     exr.unlink()  # display PNG kept for crops; EXRs are large
-    row = base_row(scene.stem, setting, stats)
-    row.update({k: median_of(timings, k) for k in timings[0]})
-    row["maxrss_mb"] = max(t["maxrss_mb"] for t in timings)
+    median = median_run(runs)
+    row = base_row(scene.stem, setting, median["stats"])
+    row.update({k: float(v) for k, v in median["timing"].items()})
+    row["maxrss_mb"] = max(r["maxrss_mb"] for r in runs)  # peak memory: the largest of the runs, not a time
     row.update({"rmse": np.nan, "psnr": np.nan, "rmse_display": np.nan, "flip": np.nan,
                 "binary": ctx.binary, "ref_spp": ctx.ref_spp, "conditions": ctx.conditions.get(scene.stem, "")})
     if ref is not None:  # None: a timing-only run (--no-reference)

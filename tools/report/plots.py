@@ -58,18 +58,18 @@ def style(family: str) -> dict:
 
 def error_axes(ax, rows: list[dict], xkey: str, ykey: str) -> None:
     for name, members in series(rows).items():
-        pts = [(r[xkey], r[ykey]) for r in members if finite(r[xkey]) and finite(r[ykey])]
+        pts = [(r[xkey], r[ykey]) for r in members if finite(r.get(xkey)) and finite(r.get(ykey))]
         if pts:
             st = style(name)
             if len(pts) == 1:
                 st["ls"] = "none"
             ax.plot(*zip(*pts), label=name, ms=4, lw=1.2, **st)
     for r in rows:
-        if r["mode"] == "none" and finite(r[xkey]) and finite(r[ykey]):
+        if r["mode"] == "none" and finite(r.get(xkey)) and finite(r.get(ykey)):
             ax.plot(r[xkey], r[ykey], "kx", ms=7, label="1 ray/px")
-        if r["pattern"] == "lattice" and finite(r[xkey]) and finite(r[ykey]):
+        if r["pattern"] == "lattice" and finite(r.get(xkey)) and finite(r.get(ykey)):
             ax.plot(r[xkey], r[ykey], "k*", ms=10, label="uniform 25 lattice")
-    front = pareto_front([(r[xkey], r[ykey]) for r in rows if finite(r[xkey]) and finite(r[ykey])])
+    front = pareto_front([(r[xkey], r[ykey]) for r in rows if finite(r.get(xkey)) and finite(r.get(ykey))])
     if front:
         ax.step(*zip(*front), where="post", color="k", lw=0.8, ls="--", alpha=0.6)
         ax.plot(*zip(*front), "o", mfc="none", mec="k", ms=9, label="Pareto front")
@@ -81,10 +81,12 @@ def error_axes(ax, rows: list[dict], xkey: str, ykey: str) -> None:
 def scene_error_plot(rows: list[dict], scene: str, out: Path) -> Path:
     rows = [r for r in rows if r["scene"] == scene]
     timed = any(finite(r.get("image_s")) for r in rows)
-    has_flip = any(finite(r.get("flip")) for r in rows)
+    has = {k: any(finite(r.get(k)) for r in rows) for k in ("rmse_display", "flip")}
     xs = ([("image_s", "frame time: visibility map and render [s]")] if timed else []) + [("rays_per_px", "primary rays / pixel")]
-    ys = [("rmse", "RMSE (linear HDR)")] + ([("flip", "mean FLIP (display)")] if has_flip else [])
-    fig, axes = plt.subplots(len(ys), len(xs), figsize=(5.2 * len(xs), 3.8 * len(ys)), squeeze=False)
+    # Display RMSE is the metric of the targets and of the rule that picks the defaults.
+    ys = ([("rmse", "RMSE (linear HDR)")] + ([("rmse_display", "RMSE (display, the targets')")] if has["rmse_display"] else [])
+          + ([("flip", "mean FLIP (display)")] if has["flip"] else []))
+    fig, axes = plt.subplots(len(ys), len(xs), figsize=(5.2 * len(xs), 3.3 * len(ys)), squeeze=False)
     for i, (yk, yl) in enumerate(ys):
         for j, (xk, xl) in enumerate(xs):
             error_axes(axes[i][j], rows, xk, yk)
@@ -92,9 +94,14 @@ def scene_error_plot(rows: list[dict], scene: str, out: Path) -> Path:
             axes[i][j].set_ylabel(yl)
     handles, labels = axes[0][-1].get_legend_handles_labels()
     uniq = dict(zip(labels, handles))
-    fig.legend(uniq.values(), uniq.keys(), loc="lower center", ncol=3, fontsize=7, frameon=False)
-    fig.suptitle(f"{scene}: error vs cost (uniform and adaptive; dashed = Pareto front)")
-    fig.tight_layout(rect=(0, 0.04 + 0.025 * math.ceil(len(uniq) / 3), 1, 0.97))
+    ncol = 3 if len(xs) > 1 else 1  # one column of plots (no times: the star) is too narrow for three
+    fig.legend(uniq.values(), uniq.keys(), loc="lower center", ncol=ncol, fontsize=7, frameon=False)
+    fig.suptitle(f"{scene}: error vs cost (uniform and adaptive; dashed = Pareto front)", fontsize=12 if ncol > 1 else 9)
+    # The legend's own height in inches below the axes, whatever the number of rows of plots.
+    legend_in = 0.3 + 0.19 * math.ceil(len(uniq) / ncol)
+    width, height = fig.get_size_inches()
+    fig.set_size_inches(width, height + legend_in)
+    fig.tight_layout(rect=(0, legend_in / (height + legend_in), 1, 1 - 0.23 / (height + legend_in)))
     path = out / f"error_{scene}.png"
     fig.savefig(path, dpi=90)
     plt.close(fig)

@@ -197,6 +197,31 @@ def environment(args, zigzag: Path) -> dict:
             "quick": args.quick, "argv": " ".join(sys.argv[1:])}
 
 
+def measured_references(rows: list[dict], cache: Path) -> dict:
+    """--report-only: the stats of the references the rows were measured against, found by the key
+    and rays/px the rows carry (not this invocation's binary and --ref-spp: a rebuild since, or
+    the default --ref-spp, would name other references or none)."""
+    refs = {}
+    for r in rows:
+        key = str(r.get("conditions") or "").split(":")[0]
+        if r["scene"] == "star" or r["scene"] in refs or not key:
+            continue
+        path = cache / f"{r['scene']}_{r['width']}_{r['ref_spp']}_{key}.json"
+        if path.exists():
+            refs[r["scene"]] = json.loads(path.read_text())
+    return refs
+
+
+def warn_mixed(rows: list[dict]) -> None:
+    """Rows kept by --resume (scenes this run did not measure) or rewritten by --report-only may
+    come from several binaries or references: REPORT.md's header lists them all; say so here too."""
+    for key, what in (("binary", "zigzag binaries"), ("ref_spp", "reference rays/px")):
+        values = {str(r.get(key)) for r in rows if r.get(key) not in (None, "") and not (key == "ref_spp" and r["scene"] == "star")}
+        if len(values) > 1:
+            log(f"WARNING: the rows come from several {what} ({', '.join(sorted(values))}); "
+                "REPORT.md's header lists each with its scenes")
+
+
 def main(argv: list[str]) -> int:
     args = parse_args(argv)
     zigzag = args.build / "zigzag"
@@ -221,9 +246,7 @@ def main(argv: list[str]) -> int:
     ctx.conditions["star"] = f"{env['binary_digest']}:{args.size}" + how
     store = RowStore(work / "rows.jsonl", args.resume or args.report_only, None if args.report_only else ctx.conditions)
     if args.report_only:
-        keys = {s.stem: zzrun.reference_key(zigzag, s, args.assets, args.size, args.ref_spp) for s in scenes}
-        refs = {n: json.loads(p.read_text()) for n, k in keys.items()
-                for p in [ctx.cache / f"{n}_{args.size}_{args.ref_spp}_{k}.json"] if p.exists()}
+        refs = measured_references(store.rows, ctx.cache)
     else:
         refs = measure_scenes(ctx, scenes, points, store, failed)
         if not args.no_star and not args.no_reference and (not args.scenes or "star" in args.scenes):
@@ -237,13 +260,14 @@ def main(argv: list[str]) -> int:
     elif not args.report_only:
         run_file.write_text(json.dumps(env))
     rows = store.rows
+    warn_mixed(rows)
     write_csv(rows, args.out / "accuracy_vs_time.csv")
     choice = markdown.choose_defaults(rows, markdown.TARGET_SCENES)
     figures = plots.all_plots(rows, args.out, ROOT / "tools" / "table_tuner" / "pareto.csv", choice["label"])
     figures += crops.all_crops(rows, work, args.out, choice)
     extra = [r for f in args.table2_extra for r in csv.DictReader(open(f))]
     markdown.write_report(args.out / "REPORT.md", rows, env, refs, skipped + [f"FAILED: {f}" for f in failed],
-                          choice, figures, settings.__doc__, extra)
+                          choice, figures, settings.measured_grid(env["runs"]), extra)
     log(f"wrote {args.out / 'REPORT.md'} and {len(figures)} figures")
     if failed:
         log(f"{len(failed)} point(s) failed: " + "; ".join(failed))

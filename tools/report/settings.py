@@ -25,13 +25,33 @@ adaptive points per scene) is too slow for a 2-core machine, so the grid is prun
     0.02, 0.015 and 0.01 (--eps-specular), and at 0.01 with the gaps between refined pixels
     filled (--fill-gaps on);
   * uniform: 1 ray/px, grid and stratified at 4 9 16 25 rays/px, the 25-point lattice.
-Timed runs (median): all of them for 1 ray/px, the lattice and every adaptive point; one run
-for the other uniform points (4-25x longer renders, so their relative noise is smaller).
+Timed runs: --runs of them (the run with the median frame time gives all of a row's times)
+for 1 ray/px, the lattice and every adaptive point; one run for the other uniform points
+(4-25x longer renders, so their relative noise is smaller). REPORT.md states the count its
+rows were timed with (measured_grid).
 The Siemens star runs the default and its one-factor variations with the box filter only.
 """
 from __future__ import annotations
 
 import dataclasses
+
+
+def timing_doc(runs: int) -> str:
+    """The timing paragraph of the measured grid, for the run count the rows were timed with."""
+    if runs <= 1:
+        return "Timed runs: one per point (--runs 1), so every time is a single run.\n"
+    return (f"Timed runs: {runs} for 1 ray/px, the lattice and every adaptive point, whose row takes all its\n"
+            "times from the run with the median frame time; one run for the other uniform points (4-25x\n"
+            "longer renders, so their relative noise is smaller).\n")
+
+
+def measured_grid(runs: int) -> str:
+    """This module's description of the grid for REPORT.md, its timing paragraph for `runs`."""
+    doc = __doc__
+    start, end = doc.find("Timed runs:"), doc.find("The Siemens star")
+    if start < 0 or end < start:
+        return doc
+    return doc[:start] + timing_doc(runs) + doc[end:]
 
 
 @dataclasses.dataclass(frozen=True)
