@@ -8,6 +8,7 @@
 #include <cstring>
 #include <map>
 
+#include "core/atomic_file.h"
 #include "core/error.h"
 #include "core/file_io.h"
 #include "render/image_io.h"
@@ -72,7 +73,7 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     if (path.extension().empty())
       throw Error(where + "no file extension to choose the format" + kFormats);
     if (!can_write_image_format(path))
-      throw Error(where + "unknown image format '" + path.extension().string() + "'" + kFormats);
+      throw Error(where + "unsupported image format '" + path.extension().string() + "'" + kFormats);
   }
   fs::path dir = path.parent_path();
   if (dir.empty()) dir = ".";
@@ -87,7 +88,9 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     if (part.string().size() > longest)
       throw Error(where + "the name " + part.string().substr(0, 24) + "... is " + std::to_string(part.string().size()) +
                   " bytes long, the file system takes at most " + std::to_string(longest));
-  const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()));
+  char token[17];
+  std::snprintf(token, sizeof token, "%016llx", static_cast<unsigned long long>(random_bits()));
+  const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()) + "-" + token);
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
     const std::string why = errno_text();
@@ -121,8 +124,10 @@ void check_not_an_input(const std::string& option, const std::filesystem::path& 
     std::error_code ec;
     // The same file under any name; a file not there yet (a later scene's texture an earlier
     // output would create) by its path, as outputs are compared with one another.
-    const bool same = std::filesystem::exists(input, ec) ? std::filesystem::equivalent(output, input, ec)
-                                                         : output_identity(output) == output_identity(input);
+    // Both ways always: `equivalent` fails on an output path through a folder not made yet
+    // (nodir/../scene.json), which names the input all the same.
+    const bool same = output_identity(output) == output_identity(input) ||
+                      (std::filesystem::exists(input, ec) && std::filesystem::equivalent(output, input, ec));
     if (same)  // a usage error: a re-run fails the same way
       throw UsageError(option + " " + output.string() + " is " + inputs_are + " " + input +
                        ": writing it would replace it");

@@ -1,6 +1,8 @@
 #include "core/atomic_file.h"
 
 #include <fcntl.h>
+#include <sys/random.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 
 #include "core/error.h"
 #include "core/file_io.h"
@@ -20,6 +23,19 @@ namespace zz {
 namespace {
 
 namespace fs = std::filesystem;
+
+}  // namespace
+
+uint64_t random_bits() {
+  uint64_t r = 0;
+  if (::getrandom(&r, sizeof r, GRND_NONBLOCK) != ssize_t(sizeof r)) {
+    static std::atomic<uint64_t> fallback{0x9e3779b97f4a7c15ull};  // no entropy yet: time and address
+    r = fallback.fetch_add(0x9e3779b97f4a7c15ull) ^ uint64_t(::time(nullptr)) ^ uint64_t(reinterpret_cast<uintptr_t>(&r));
+  }
+  return r;
+}
+
+namespace {
 
 // Temporaries being written, in fixed slots a signal handler can read without locks or
 // allocation. state: 0 free, 1 being filled in, 2 holds a path to remove.
@@ -53,13 +69,18 @@ class RegisteredTemporary {
   TemporarySlot* slot_ = nullptr;
 };
 
-fs::path temporary_for(const fs::path& target) {
+fs::path temporary_name(const fs::path& target) {
   static std::atomic<unsigned> serial{0};
-  // ".NAME.zz-PID-N.EXT": hidden, unique per process and call, and with the target's
-  // extension so that OpenImageIO picks the same format.
+  // ".NAME.zz-PID-RANDOM-N.EXT": hidden, with the target's extension so that OpenImageIO
+  // picks the same format. The PID alone is not unique: two containers (each its own PID
+  // 1) writing one shared output truncated each other's temporary; 64 random bits are.
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict, PR 105329) on "." + string.
+  char random[17];
+  std::snprintf(random, sizeof random, "%016llx", static_cast<unsigned long long>(random_bits()));
   std::string suffix = ".zz-";
   suffix += std::to_string(::getpid());
+  suffix += '-';
+  suffix += random;
   suffix += '-';
   suffix += std::to_string(serial++);
   suffix += target.extension().string();
@@ -87,13 +108,35 @@ fs::path temporary_for(const fs::path& target) {
 
 std::string errno_text() { return std::strerror(errno); }
 
-void sync_file(const fs::path& path) {
+// A temporary name for `target`, created empty (O_EXCL: never another writer's file) with
+// the target's permission bits where it exists, so the published file keeps them (a 0600
+// image stays private); new targets get 0666 less the umask, as any created file.
+fs::path create_temporary(const fs::path& target) {
+  struct stat old {};
+  const bool replaces = ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+  for (int attempt = 0;; ++attempt) {
+    const fs::path temporary = temporary_name(target);
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      if (errno == EEXIST && attempt < 8) continue;
+      throw Error("cannot write " + target.string() + ": " + errno_text());
+    }
+    if (replaces) {
+      (void)::fchown(fd, uid_t(-1), old.st_gid);  // best effort: the group, if ours to give
+      (void)::fchmod(fd, old.st_mode & 07777);
+    }
+    ::close(fd);
+    return temporary;
+  }
+}
+
+void sync_file(const fs::path& path, const fs::path& target) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw Error("cannot write " + path.string() + ": " + errno_text());
+  if (fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
   const bool ok = ::fsync(fd) == 0;
   const std::string why = ok ? "" : errno_text();
   ::close(fd);
-  if (!ok) throw Error("cannot write " + path.string() + ": " + why);
+  if (!ok) throw Error("cannot write " + target.string() + ": " + why);
 }
 
 void sync_directory(const fs::path& dir) {
@@ -125,10 +168,10 @@ void OutputSet::stage(const fs::path& target, const std::function<void(const fs:
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
   }
-  auto staged = std::make_unique<Staged>(target, temporary_for(target));
+  auto staged = std::make_unique<Staged>(target, create_temporary(target));
   try {
     write(staged->temporary);
-    sync_file(staged->temporary);
+    sync_file(staged->temporary, target);
   } catch (...) {
     fs::remove(staged->temporary, ec);
     throw;

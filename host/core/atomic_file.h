@@ -7,6 +7,7 @@
 // keeps the target's extension so the format is chosen the same way), stats JSON, AOVs.
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -52,6 +53,9 @@ class OutputSet {
   struct Staged;
   std::vector<std::unique_ptr<Staged>> staged_;
 };
+
+// 64 random bits for names no other process picks (getrandom; temporaries, probes).
+uint64_t random_bits();
 
 // Async-signal-safe: removes every temporary being written right now (for a signal
 // handler that is about to _exit).

@@ -1,12 +1,14 @@
-// SIGINT / SIGTERM: a render stops promptly and no partial output is left behind.
+// SIGINT / SIGTERM (and SIGHUP, SIGQUIT alike): a render stops promptly and no partial
+// output is left behind.
 //
 // While a cancellable phase runs (a CancellableScope: the tile scheduler polls
 // interrupt_flag()), a signal only sets the flag and the code unwinds normally (the
 // caller throws Interrupted). At any other moment (loading, writing an image through a
 // library that cannot be stopped) the handler removes the temporaries being written
 // (atomic_file.h), prints one line and exits at once. The exit status is 128 + signal:
-// 130 for SIGINT, 143 for SIGTERM. SIGXFSZ is ignored: a write past the file-size limit
-// fails (EFBIG) and is reported as a failed output.
+// 130 for SIGINT, 143 for SIGTERM, 129 for SIGHUP. SIGXFSZ and SIGPIPE are ignored: a
+// write past the file-size limit (EFBIG) or into a closed pipe (EPIPE) fails and is
+// reported as a failed output.
 #pragma once
 
 #include <atomic>

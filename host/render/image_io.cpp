@@ -33,9 +33,9 @@ class OpenOutput {
       : target_(target), file_(temporary), out_(OIIO::ImageOutput::create(temporary.string())) {
     if (!out_) throw Error("cannot write " + target.string() + ": " + first_line(OIIO::geterror()));
     if (const std::string why = file_.failure(); !why.empty()) throw Error("cannot write " + target.string() + ": " + why);
-    // Every format zigzag writes takes a proxy (PNG, JPEG, EXR, TIFF, BMP, HDR, TGA, WebP,
-    // GIF); one that did not would write by name, its write errors unchecked.
-    if (out_->supports("ioproxy") && !out_->set_ioproxy(&file_)) fail();
+    // Only writers that take a proxy (can_write_image_format): one writing by name would
+    // leave its write errors unchecked (SGI and FITS published a truncated file, exit 0).
+    if (!out_->supports("ioproxy") || !out_->set_ioproxy(&file_)) fail();
   }
   OIIO::ImageOutput* operator->() const { return out_.get(); }
   // Throws with the writer's error, or else the file's.
@@ -59,12 +59,37 @@ class OpenOutput {
 };
 
 // Writes through a temporary renamed over `path` (core/atomic_file.h).
-void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& spec, const void* data, OutputSet* set) {
-  if (spec.width < 1 || spec.height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
+// The written temporary must read back as the image meant (its header: size and
+// channels), before it may replace anything: a writer can produce a file it cannot read
+// (OpenImageIO 2.4's TIFF writer truncated its main directory behind an Exif one).
+void check_reads_back(const std::filesystem::path& target, const std::filesystem::path& temporary,
+                      const OIIO::ImageSpec& spec) {
+  auto in = OIIO::ImageInput::open(temporary.string());
+  const std::string why = in ? "" : first_line(OIIO::geterror());
+  if (!in) throw Error("cannot write " + target.string() + ": the written file does not read back (" + why + ")");
+  const OIIO::ImageSpec& got = in->spec();
+  if (got.width != spec.width || got.height != spec.height || got.nchannels != spec.nchannels)
+    throw Error("cannot write " + target.string() + ": the written file reads back as " + std::to_string(got.width) +
+                "x" + std::to_string(got.height) + "x" + std::to_string(got.nchannels) + ", not " +
+                std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" + std::to_string(spec.nchannels));
+}
+
+// Without a date, the same render writes the same bytes (OpenImageIO stamps the time).
+OIIO::ImageSpec undated(OIIO::ImageSpec spec) {
+  spec.attribute("DateTime", "");
+  return spec;
+}
+
+void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& given, const void* data, OutputSet* set) {
+  if (given.width < 1 || given.height < 1) throw Error("cannot write " + path.string() + ": the image is empty");
+  const OIIO::ImageSpec spec = undated(given);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
-    OpenOutput out(path, temporary);
-    if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data)) out.fail();
-    out.close();
+    {
+      OpenOutput out(path, temporary);
+      if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data)) out.fail();
+      out.close();
+    }
+    check_reads_back(path, temporary, spec);
   }, set);
 }
 
@@ -84,6 +109,7 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
   constexpr int kBand = 64;
   const size_t stride = 3 + extra;
   std::vector<float> band(size_t(kBand) * size_t(film.width) * stride);
+  spec = undated(spec);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     OpenOutput out(path, temporary);
     if (!out->open(temporary.string(), spec)) out.fail();
@@ -101,6 +127,7 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
       if (!out->write_scanlines(film.y0 + y0, film.y0 + y1, 0, OIIO::TypeDesc::FLOAT, band.data())) out.fail();
     }
     out.close();
+    check_reads_back(path, temporary, spec);
   }, set);
 }
 
@@ -118,7 +145,8 @@ bool holds_extra_channels(const std::filesystem::path& path) {
 
 bool can_write_image_format(const std::filesystem::path& path) {
   if (path.extension().empty()) return false;
-  return OIIO::ImageOutput::create(path.string()) != nullptr;
+  const auto out = OIIO::ImageOutput::create(path.string());
+  return out && out->supports("ioproxy");  // see OpenOutput
 }
 
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {
@@ -152,7 +180,10 @@ void write_rgb8(const std::filesystem::path& path, int width, int height, const 
   OIIO::ImageSpec spec(width, height, 3, OIIO::TypeDesc::UINT8);
   // The bytes are sRGB-encoded (render/tonemap.h): say so (PNG: the sRGB, gAMA and cHRM
   // chunks), so colour-managed viewers need not guess.
-  spec.attribute("oiio:ColorSpace", "sRGB");
+  // Not in a TIFF: there OpenImageIO 2.4 then adds an Exif directory and, writing
+  // through a proxy, truncates the main one (an unreadable file).
+  const std::string ext = lowercase_extension(path);
+  if (ext != ".tif" && ext != ".tiff") spec.attribute("oiio:ColorSpace", "sRGB");
   write_pixels(path, spec, rgb.data(), set);
 }
 
