@@ -52,6 +52,16 @@ bool has_layer(const char* name) {
   return false;
 }
 
+bool layer_has_extension(const char* layer, const char* extension) {
+  uint32_t count = 0;
+  if (vkEnumerateInstanceExtensionProperties(layer, &count, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkExtensionProperties> extensions(count);
+  vkEnumerateInstanceExtensionProperties(layer, &count, extensions.data());
+  for (const auto& e : extensions)
+    if (std::strcmp(e.extensionName, extension) == 0) return true;
+  return false;
+}
+
 // Lower rank = preferred: real GPUs first, lavapipe (CPU) last.
 int type_rank(VkPhysicalDeviceType type) {
   switch (type) {
@@ -171,6 +181,14 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
     layers.push_back(kValidationLayer);
     extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
   }
+  // Synchronisation validation too: the default checks do not see a missing barrier.
+  const bool sync_validation =
+      options.validate && layer_has_extension(kValidationLayer, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  if (sync_validation) extensions.push_back(VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME);
+  const VkValidationFeatureEnableEXT enables[] = {VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+  VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
+  features.enabledValidationFeatureCount = 1;
+  features.pEnabledValidationFeatures = enables;
 
   VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
   app.pApplicationName = "zigzag";
@@ -184,6 +202,7 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
                           VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
   messenger.pfnUserCallback = &VulkanContext::on_message;
   messenger.pUserData = this;
+  if (sync_validation) messenger.pNext = &features;
 
   VkInstanceCreateInfo info{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
   info.pNext = options.validate ? &messenger : nullptr;  // also covers create/destroy

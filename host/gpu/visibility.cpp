@@ -60,7 +60,11 @@ float material_tag(const Scene& scene, size_t triangle) {
 bool seen_by_map(const Scene& scene, size_t triangle) {
   if (triangle >= scene.material_of.size()) return true;
   const uint32_t m = scene.material_of[triangle];
-  return m >= scene.materials.size() || scene.materials[m].alpha_mode != AlphaMode::Blend;
+  if (m >= scene.materials.size()) return true;
+  const Material& mat = scene.materials[m];
+  // MASK below its cutoff everywhere (texels only lower the factor's alpha): no ray sees it.
+  const bool never_covers = mat.alpha_mode == AlphaMode::Mask && mat.base_alpha < mat.alpha_cutoff;
+  return mat.alpha_mode != AlphaMode::Blend && !never_covers;
 }
 
 std::vector<glm::vec4> geometric_normals(const Scene& scene) {

@@ -62,6 +62,9 @@ struct VisibilityTimings {
 // ray tracer's continuation ray sees those edges, so the map must too; the blended
 // surface's own outline differs in colour or object signature from what surrounds it, which
 // level 1 compares (vase FLIP 1.587 -> 1.560x the lattice's for +0.04 rays/px at 1024^2).
+// Nor where it is alpha-MASK with a factor below the cutoff: invisible to every ray. A
+// textured MASK (foliage) is drawn whole: the map sees its quads' outlines, not the
+// cut-outs' (known limit; no alpha test in the raster).
 bool seen_by_map(const Scene& scene, size_t triangle);
 // The triangle's material index as the flag rule compares it (w of geometric_normals).
 float material_tag(const Scene& scene, size_t triangle);

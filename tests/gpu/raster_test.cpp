@@ -71,19 +71,13 @@ TEST_F(RasterTest, IdsMatchPrimaryRaysS6OddSize) {
   check_agreement(context(), mixed_scene(), camera, 37, 29, 6);
 }
 
-TEST_F(RasterTest, AlphaBlendSurfacesAreSeenThrough) {
-  // A blended pane in front of everything: the map shows what lies behind it, and its
-  // triangles (appended last) never appear, though they cover most of the frame.
-  const Scene behind = mixed_scene();
-  Scene scene = behind;
+// mixed_scene() behind a pane of material `pane_material` that covers most of the frame.
+Scene behind_a_pane(const Material& pane_material) {
+  Scene scene = mixed_scene();
   SceneBuilder pane;
   pane.quad({-3.0f, -3.0f, 1.2f}, {3.0f, -3.0f, 1.2f}, {3.0f, 3.0f, 1.2f}, {-3.0f, 3.0f, 1.2f});
   const Scene p = pane.done();
-  Material glass;
-  glass.alpha_mode = AlphaMode::Blend;
-  glass.base_alpha = 0.3f;
-  scene.materials.push_back(glass);
-  const size_t first_pane = scene.triangle_count();
+  scene.materials.push_back(pane_material);
   for (size_t t = 0; t < p.triangle_count(); ++t) {
     for (int k = 0; k < 3; ++k) {
       scene.positions.push_back(p.positions[3 * t + k]);
@@ -93,11 +87,40 @@ TEST_F(RasterTest, AlphaBlendSurfacesAreSeenThrough) {
     scene.material_of.push_back(uint32_t(scene.materials.size() - 1));
   }
   scene.finalize_materials();
+  return scene;
+}
+
+TEST_F(RasterTest, AlphaBlendSurfacesAreSeenThrough) {
+  // A blended pane in front of everything: the map shows what lies behind it, and its
+  // triangles (appended last) never appear, though they cover most of the frame.
+  const Scene behind = mixed_scene();
+  Material glass;
+  glass.alpha_mode = AlphaMode::Blend;
+  glass.base_alpha = 0.3f;
+  const Scene scene = behind_a_pane(glass);
+  const size_t first_pane = behind.triangle_count();
   ASSERT_FALSE(seen_by_map(scene, first_pane));
   ASSERT_TRUE(seen_by_map(scene, 0));
   Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
   ASSERT_GT(first_hit(scene, glm::dvec3(0.3, 0.8, 2.6), glm::dvec3(-0.3, -0.8, -2.6)), first_pane);
   check_agreement(context(), scene, camera, 80, 60, 4, &behind);
+}
+
+// A MASK pane whose alpha is below its cutoff is invisible to every ray; the map drew it
+// and flagged its outline instead of the edges behind it. One above the cutoff is solid.
+TEST_F(RasterTest, AlphaMaskSurfacesBelowTheCutoffAreNotDrawn) {
+  const Scene behind = mixed_scene();
+  const size_t first_pane = behind.triangle_count();
+  Material cut;
+  cut.alpha_mode = AlphaMode::Mask;
+  cut.alpha_cutoff = 0.5f;
+  cut.base_alpha = 0.1f;
+  const Scene invisible = behind_a_pane(cut);
+  ASSERT_FALSE(seen_by_map(invisible, first_pane));
+  Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
+  check_agreement(context(), invisible, camera, 80, 60, 4, &behind);
+  cut.base_alpha = 0.9f;
+  EXPECT_TRUE(seen_by_map(behind_a_pane(cut), first_pane));
 }
 
 TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
