@@ -48,7 +48,12 @@ class Bvh {
   // octants or > ~37 degrees apart) are traced lane by lane internally. Known limit: a
   // ray with an exactly zero direction component whose origin lies exactly on a box face
   // of that axis culls the box (1/0 is clamped to 1e30, so the face's distance is 0), and
-  // misses an edge lying in that face that brute force would hit.
+  // misses an edge lying in that face that brute force would hit. Float range: a
+  // direction shorter than ~1e-19 (|d|^2 underflows, under FTZ as the tiles run) or
+  // coordinates relative to the origin beyond ~1e13 or below ~1e-13 (t's numerator goes
+  // as their cube) never hit; brute force agrees. Coplanar overlapping triangles may
+  // resolve differently between a packet lane and a single ray (the box test's margin
+  // covers t's rounding only up to 2^-18 of t).
   void intersect4(const RayPacket4& rays, mask4 active, HitPacket4& hits) const;
   // Any hit: the active lanes whose rays are blocked (each lane stops at its first hit).
   mask4 occluded4(const RayPacket4& rays, mask4 active) const;

@@ -195,7 +195,10 @@ mask4 traverse(const std::vector<Bvh4Node>& nodes, const std::vector<BvhTriBlock
     while (true) {
       if (sp == 0) goto done;
       --sp;
-      if ((stack[sp].tnear <= p.best * kBoxFarScale).any()) {
+      // Capped at FLT_MAX: a lane without a hit yet has best = FLT_MAX, whose scaled value
+      // is inf, and lanes that missed the box store tnear = inf; uncapped, nothing was
+      // culled while any lane had no hit (1-5 % more leaves visited).
+      if ((stack[sp].tnear <= min(p.best * kBoxFarScale, float4(kFloatMax))).any()) {
         ref = stack[sp].ref;
         break;
       }

@@ -195,6 +195,34 @@ TEST_F(PacketTest, ActiveMaskAndBadLanes) {
   }
 }
 
+// The bad directions above make the packet incoherent, so it is traced lane by lane. Bad
+// lanes that keep a good direction reach the packet kernel: a NaN or infinite origin, a
+// NaN, zero or negative tmax. They never hit and leave the other lanes as single rays.
+TEST_F(PacketTest, BadLanesInsideThePacketKernel) {
+  std::mt19937 rng(16);
+  const float nan = std::nanf("");
+  int packets = 0, hits = 0;
+  for (int i = 0; i < 1000; ++i) {
+    const glm::vec3 o = 3.0f * test::random_unit(rng);
+    const glm::vec3 d = glm::normalize(-o + 0.8f * test::random_unit(rng));
+    Ray r[4];
+    for (int k = 0; k < 4; ++k) r[k] = Ray{o, d + 0.002f * glm::vec3(float(k & 1), float(k >> 1), 0.0f)};
+    Ray& bad = r[rng() % 4];
+    switch (i % 5) {
+      case 0: bad.origin.x = nan; break;
+      case 1: bad.origin.z = kInfinity; break;
+      case 2: bad.tmax = nan; break;
+      case 3: bad.tmax = 0.0f; break;
+      default: bad.tmax = -1.0f; break;
+    }
+    packets += takes_packet_path(r);
+    hits += check_packet(bvh_, r, mask4(true));
+    EXPECT_FALSE(bvh_.intersect1(bad).hit());
+  }
+  EXPECT_GT(packets, 900);
+  EXPECT_GT(hits, 1000);
+}
+
 TEST_F(PacketTest, OcclusionStopsAtTmax) {
   // Shadow packets as the shader makes them: four points close together towards one point
   // light, so the packet kernel runs (random origins all over the scene were mostly traced
