@@ -100,6 +100,10 @@ void upload(VulkanContext& context, Buffer& buffer, const void* data, size_t byt
   context.run_commands([&](VkCommandBuffer cmd) {
     VkBufferCopy region{0, 0, bytes};
     vkCmdCopyBuffer(cmd, staging.buffer, buffer.buffer, 1, &region);
+    // A fence wait orders later submissions after the copy but does not make its writes
+    // visible to their reads: that takes a barrier (device-local memory: discrete GPUs).
+    memory_barrier(cmd, VK_PIPELINE_STAGE_2_COPY_BIT, VK_ACCESS_2_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, VK_ACCESS_2_MEMORY_READ_BIT);
   });
 }
 
