@@ -108,26 +108,21 @@ fs::path temporary_name(const fs::path& target) {
 
 std::string errno_text() { return std::strerror(errno); }
 
-// A temporary name for `target`, created empty (O_EXCL: never another writer's file) with
-// the target's permission bits where it exists, so the published file keeps them (a 0600
-// image stays private); new targets get 0666 less the umask, as any created file.
-fs::path create_temporary(const fs::path& target) {
-  struct stat old {};
-  const bool replaces = ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
-  for (int attempt = 0;; ++attempt) {
-    const fs::path temporary = temporary_name(target);
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) {
-      if (errno == EEXIST && attempt < 8) continue;
-      throw Error("cannot write " + target.string() + ": " + errno_text());
-    }
-    if (replaces) {
-      (void)::fchown(fd, uid_t(-1), old.st_gid);  // best effort: the group, if ours to give
-      (void)::fchmod(fd, old.st_mode & 07777);
-    }
-    ::close(fd);
-    return temporary;
-  }
+// Creates `temporary` empty, with O_EXCL: never another writer's file. `mode` 0600 while
+// it will replace a file (whose mode it takes once written: take_mode), else 0666 less
+// the umask, as any created file.
+void create_temporary(const fs::path& temporary, const fs::path& target, mode_t mode) {
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, mode);
+  if (fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
+  ::close(fd);
+}
+
+// The replaced file's group (best effort: if ours to give) and permission bits, not its
+// setuid, setgid or sticky bits: set last, when nothing opens the temporary any more (a
+// 0444 image is replaced by a 0444 one, a 0600 one was never readable by others).
+void take_mode(const fs::path& temporary, const struct stat& old) {
+  (void)::chown(temporary.c_str(), uid_t(-1), old.st_gid);
+  (void)::chmod(temporary.c_str(), old.st_mode & 0777);
 }
 
 void sync_file(const fs::path& path, const fs::path& target) {
@@ -168,12 +163,19 @@ void OutputSet::stage(const fs::path& target, const std::function<void(const fs:
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
   }
-  auto staged = std::make_unique<Staged>(target, create_temporary(target));
+  struct stat old {};
+  const bool replaces = ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+  // Registered for a signal's clean-up before the file exists: no moment leaves it behind.
+  auto staged = std::make_unique<Staged>(target, temporary_name(target));
+  bool created = false;  // a name taken by another process is not ours to remove
   try {
+    create_temporary(staged->temporary, target, replaces ? 0600 : 0666);
+    created = true;
     write(staged->temporary);
     sync_file(staged->temporary, target);
+    if (replaces) take_mode(staged->temporary, old);
   } catch (...) {
-    fs::remove(staged->temporary, ec);
+    if (created) fs::remove(staged->temporary, ec);
     throw;
   }
   staged_.push_back(std::move(staged));

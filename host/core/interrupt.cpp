@@ -36,7 +36,13 @@ void install_interrupt_handlers() {
   sa.sa_flags = SA_RESTART;
   // SIGHUP (a closed terminal, a dropped ssh session) and SIGQUIT end a run as SIGTERM
   // does; uncaught they left 30 MB temporaries behind.
-  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) sigaction(sig, &sa, nullptr);
+  // A signal the parent set to be ignored stays ignored: `nohup` (SIGHUP), a shell's
+  // background job (SIGINT, SIGQUIT).
+  for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGQUIT}) {
+    struct sigaction old {};
+    if (sigaction(sig, nullptr, &old) == 0 && old.sa_handler == SIG_IGN) continue;
+    sigaction(sig, &sa, nullptr);
+  }
   // A warning printed to a closed pipe fails with EPIPE instead of killing the process
   // between writing its outputs and publishing them.
   ::signal(SIGPIPE, SIG_IGN);
