@@ -34,10 +34,10 @@ class Bvh {
   static Bvh build(std::span<const glm::vec3> positions, BvhBuildStats* stats = nullptr);
 
   // All queries: hits with 0 < t <= tmax. t = 0 never counts, and neither does a hit
-  // nearer than both t's rounding bound and a few hundred ULPs of the coordinates
-  // (watertight.h, spawn_reach) unless a double-precision re-test proves it (beyond one
-  // rounding step of the coordinates: a floor 1e5 across seen from 0.3 above it);
-  // spawn secondary rays from offset_ray_origin. Equal t
+  // whose t its float rounding bound does not prove positive, unless a double-precision
+  // re-test does (watertight.h; not tried within one rounding step of the coordinates,
+  // where a ray meets the surface it left); spawn secondary rays from
+  // offset_ray_origin. Equal t
   // goes to the lower triangle index, so a packet lane and the same ray through
   // intersect1 give bit-identical t, u, v, prim. Rays with a NaN or
   // infinite origin/direction, a zero direction, or a NaN tmax never hit. Thread-safe

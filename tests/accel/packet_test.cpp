@@ -110,17 +110,23 @@ TEST(PacketHugeTriangle, NearHitsMatchSingleRays) {
   Bvh bvh = Bvh::build(p);
   std::mt19937 rng(43);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  int hits = 0, packets = 0;
+  int hits = 0, packets = 0, in_doubt = 0;
   for (int i = 0; i < 500; ++i) {
+    // x dominant: the floor's vertices then lie at very different sheared depths, and the
+    // float t's bound (which grows with them) leaves most of these hits in doubt. (With y
+    // dominant they all lie at the hit's depth and the float test proves every hit.)
     const glm::vec3 o(u(rng), 0.5f + 0.3f * u(rng), u(rng));
-    const glm::vec3 d(0.05f + 0.25f * std::abs(u(rng)), -1.0f, 0.05f + 0.25f * std::abs(u(rng)));
+    const glm::vec3 d(1.0f, -0.4f - 0.3f * std::abs(u(rng)), 0.1f + 0.2f * std::abs(u(rng)));
     Ray r[4];
-    for (int k = 0; k < 4; ++k) r[k] = Ray{o, d + 0.01f * glm::vec3(float(k & 1), 0.0f, float(k >> 1))};
+    for (int k = 0; k < 4; ++k) r[k] = Ray{o, d + 0.01f * glm::vec3(0.0f, float(k & 1), float(k >> 1))};
     packets += takes_packet_path(r);
     hits += check_packet(bvh, r, mask4(true));
+    for (const Ray& ray : r)
+      if (const Hit h = bvh.intersect1(ray); h.hit()) in_doubt += test::float_test_in_doubt(p, ray, h.prim);
   }
   EXPECT_EQ(packets, 500);
   EXPECT_EQ(hits, 2000);
+  EXPECT_GT(in_doubt, 1000) << "the re-test must run for this test to mean anything";
 }
 
 TEST_F(PacketTest, IncoherentPacketsMatchSingleRays) {

@@ -101,6 +101,19 @@ inline Hit brute_force(const std::vector<glm::vec3>& p, const Ray& ray) {
   return best;
 }
 
+// Whether the float test alone leaves ray's hit on triangle `prim` in doubt (the hits only
+// the double-precision re-test settles).
+inline bool float_test_in_doubt(const std::vector<glm::vec3>& p, const Ray& ray, int32_t prim) {
+  const watertight::RayShear s = watertight::make_shear(ray.dir);
+  const watertight::SpawnReach<float> reach =
+      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
+  const size_t t = size_t(prim);
+  const glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
+  return watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz], c[s.kx], c[s.ky],
+                                      c[s.kz], s.sx, s.sy, s.sz, reach)
+      .uncertain;
+}
+
 inline glm::vec3 random_unit(std::mt19937& rng) {
   std::normal_distribution<float> g;
   while (true) {
