@@ -440,8 +440,9 @@ struct Loader {
           // front (shading normals turned to it, volumes entered through it), so such a mesh
           // rendered flat-shaded and its glass refracted the wrong way. Like pbrt-v4, which
           // turns the geometric normal to the shading normal, the normals decide: swap the
-          // winding. Per triangle, from the three normals, so the choice is constant over it.
-          if (glm::dot(n[0] + n[1] + n[2], flat) < 0.0f) {
+          // winding. Per triangle, constant over it, and only where all three normals point
+          // away: a triangle on a sharp crease smoothed across keeps its winding.
+          if (glm::dot(n[0], flat) < 0.0f && glm::dot(n[1], flat) < 0.0f && glm::dot(n[2], flat) < 0.0f) {
             std::swap(v[1], v[2]);
             std::swap(w[1], w[2]);
             std::swap(n[1], n[2]);
@@ -678,7 +679,7 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   };
   for (const tinygltf::Buffer& b : model.buffers) external(b.uri);
   for (const tinygltf::Image& i : model.images) external(i.uri);
-  Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}, {}};
+  Loader loader{model, scene, options, file, 0, -1, {}, false, quantized, {}, {}, {}};
   loader.load_materials();
   loader.animation = gltf::read_animations(model, file, [&](const std::string& m) { loader.warn(m); });
   scene.animated = scene.animated || !loader.animation.empty();

@@ -143,6 +143,12 @@ TEST(GltfLoader, TrianglesWoundAgainstTheirNormalsAreRewound) {
     EXPECT_EQ(s.positions[3], glm::vec3(0.0f));
     EXPECT_EQ(s.positions[4].x * mirror > 0.5f, mirror > 0.0f);  // (1,0,0) second unless mirrored
   }
+  // On a crease smoothed across, some normals may point away: that is not a rewind.
+  GltfBuilder b;
+  const int crease = b.mesh("crease", kTriPos, {0.9f, 0, 0.2f, 0, 0.6f, -0.8f, 0, 0.6f, -0.8f});
+  b.node({{"mesh", crease}});
+  Scene s = load_scene(b.write(test::temp_dir("crease")), kQuiet);
+  expect_vec(geometric_normal(s, 0), {0, 0, 1});
 }
 
 TEST(GltfLoader, IndexedAndNonIndexedGiveSameTriangles) {
