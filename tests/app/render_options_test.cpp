@@ -46,7 +46,7 @@ TEST(RenderOptions, DefaultsAreTheDocumentedOnes) {
   EXPECT_TRUE(o.render.adaptive.geo_orient);
   EXPECT_TRUE(o.render.adaptive.geo_zones);
   EXPECT_TRUE(o.render.adaptive.split_unflagged);
-  EXPECT_FALSE(o.render.adaptive.fill_gaps);
+  EXPECT_TRUE(o.render.adaptive.fill_gaps);
   EXPECT_FLOAT_EQ(o.render.adaptive.eps_specular, 0.01f);
   EXPECT_EQ(o.render.edges, EdgeMode::Vulkan);
   EXPECT_EQ(o.render.pattern, UniformPattern::Stratified);
