@@ -227,11 +227,40 @@ TEST_F(Outputs, ImagesReadBackSameBytesSameMode) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a date would differ by a second
   ASSERT_EQ(render({good, "--width", "40", "--height", "24", "--aov", "depth", "-o", b.string()}).exit_code, 0);
   EXPECT_EQ(contents(a), contents(b));
-  ASSERT_EQ(::chmod(a.c_str(), 0600), 0);
-  ASSERT_EQ(render({good, "--width", "40", "--height", "24", "-o", a.string(), "--stats", path("s.json").string()}).exit_code, 0);
-  struct stat st {};
-  ASSERT_EQ(::stat(a.c_str(), &st), 0);
-  EXPECT_EQ(st.st_mode & 07777, 0600u);
+  // The permission bits carry over (read-only too), never setuid, setgid or sticky.
+  for (const mode_t mode : {mode_t(0600), mode_t(0444), mode_t(04755)}) {
+    ASSERT_EQ(::chmod(a.c_str(), mode), 0);
+    ASSERT_EQ(render({good, "--width", "40", "--height", "24", "-o", a.string(), "--stats", path("s.json").string()}).exit_code, 0);
+    struct stat st {};
+    ASSERT_EQ(::stat(a.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 07777, mode & 0777u) << std::oct << mode;
+  }
+}
+
+// `nohup zigzag ...`: a hang-up the parent chose to ignore stays ignored, and the render
+// finishes (a SIGHUP handler installed over SIG_IGN ended it with 129).
+TEST_F(Outputs, AnIgnoredHangUpStaysIgnored) {
+  const fs::path out = path("nohup.png");
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::signal(SIGHUP, SIG_IGN);
+    const std::string scene = path("good.json").string(), o = out.string();
+    ::execl(kZigzag.c_str(), kZigzag.c_str(), "render", scene.c_str(), "--width", "4096", "--height", "4096",
+            "--aa", "none", "--edges", "off", "-q", "-o", o.c_str(), (char*)nullptr);
+    ::_exit(127);
+  }
+  // Once the render runs (its 4096^2 film is past 200 MiB; see the test above).
+  const bool rendering = status_within(pid, "VmRSS:", 60.0, [](const std::string& kib) {
+    return std::stoull(kib) > (200ull << 10);
+  });
+  if (!rendering) ::kill(pid, SIGKILL);
+  ASSERT_TRUE(rendering) << "zigzag never reached the render";
+  ::kill(pid, SIGHUP);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+  EXPECT_TRUE(fs::exists(out));
 }
 
 // A scene earlier in the batch must not replace a file of a later one: its image would
