@@ -88,9 +88,7 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     if (part.string().size() > longest)
       throw Error(where + "the name " + part.string().substr(0, 24) + "... is " + std::to_string(part.string().size()) +
                   " bytes long, the file system takes at most " + std::to_string(longest));
-  char token[17];
-  std::snprintf(token, sizeof token, "%016llx", static_cast<unsigned long long>(random_bits()));
-  const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()) + "-" + token);
+  const fs::path probe = existing / (".zz-probe-" + std::to_string(::getpid()) + "-" + random_token());
   const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
   if (fd < 0) {
     const std::string why = errno_text();

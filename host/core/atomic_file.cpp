@@ -26,13 +26,15 @@ namespace fs = std::filesystem;
 
 }  // namespace
 
-uint64_t random_bits() {
+std::string random_token() {
   uint64_t r = 0;
   if (::getrandom(&r, sizeof r, GRND_NONBLOCK) != ssize_t(sizeof r)) {
     static std::atomic<uint64_t> fallback{0x9e3779b97f4a7c15ull};  // no entropy yet: time and address
     r = fallback.fetch_add(0x9e3779b97f4a7c15ull) ^ uint64_t(::time(nullptr)) ^ uint64_t(reinterpret_cast<uintptr_t>(&r));
   }
-  return r;
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(r));
+  return hex;
 }
 
 namespace {
@@ -75,12 +77,10 @@ fs::path temporary_name(const fs::path& target) {
   // picks the same format. The PID alone is not unique: two containers (each its own PID
   // 1) writing one shared output truncated each other's temporary; 64 random bits are.
   // Appended piece by piece: GCC 12 warns falsely (-Wrestrict, PR 105329) on "." + string.
-  char random[17];
-  std::snprintf(random, sizeof random, "%016llx", static_cast<unsigned long long>(random_bits()));
   std::string suffix = ".zz-";
   suffix += std::to_string(::getpid());
   suffix += '-';
-  suffix += random;
+  suffix += random_token();
   suffix += '-';
   suffix += std::to_string(serial++);
   suffix += target.extension().string();

@@ -7,7 +7,6 @@
 // keeps the target's extension so the format is chosen the same way), stats JSON, AOVs.
 #pragma once
 
-#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
@@ -54,8 +53,9 @@ class OutputSet {
   std::vector<std::unique_ptr<Staged>> staged_;
 };
 
-// 64 random bits for names no other process picks (getrandom; temporaries, probes).
-uint64_t random_bits();
+// 64 random bits as 16 hex digits, for names no other process picks (getrandom;
+// temporaries, the output folder's write probe).
+std::string random_token();
 
 // Async-signal-safe: removes every temporary being written right now (for a signal
 // handler that is about to _exit).

@@ -76,20 +76,26 @@ inline std::vector<glm::vec3> fan(int n, glm::vec3 center, float radius) {
   return p;
 }
 
+// The float kernel alone on triangle t of p, as the BVH calls it for `ray` (shear `s`).
+inline watertight::Result<float> float_test(const std::vector<glm::vec3>& p, const Ray& ray,
+                                            const watertight::RayShear& s, size_t t) {
+  const watertight::SpawnReach<float> reach =
+      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
+  const glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
+  return watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz], c[s.kx], c[s.ky],
+                                      c[s.kz], s.sx, s.sy, s.sz, reach);
+}
+
 // The reference answer: every triangle through the same kernel, same tie-break.
 inline Hit brute_force(const std::vector<glm::vec3>& p, const Ray& ray) {
   Hit best;
   watertight::RayShear s = watertight::make_shear(ray.dir);
   if (!s.valid) return best;
   float tmax = std::fmin(ray.tmax, 3.4028235e38f);
-  const watertight::SpawnReach<float> reach =
-      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
+  const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
   for (size_t t = 0; t < p.size() / 3; ++t) {
-    glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
-    auto h = watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz],
-                                          c[s.kx], c[s.ky], c[s.kz], s.sx, s.sy, s.sz, reach);
+    auto h = float_test(p, ray, s, t);
     watertight::settle_uncertain(h, [&](int) {
-      const float o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
       return watertight::exact_intersect(&p[3 * t].x, &p[3 * t + 1].x, &p[3 * t + 2].x, o, s.kx, s.ky, s.kz, s.sx,
                                          s.sy, s.sz);
     });
@@ -104,14 +110,7 @@ inline Hit brute_force(const std::vector<glm::vec3>& p, const Ray& ray) {
 // Whether the float test alone leaves ray's hit on triangle `prim` in doubt (the hits only
 // the double-precision re-test settles).
 inline bool float_test_in_doubt(const std::vector<glm::vec3>& p, const Ray& ray, int32_t prim) {
-  const watertight::RayShear s = watertight::make_shear(ray.dir);
-  const watertight::SpawnReach<float> reach =
-      watertight::spawn_reach(ray.origin.x, ray.origin.y, ray.origin.z, ray.dir.x, ray.dir.y, ray.dir.z);
-  const size_t t = size_t(prim);
-  const glm::vec3 a = p[3 * t] - ray.origin, b = p[3 * t + 1] - ray.origin, c = p[3 * t + 2] - ray.origin;
-  return watertight::intersect<float>(a[s.kx], a[s.ky], a[s.kz], b[s.kx], b[s.ky], b[s.kz], c[s.kx], c[s.ky],
-                                      c[s.kz], s.sx, s.sy, s.sz, reach)
-      .uncertain;
+  return float_test(p, ray, watertight::make_shear(ray.dir), size_t(prim)).uncertain;
 }
 
 inline glm::vec3 random_unit(std::mt19937& rng) {
