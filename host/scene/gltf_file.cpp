@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <vector>
 
 #include "core/error.h"
@@ -94,13 +95,12 @@ int hex_digit(char c) {
   return 0;  // as tinygltf: a bad digit counts as 0
 }
 
-}  // namespace
-
-std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri) {
-  if (uri.empty() || uri.rfind("data:", 0) == 0) return std::nullopt;
+// `uri` percent-decoded (RFC 3986 §2.1). `plus_is_space` is tinygltf's reading, an HTML
+// form's: a '+' in a URI is itself ("C++.png"), so only tinygltf's key is made with it.
+std::string percent_decode(const std::string& uri, bool plus_is_space) {
   std::string decoded;
   for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '+') {
+    if (uri[i] == '+' && plus_is_space) {
       decoded += ' ';
     } else if (uri[i] == '%' && i + 2 < uri.size()) {
       decoded += char(hex_digit(uri[i + 1]) << 4 | hex_digit(uri[i + 2]));
@@ -109,7 +109,97 @@ std::optional<std::filesystem::path> external_file(const std::filesystem::path& 
       decoded += uri[i];
     }
   }
-  return gltf.parent_path() / decoded;
+  return decoded;
+}
+
+bool names_a_file(const std::string& uri) { return !uri.empty() && uri.rfind("data:", 0) != 0; }
+
+// The external URIs of a glTF's JSON ("buffers" and "images"), in order; empty when the
+// JSON cannot be read (tinygltf then says what is wrong).
+std::vector<std::string> external_uris(std::string_view json_text) {
+  std::vector<std::string> uris;
+  if (json_nesting_depth(json_text) > kMaxJsonDepth) return uris;
+  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (!j.is_object()) return uris;
+  for (const char* array : {"buffers", "images"}) {
+    const auto it = j.find(array);
+    if (it == j.end() || !it->is_array()) continue;
+    for (const nlohmann::json& item : *it)
+      if (item.is_object() && item.contains("uri") && item["uri"].is_string() && names_a_file(item["uri"]))
+        uris.push_back(item["uri"].get<std::string>());
+  }
+  return uris;
+}
+
+// tinygltf 2.7 decodes a URI with '+' as a space and then looks for the file next to the
+// glTF and, failing that, in the working directory. Its path callback is handed the path it
+// made and returns the one it reads: the file the URI names next to the glTF, and nothing
+// from the working directory, where a render on another machine or folder would find
+// another file or none.
+class UriResolver {
+ public:
+  UriResolver(const std::filesystem::path& gltf, std::string_view json_text) : gltf_(gltf), json_(json_text) {}
+
+  std::string resolve(const std::string& tinygltf_path) {
+    if (!map_) build();
+    const auto it = map_->find(tinygltf_path);
+    if (it == map_->end()) return {};  // the working directory's copy: not found
+    if (!it->second) throw Error(gltf_.string() + ": URIs '" + ambiguous_[it->first].first + "' and '" +
+                                 ambiguous_[it->first].second + "' name different files that tinygltf 2.7 cannot tell apart ('+' and space); rename one");
+    std::error_code ec;
+    if (!std::filesystem::exists(*it->second, ec)) missing_.push_back({percent_decode(first_uri_[it->first], true), *it->second});
+    return *it->second;
+  }
+
+  // tinygltf's "File not found : <its decoding>" names the file the URI names.
+  std::string explain(std::string message) const {
+    for (const auto& [tinygltf_name, file] : missing_) {
+      const std::string said = "File not found : " + tinygltf_name;
+      if (const size_t at = message.find(said); at != std::string::npos) message.replace(at, said.size(), "file not found: " + file);
+    }
+    return message;
+  }
+
+ private:
+  // tinygltf's JoinPath(base_dir, decoded): the key its callback is called with.
+  std::string tinygltf_key(const std::string& uri) const {
+    const std::string base = gltf_.parent_path().string();
+    const std::string decoded = percent_decode(uri, true);
+    if (base.empty()) return decoded;
+    return base.back() == '/' ? base + decoded : base + "/" + decoded;
+  }
+
+  void build() {
+    map_.emplace();
+    for (const std::string& uri : external_uris(json_)) {
+      const std::string key = tinygltf_key(uri);
+      const std::string file = external_file(gltf_, uri)->string();
+      const auto [it, fresh] = map_->emplace(key, file);
+      if (!fresh && it->second && *it->second != file) {
+        ambiguous_[key] = {first_uri_[key], uri};
+        it->second.reset();
+      }
+      first_uri_.emplace(key, uri);
+    }
+  }
+
+  std::filesystem::path gltf_;
+  std::string_view json_;
+  std::optional<std::map<std::string, std::optional<std::string>>> map_;
+  std::map<std::string, std::string> first_uri_;
+  std::map<std::string, std::pair<std::string, std::string>> ambiguous_;
+  std::vector<std::pair<std::string, std::string>> missing_;
+};
+
+std::string resolve_uri_path(const std::string& tinygltf_path, void* resolver) {
+  return static_cast<UriResolver*>(resolver)->resolve(tinygltf_path);
+}
+
+}  // namespace
+
+std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri) {
+  if (!names_a_file(uri)) return std::nullopt;
+  return gltf.parent_path() / percent_decode(uri, false);
 }
 
 std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf) {
@@ -133,18 +223,7 @@ std::vector<std::filesystem::path> external_files(const std::filesystem::path& g
     if (!read_regular_file(gltf.string(), kMaxFileBytes, &bytes, &why)) return files;
     json_text = std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
-  if (json_nesting_depth(json_text) > kMaxJsonDepth) return files;
-  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  if (!j.is_object()) return files;
-  for (const char* array : {"buffers", "images"}) {
-    const auto it = j.find(array);
-    if (it == j.end() || !it->is_array()) continue;
-    for (const nlohmann::json& item : *it) {
-      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
-      if (std::optional<std::filesystem::path> f = external_file(gltf, item["uri"].get<std::string>()))
-        files.push_back(std::move(*f));
-    }
-  }
+  for (const std::string& uri : external_uris(json_text)) files.push_back(*external_file(gltf, uri));
   return files;
 }
 
@@ -170,7 +249,8 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keep_encoded, &model);  // it checks an image's bufferView against the model's buffers
-  gltf.SetFsCallbacks({file_exists, tinygltf::ExpandFilePath, read_whole_file, tinygltf::WriteWholeFile, nullptr});
+  UriResolver resolver(path, json);
+  gltf.SetFsCallbacks({file_exists, resolve_uri_path, read_whole_file, tinygltf::WriteWholeFile, &resolver});
   std::string err;
   // Relative URIs resolve against the file's folder, as tinygltf's *FromFile calls do.
   const std::string base_dir = path.parent_path().string();
@@ -179,11 +259,13 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, warning, bytes.data(), unsigned(bytes.size()), base_dir)
                 : gltf.LoadASCIIFromString(&model, &err, warning, reinterpret_cast<const char*>(bytes.data()),
                                            unsigned(bytes.size()), base_dir);
+  } catch (const Error&) {  // the URI resolver's
+    throw;
   } catch (const std::exception& e) {  // tinygltf's JSON parser or an allocation
     throw Error(file + ": cannot parse glTF (" + e.what() + ")");
   }
   if (!ok) {
-    std::string msg = err.empty() ? "cannot parse glTF" : err;
+    std::string msg = err.empty() ? "cannot parse glTF" : resolver.explain(err);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);

@@ -542,10 +542,10 @@ TEST(GltfLoader, CamerasAndLightsFollowNodeTransforms) {
   expect_vec(s.lights[2].direction, {0, 0, -1});
 }
 
-// As tinygltf reads them: percent-decoded, '+' a space, next to the glTF.
-TEST(GltfLoader, ExternalFilesAreNamedAsTinygltfReadsThem) {
+// Percent-decoded next to the glTF (RFC 3986: '+' is itself, not a space).
+TEST(GltfLoader, ExternalFilesAreNamedAsTheirUrisSay) {
   EXPECT_EQ(gltf::external_file("a/scene.gltf", "My%20Wood.png"), std::filesystem::path("a/My Wood.png"));
-  EXPECT_EQ(gltf::external_file("a/scene.gltf", "tex/b+c%2fd.png"), std::filesystem::path("a/tex/b c/d.png"));
+  EXPECT_EQ(gltf::external_file("a/scene.gltf", "tex/b+c%2fd.png"), std::filesystem::path("a/tex/b+c/d.png"));
   EXPECT_EQ(gltf::external_file("scene.gltf", "x%2"), std::filesystem::path("x%2"));  // too short to decode
   EXPECT_FALSE(gltf::external_file("a/scene.gltf", "data:image/png;base64,AAAA"));     // the bytes are in the URI
   EXPECT_FALSE(gltf::external_file("a/scene.gltf", ""));
@@ -561,6 +561,66 @@ TEST(GltfLoader, ExternalFilesAreNamedAsTinygltfReadsThem) {
   const Scene s = load_scene(path, kQuiet);
   ASSERT_EQ(s.source_files.size(), 2u);
   EXPECT_EQ(s.source_files[1], (dir / "my model.bin").string());
+}
+
+// tinygltf 2.7 reads "C++.bin" as "C  .bin": a file whose name holds a '+' was not found.
+TEST(GltfLoader, APlusInAUriIsAPlus) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  const auto dir = test::temp_dir("plus");
+  const auto path = b.write(dir, "C++");
+  ASSERT_EQ(nlohmann::json::parse(test::read_text(path))["buffers"][0]["uri"], "C++.bin");
+  const Scene s = load_scene(path, kQuiet);
+  EXPECT_EQ(s.triangle_count(), 1u);
+  ASSERT_EQ(s.source_files.size(), 2u);
+  EXPECT_EQ(s.source_files[1], (dir / "C++.bin").string());
+  // "C%2B%2B.bin" names the same file; "C  .bin" would be another, and is not there.
+  auto doc = nlohmann::json::parse(test::read_text(path));
+  doc["buffers"][0]["uri"] = "C%2B%2B.bin";
+  test::write_text(path, doc.dump());
+  EXPECT_EQ(load_scene(path, kQuiet).triangle_count(), 1u);
+  std::filesystem::copy_file(dir / "C++.bin", dir / "C  .bin");
+  std::filesystem::remove(dir / "C++.bin");
+  doc["buffers"][0]["uri"] = "C++.bin";
+  test::write_text(path, doc.dump());
+  expect_error([&] { load_scene(path, kQuiet); }, "C++.bin");
+}
+
+// Two URIs tinygltf would read as one name ("a+b" and "a%20b") cannot both be loaded
+// through it; the load says so rather than reading one file for both.
+TEST(GltfLoader, UrisTinygltfCannotTellApartAreAnError) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  const auto dir = test::temp_dir("plusspace");
+  const auto path = b.write(dir, "a+b");
+  std::filesystem::copy_file(dir / "a+b.bin", dir / "a b.bin");
+  auto doc = nlohmann::json::parse(test::read_text(path));
+  doc["buffers"].push_back({{"uri", "a%20b.bin"}, {"byteLength", doc["buffers"][0]["byteLength"]}});
+  test::write_text(path, doc.dump());
+  expect_error([&] { load_scene(path, kQuiet); }, "cannot tell apart");
+}
+
+// tinygltf looks for a file the glTF names in the working directory too when it is not next
+// to the glTF: the same scene rendered from another folder (or farm worker) was another
+// scene. Only the glTF's folder counts.
+TEST(GltfLoader, AFileMissingNextToTheGltfIsNotTakenFromTheWorkingDirectory) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  const auto dir = test::temp_dir("cwdfallback");
+  std::filesystem::create_directories(dir / "scene");
+  std::filesystem::create_directories(dir / "cwd");
+  const auto path = b.write(dir / "scene", "model");
+  std::filesystem::rename(dir / "scene" / "model.bin", dir / "cwd" / "model.bin");
+  const std::filesystem::path before = std::filesystem::current_path();
+  std::filesystem::current_path(dir / "cwd");
+  std::string error;
+  try {
+    load_scene(path, kQuiet);
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  std::filesystem::current_path(before);
+  EXPECT_NE(error.find("model.bin"), std::string::npos) << error;
 }
 
 // KHR_lights_punctual: range > 0 when given. A negative one was taken as no range.
