@@ -15,7 +15,9 @@ namespace zz {
 struct Camera {
   std::string name;
   glm::vec3 position{0.0f, 0.0f, 5.0f};
-  // Orthonormal basis in world space: right, up, and forward (the viewing direction).
+  // The view in world space: forward (the viewing direction, unit), and right and up, the
+  // image plane's axes at distance 1 per unit of tan(fov) -- an orthonormal frame, except
+  // under a glTF node that mirrors or scales unevenly, which they carry (gltf_loader.cpp).
   glm::vec3 right{1.0f, 0.0f, 0.0f};
   glm::vec3 up{0.0f, 1.0f, 0.0f};
   glm::vec3 forward{0.0f, 0.0f, -1.0f};

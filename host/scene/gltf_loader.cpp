@@ -62,6 +62,17 @@ glm::vec3 vec3_of(const std::vector<double>& v, glm::vec3 fallback) {
 }
 bool finite(glm::vec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+// A rotation times a uniform positive scale, within float rounding of the node's matrix:
+// a camera there sees what an orthonormal frame sees.
+bool is_rotation_times_scale(const glm::mat3& m) {
+  const float lx = glm::length(m[0]), ly = glm::length(m[1]), lz = glm::length(m[2]);
+  constexpr float kTolerance = 1e-5f;
+  const auto near = [&](float a, float b) { return std::abs(a - b) <= kTolerance * std::max(a, b); };
+  return near(lx, lz) && near(ly, lz) && std::abs(glm::dot(m[0], m[1])) <= kTolerance * lx * ly &&
+         std::abs(glm::dot(m[1], m[2])) <= kTolerance * ly * lz && std::abs(glm::dot(m[0], m[2])) <= kTolerance * lx * lz &&
+         glm::determinant(m) > 0.0f;
+}
+
 // Per-vertex tangents (xyz, w = bitangent sign) from the UV gradients of the triangles
 // around each vertex (Lengyel 2001, "Computing Tangent Space Basis Vectors"), in the
 // mesh's own frame. Not MikkTSpace: the frame is the area-weighted average over a vertex's
@@ -576,8 +587,17 @@ struct Loader {
       return;
     }
     c.forward = glm::normalize(f);
-    c.right = glm::normalize(glm::cross(c.forward, u));
-    c.up = glm::cross(c.right, c.forward);
+    if (is_rotation_times_scale(m)) {
+      c.right = glm::normalize(glm::cross(c.forward, u));
+      c.up = glm::cross(c.right, c.forward);
+    } else {
+      // The view is the node's inverse (glTF 2.0 §3.10.1): a local ray (a, b, -1) goes to
+      // m (a, b, -1) in the world, so a mirrored node mirrors the image and a node scaled
+      // in x alone widens what a pixel sees. Relative to the forward axis's length.
+      const float length = glm::length(f);
+      c.right = m * glm::vec3(1.0f, 0.0f, 0.0f) / length;
+      c.up = u / length;
+    }
     if (!finite(c.position) || !finite(c.forward) || !finite(c.right) || !finite(c.up)) {
       ignore_camera(c.name, "has a non-finite transform");
       return;

@@ -717,6 +717,33 @@ TEST(GltfLoader, LightDirectionsIgnoreScaleAndForbiddenLightsAreErrors) {
 
 // A field of view or aspect ratio the spec forbids is not replaced by a made-up one: the
 // camera is ignored, with a warning, and the automatic camera frames the scene.
+// The view is the inverse of the camera node's transform (glTF 2.0 §3.10.1): a local ray
+// (a, b, -1) goes to m (a, b, -1). A mirrored root (a handedness conversion holding camera
+// and meshes) came out mirrored, and a scaled one unscaled.
+TEST(GltfLoader, ACameraSeesThroughItsNodesMirrorAndScale) {
+  const auto camera_under = [](const nlohmann::json& scale, const char* name) {
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}}};
+    const int cam = b.node({{"camera", 0}, {"translation", {0.5, -0.25, 3}}, {"rotation", {0.1, 0.2, 0, 0.9747}}}, false);
+    b.node({{"scale", scale}, {"children", {cam}}});
+    return load_scene(b.write(test::temp_dir(name)), kQuiet).cameras.at(0);
+  };
+  const Camera plain = camera_under({1, 1, 1}, "camplain");
+  const CameraRays plain_rays(plain, 8, 4);
+  for (const auto& [scale, name] : {std::pair{glm::vec3(1, 1, -1), "cammirz"}, std::pair{glm::vec3(-1, 1, 1), "cammirx"},
+                                    std::pair{glm::vec3(2, 1, 1), "camwide"}, std::pair{glm::vec3(3, 3, 3), "camuniform"}}) {
+    const Camera c = camera_under({scale.x, scale.y, scale.z}, name);
+    const CameraRays rays(c, 8, 4);
+    expect_vec(c.position, scale * plain.position);
+    for (const glm::vec2 p : {glm::vec2(0.5f, 0.5f), glm::vec2(7.5f, 0.5f), glm::vec2(2.0f, 3.5f), glm::vec2(4, 2)}) {
+      const glm::vec3 expected = glm::normalize(scale * plain_rays.direction(p.x, p.y));
+      const glm::vec3 got = rays.direction(p.x, p.y);
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], expected[k], 1e-5f) << name << " pixel " << p.x << "," << p.y;
+    }
+  }
+}
+
 TEST(GltfLoader, ACameraWithAnImpossibleFieldOfViewIsIgnored) {
   for (const nlohmann::json& perspective :
        {nlohmann::json{{"yfov", 0.0}, {"znear", 0.1}}, nlohmann::json{{"yfov", 3.5}, {"znear", 0.1}},
