@@ -73,6 +73,23 @@ bool is_rotation_times_scale(const glm::mat3& m) {
          glm::determinant(m) > 0.0f;
 }
 
+// The coordinates a normal texture is read at, for its tangent frame: its KHR_texture_transform
+// turns the image against the UV set (the Khronos sample viewer builds the frame from them
+// too). A transform that only scales evenly and shifts leaves the frame as it is, so the UV
+// set is used untouched.
+std::vector<float> normal_map_uvs(const TextureRef& ref, const std::vector<float>& uv) {
+  const glm::mat2 linear(ref.transform);
+  const bool turns = linear[0][1] != 0.0f || linear[1][0] != 0.0f || linear[0][0] != linear[1][1] || !(linear[0][0] > 0.0f);
+  if (!ref.transformed || !turns) return uv;
+  std::vector<float> out(uv.size());
+  for (size_t i = 0; i + 1 < uv.size(); i += 2) {
+    const glm::vec2 t = linear * glm::vec2(uv[i], uv[i + 1]);
+    out[i] = t.x;
+    out[i + 1] = t.y;
+  }
+  return out;
+}
+
 // Per-vertex tangents (xyz, w = bitangent sign) from the UV gradients of the triangles
 // around each vertex (Lengyel 2001, "Computing Tangent Space Basis Vectors"), in the
 // mesh's own frame. Not MikkTSpace: the frame is the area-weighted average over a vertex's
@@ -415,8 +432,10 @@ struct Loader {
       // Normal maps need a tangent frame: the file's, else one from the gradients of the
       // UV set the normal texture reads (glTF: its texCoord).
       const bool normal_uv1 = normal_mapped && scene.materials[material].normal_texture.texcoord == 1;
-      const std::vector<float> tangents = !normal_mapped || !tangent.empty() ? tangent
-                                          : uv_gradient_tangents(pos, nrm, normal_uv1 ? uv1 : uv, tri);
+      const std::vector<float> tangents =
+          !normal_mapped || !tangent.empty()
+              ? tangent
+              : uv_gradient_tangents(pos, nrm, normal_map_uvs(scene.materials[material].normal_texture, normal_uv1 ? uv1 : uv), tri);
       if (normal_mapped) scene.tangents.resize(scene.positions.size(), glm::vec4(0.0f));
       if (uses_texcoord1) scene.uvs1.resize(scene.positions.size(), glm::vec2(0.0f));
       size_t rewound = 0;

@@ -120,6 +120,47 @@ TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
   }
 }
 
+// A normal texture turned by KHR_texture_transform has its tangent frame turned with it:
+// the frame is the gradient of the coordinates the texture is read at (as the Khronos
+// sample viewer builds it), so a texel's +X points where the image's +X lies on the surface.
+// It was built from the untransformed UV set, and a rotated map bent light the wrong way.
+TEST(Texture, NormalMapTangentsFollowTheTexturesTransform) {
+  auto dir = test::temp_dir("normal_transform");
+  ASSERT_NO_FATAL_FAILURE(write_flat_normal_map(dir / "n.png"));
+  const auto tangents_with = [&](const nlohmann::json& transform, const std::string& stem) {
+    test::GltfBuilder b;
+    b.doc["images"] = {{{"uri", "n.png"}}};
+    b.doc["textures"] = {{{"source", 0}}};
+    nlohmann::json normal = {{"index", 0}};
+    if (!transform.is_null()) normal["extensions"] = {{"KHR_texture_transform", transform}};
+    b.doc["extensionsUsed"] = {"KHR_texture_transform"};
+    b.doc["materials"] = {{{"name", "bumpy"}, {"normalTexture", normal}}};
+    b.node({{"mesh", b.mesh("tri", test::kTriPos, test::kTriNrm, {}, 4, 0, {0, 0, 1, 0, 0, 1})}});  // u = x, v = y
+    const Scene s = load_scene(b.write(dir, stem), LoadOptions{{}, true});
+    return std::pair(s.tangents, glm::mat2(s.materials[0].normal_texture.transform));
+  };
+  const auto [plain, identity] = tangents_with(nullptr, "plain");
+  ASSERT_EQ(plain.size(), 3u);
+  const float w = plain[0].w;
+  ASSERT_NEAR(plain[0].x, 1.0f, 1e-6f);
+  const auto [turned, rotation] = tangents_with({{"rotation", 1.5707963}}, "turned");
+  const auto [mirrored, mirror] = tangents_with({{"scale", {-1, 1}}}, "mirrored");
+  const auto [wider, scale] = tangents_with({{"scale", {3, 3}}, {"offset", {0.5, 0.25}}}, "wider");
+  ASSERT_EQ(turned.size(), 3u);
+  ASSERT_EQ(mirrored.size(), 3u);
+  for (int v = 0; v < 3; ++v) {
+    // T = dP/du' with u' = L (u, v): along (L[0][0], L[1][0]) here, as L is orthogonal.
+    EXPECT_NEAR(turned[v].x, 0.0f, 1e-6f);
+    EXPECT_NEAR(turned[v].y, rotation[1][0] > 0.0f ? 1.0f : -1.0f, 1e-6f);
+    EXPECT_EQ(turned[v].w, w) << "a rotation keeps the frame's handedness";
+    EXPECT_NEAR(mirrored[v].x, -1.0f, 1e-6f);
+    EXPECT_EQ(mirrored[v].w, -w) << "a mirrored map flips the bitangent";
+    EXPECT_EQ(wider[v], plain[v]) << "an even scale and a shift leave the frame as it is";
+  }
+  EXPECT_NE(rotation, identity);
+  EXPECT_NE(scale, identity);
+}
+
 // glTF 3.7.2.1: without NORMAL, the file's TANGENT MUST be ignored (flat normals, so
 // tangents from the UV gradients). Here u runs along +x and the file's tangent says +y.
 TEST(Texture, TangentsOfAMeshWithoutNormalsAreIgnored) {
