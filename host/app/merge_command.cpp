@@ -1,5 +1,6 @@
 // `zigzag merge PART.exr... -o OUT`: the EXR parts of one frame (`zigzag render
 // --region`) assembled into the whole frame, bit-identical to a full-frame render.
+#include <algorithm>
 #include <memory>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "core/error.h"
 #include "render/film_merge.h"
 #include "render/image_io.h"
+#include "render/memory_budget.h"
 
 namespace zz {
 
@@ -19,6 +21,22 @@ struct MergeOptions {
   std::vector<std::string> parts;
   std::string output;
 };
+
+// A film of w x h with `channels` AOV layers: radiance, the rays and level bytes, the layers.
+uint64_t film_bytes(uint64_t pixels, size_t channels) { return pixels * (sizeof(glm::vec3) + 2 + 4 * channels); }
+
+// Peak memory of the merge: the frame and its interleaved copy for the writer (or its
+// display bytes), and the largest part with the interleaved buffer it is read through.
+uint64_t merge_bytes(const std::vector<FilmPart>& headers, bool exr) {
+  const Film& first = headers.front().file.film;
+  const size_t channels = first.channels.size();
+  const uint64_t frame = uint64_t(first.frame_width) * uint64_t(first.frame_height);
+  uint64_t largest = 0;
+  for (const FilmPart& p : headers) largest = std::max(largest, uint64_t(p.file.film.width) * uint64_t(p.file.film.height));
+  const uint64_t interleaved = 4 * (3 + channels);
+  return film_bytes(frame, channels) + frame * (exr ? interleaved : 3) + film_bytes(largest, channels) +
+         largest * interleaved;
+}
 
 }  // namespace
 
@@ -35,11 +53,20 @@ void add_merge_command(CLI::App& app) {
       preflight_output("-o", o->output, true);
       check_not_an_input("-o", o->output, o->parts, "one of the parts,");
     });
-    std::vector<FilmPart> parts;
-    parts.reserve(o->parts.size());
-    for (const std::string& p : o->parts) parts.push_back({p, read_film(p)});
-    FilmFile merged = merge_films(parts);
-    parts.clear();  // the parts' memory before the output's display bytes
+    // The parts' headers first: a set that does not tile one frame of one render is
+    // refused before any pixel is read, and the frame is filled one part at a time, so the
+    // merge holds the frame and one part, not every part at once.
+    std::vector<FilmPart> headers;
+    headers.reserve(o->parts.size());
+    for (const std::string& p : o->parts) headers.push_back({p, read_film_header(p)});
+    check_film_parts(headers);
+    check_memory(merge_bytes(headers, holds_extra_channels(o->output)), "merging these parts");
+    FilmFile merged = empty_frame(headers.front().file);
+    for (const FilmPart& p : headers) {
+      const FilmFile part = read_film(p.name);
+      if (!same_film_header(part, p.file)) throw Error("merge: " + p.name + " changed while the parts were merged");
+      paste_part(merged, part.film);
+    }
     // The AOV layers go into an EXR; any other output is the colour alone.
     if (!holds_extra_channels(o->output)) merged.film.channels.clear();
     write_film(o->output, merged.film, merged.tonemap, merged.attributes);

@@ -34,12 +34,14 @@ std::string attribute(const FilmFile& f, const std::string& key) {
   return it == f.attributes.end() ? std::string() : it->second;
 }
 
-// Where two parts' "settings" (JSON, render_command.cpp image_settings) differ, e.g.
-// ": /time is 1.04167 in b.exr, 1 in a.exr"; empty when either is not JSON.
+// Where two parts' attribute `key` differs, e.g. ": /time is 1.04167 in b.exr, 1 in a.exr"
+// for the "settings" (JSON, render_command.cpp image_settings), ": 1 in b.exr, 0 in a.exr"
+// for a plain value; empty for text that is not JSON.
 std::string setting_difference(const FilmPart& a, const FilmPart& b, const std::string& key) {
   const nlohmann::json x = nlohmann::json::parse(attribute(a.file, key), nullptr, false);
   const nlohmann::json y = nlohmann::json::parse(attribute(b.file, key), nullptr, false);
   if (x.is_discarded() || y.is_discarded() || x == y) return "";
+  if (!x.is_structured() || !y.is_structured()) return ": " + x.dump() + " in " + a.name + ", " + y.dump() + " in " + b.name;
   const std::string path = nlohmann::json::diff(y, x).front().value("path", "");
   const nlohmann::json::json_pointer at(path);
   auto text = [&](const nlohmann::json& j) {
@@ -55,7 +57,7 @@ std::string setting_difference(const FilmPart& a, const FilmPart& b, const std::
 
 }  // namespace
 
-FilmFile merge_films(const std::vector<FilmPart>& parts) {
+void check_film_parts(const std::vector<FilmPart>& parts) {
   if (parts.empty()) throw Error("merge: no parts");
   const FilmFile& first = parts.front().file;
   const int W = first.film.frame_width, H = first.film.frame_height;
@@ -100,21 +102,40 @@ FilmFile merge_films(const std::vector<FilmPart>& parts) {
     throw Error("merge: the parts cover " + std::to_string(covered) + " of the frame's " +
                 std::to_string(uint64_t(W) * uint64_t(H)) + " pixels (a region is missing)");
 
+}
+
+bool same_film_header(const FilmFile& a, const FilmFile& b) {
+  const Film &x = a.film, &y = b.film;
+  return x.window() == y.window() && x.frame_width == y.frame_width && x.frame_height == y.frame_height &&
+         same_channels(x, y) && std::memcmp(&a.tonemap.exposure, &b.tonemap.exposure, sizeof(float)) == 0 &&
+         a.attributes == b.attributes;
+}
+
+FilmFile empty_frame(const FilmFile& first) {
+  const int W = first.film.frame_width, H = first.film.frame_height;
   FilmFile out;
   out.film = Film(W, H);
   out.tonemap = first.tonemap;
   out.attributes = first.attributes;
   for (const FilmChannel& c : first.film.channels)
     out.film.channels.push_back({c.name, std::vector<float>(size_t(W) * size_t(H))});
-  for (const FilmPart& p : parts) {
-    const Film& f = p.file.film;
-    for (int y = 0; y < f.height; ++y) {
-      const size_t from = size_t(y) * f.width, to = size_t(f.y0 + y) * W + f.x0;
-      std::copy_n(&f.radiance[from], f.width, &out.film.radiance[to]);
-      for (size_t c = 0; c < f.channels.size(); ++c)
-        std::copy_n(&f.channels[c].values[from], f.width, &out.film.channels[c].values[to]);
-    }
+  return out;
+}
+
+void paste_part(FilmFile& frame, const Film& f) {
+  const int W = frame.film.frame_width;
+  for (int y = 0; y < f.height; ++y) {
+    const size_t from = size_t(y) * f.width, to = size_t(f.y0 + y) * W + f.x0;
+    std::copy_n(&f.radiance[from], f.width, &frame.film.radiance[to]);
+    for (size_t c = 0; c < f.channels.size(); ++c)
+      std::copy_n(&f.channels[c].values[from], f.width, &frame.film.channels[c].values[to]);
   }
+}
+
+FilmFile merge_films(const std::vector<FilmPart>& parts) {
+  check_film_parts(parts);
+  FilmFile out = empty_frame(parts.front().file);
+  for (const FilmPart& p : parts) paste_part(out, p.file.film);
   return out;
 }
 

@@ -17,7 +17,23 @@ struct FilmPart {
   FilmFile file;
 };
 
-// Throws zz::Error naming the offending part(s). The result has the parts' frame as
+// Throws zz::Error naming the offending part(s) unless they tile one frame of one render.
+// Reads the films' windows, channel names, exposure and attributes only, so the parts may
+// be headers (read_film_header): a bad set is refused before any pixel is read.
+void check_film_parts(const std::vector<FilmPart>& parts);
+
+// Whether two films agree in all check_film_parts reads (windows, channel names, exposure,
+// attributes): a part read whole against its header.
+bool same_film_header(const FilmFile& a, const FilmFile& b);
+
+// The whole frame of the parts `first` belongs to, zeroed: both windows the frame, the
+// part's tone map, attributes and channels.
+FilmFile empty_frame(const FilmFile& first);
+
+// Copies a part's pixels (radiance and channels) into its window of `frame`.
+void paste_part(FilmFile& frame, const Film& part);
+
+// All three at once, for parts already read whole. The result has the parts' frame as
 // both windows, their tone map and attributes.
 FilmFile merge_films(const std::vector<FilmPart>& parts);
 

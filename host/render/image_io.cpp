@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <memory>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -227,8 +228,11 @@ std::vector<float> read_rgb_float(const std::filesystem::path& path, int& width,
   return rgb;
 }
 
-FilmFile read_film(const std::filesystem::path& path) {
-  const std::string file = path.string();
+namespace {
+
+// An EXR written by write_film, opened: its spec checked, the windows, exposure, attributes
+// and channel names read into *f (no pixel buffers); `rgb` gets R, G, B's channel indices.
+std::unique_ptr<OIIO::ImageInput> open_film(const std::string& file, FilmFile* f, int rgb[3]) {
   auto in = OIIO::ImageInput::open(file);
   if (!in) throw Error("cannot read " + file + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
@@ -241,27 +245,53 @@ FilmFile read_film(const std::filesystem::path& path) {
       spec.full_y != 0 || spec.x < 0 || spec.y < 0 || int64_t(spec.x) + spec.width > spec.full_width ||
       int64_t(spec.y) + spec.height > spec.full_height)
     throw Error(file + ": data window is not inside a display window starting at 0,0");
-  FilmFile f;
-  f.film = Film(spec.full_width, spec.full_height, TileRect{spec.x, spec.y, spec.x + spec.width, spec.y + spec.height});
-  f.tonemap.exposure = exposure;
+  Film& film = f->film;
+  film.width = spec.width;
+  film.height = spec.height;
+  film.x0 = spec.x;
+  film.y0 = spec.y;
+  film.frame_width = spec.full_width;
+  film.frame_height = spec.full_height;
+  f->tonemap.exposure = exposure;
   for (const OIIO::ParamValue& p : spec.extra_attribs) {
     const std::string name = p.name().string();
     if (name.rfind(kAttributePrefix, 0) != 0 || p.type() != OIIO::TypeDesc::STRING) continue;
-    f.attributes[name.substr(std::strlen(kAttributePrefix))] = p.get_string();
+    f->attributes[name.substr(std::strlen(kAttributePrefix))] = p.get_string();
   }
   // R, G, B by name (any order in the file), else the first three; the rest are layers.
-  const int nch = spec.nchannels;
-  int rgb[3] = {0, 1, 2};
   for (int c = 0; c < 3; ++c) {
     const int found = spec.channelindex(c == 0 ? "R" : c == 1 ? "G" : "B");
-    if (found >= 0) rgb[c] = found;
+    rgb[c] = found >= 0 ? found : c;
   }
+  for (int c = 0; c < spec.nchannels; ++c)
+    if (c != rgb[0] && c != rgb[1] && c != rgb[2]) film.channels.push_back({spec.channel_name(c), {}});
+  return in;
+}
+
+}  // namespace
+
+FilmFile read_film_header(const std::filesystem::path& path) {
+  FilmFile f;
+  int rgb[3];
+  open_film(path.string(), &f, rgb);
+  return f;
+}
+
+FilmFile read_film(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  FilmFile header;
+  int rgb[3];
+  const std::unique_ptr<OIIO::ImageInput> in = open_film(file, &header, rgb);
+  const Film& h = header.film;
+  FilmFile f{Film(h.frame_width, h.frame_height, TileRect{h.x0, h.y0, h.x0 + h.width, h.y0 + h.height}),
+             header.tonemap, std::move(header.attributes)};
+  const int nch = in->spec().nchannels;
   if (nch == 3 && rgb[0] == 0 && rgb[1] == 1 && rgb[2] == 2) {
     if (!in->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, f.film.radiance.data()))
       throw Error("cannot read " + file + ": " + first_line(in->geterror()));
     return f;
   }
-  std::vector<float> all(size_t(spec.width) * size_t(spec.height) * size_t(nch));
+  std::vector<float> all(size_t(h.width) * size_t(h.height) * size_t(nch));
   if (!in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, all.data()))
     throw Error("cannot read " + file + ": " + first_line(in->geterror()));
   const size_t pixels = f.film.radiance.size();
@@ -270,7 +300,7 @@ FilmFile read_film(const std::filesystem::path& path) {
                                    all[p * size_t(nch) + size_t(rgb[2])]);
   for (int c = 0; c < nch; ++c) {
     if (c == rgb[0] || c == rgb[1] || c == rgb[2]) continue;
-    FilmChannel channel{spec.channel_name(c), std::vector<float>(pixels)};
+    FilmChannel channel{in->spec().channel_name(c), std::vector<float>(pixels)};
     for (size_t p = 0; p < pixels; ++p) channel.values[p] = all[p * size_t(nch) + size_t(c)];
     f.film.channels.push_back(std::move(channel));
   }

@@ -47,6 +47,10 @@ struct FilmFile {
 };
 FilmFile read_film(const std::filesystem::path& path);
 
+// The same checks and fields without the pixels: the film's windows are set, its buffers
+// empty, and its channels carry their names with no values.
+FilmFile read_film_header(const std::filesystem::path& path);
+
 // Display image as 8-bit RGB bytes (the same bytes a PNG would hold).
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap);
 

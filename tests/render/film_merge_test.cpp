@@ -99,6 +99,40 @@ TEST_F(FilmMergeTest, PartsMergeIntoTheWholeChannelsIncluded) {
   }
 }
 
+// `zigzag merge` checks the parts from their headers before it reads a pixel, then pastes
+// them one at a time: the same checks, the same frame.
+TEST_F(FilmMergeTest, PartsAreCheckedFromTheirHeadersAndPastedOneByOne) {
+  std::vector<FilmPart> headers, whole;
+  for (const TileRect& r : {TileRect{0, 0, 7, 3}, TileRect{0, 3, 7, 5}}) {
+    const fs::path p = dir / ("h" + std::to_string(headers.size()) + ".exr");
+    write_film(p, frame_film(r), ToneMap{}, {{"camera", "0"}});
+    headers.push_back({p.string(), read_film_header(p)});
+    whole.push_back({p.string(), read_film(p)});
+    EXPECT_TRUE(headers.back().file.film.radiance.empty());
+    EXPECT_EQ(headers.back().file.film.window(), r);
+    EXPECT_TRUE(same_film_header(headers.back().file, whole.back().file));
+  }
+  ASSERT_EQ(headers[0].file.film.channels.size(), 2u);
+  EXPECT_EQ(headers[0].file.film.channels[0].name, "depth");
+  EXPECT_TRUE(headers[0].file.film.channels[0].values.empty());
+  check_film_parts(headers);
+  FilmFile frame = empty_frame(headers[0].file);
+  for (const FilmPart& p : whole) paste_part(frame, p.file.film);
+  const FilmFile merged = merge_films(whole);
+  EXPECT_EQ(std::memcmp(frame.film.radiance.data(), merged.film.radiance.data(), merged.film.radiance.size() * sizeof(glm::vec3)), 0);
+  for (size_t c = 0; c < 2; ++c) EXPECT_TRUE(same_bits(frame.film.channels[c].values, merged.film.channels[c].values));
+  // A part of another camera: its attribute is a plain value, named with both values.
+  write_film(dir / "h1.exr", frame_film({0, 3, 7, 5}), ToneMap{}, {{"camera", "1"}});
+  headers[1] = {"h1.exr", read_film_header(dir / "h1.exr")};
+  EXPECT_FALSE(same_film_header(headers[1].file, whole[1].file));
+  try {
+    check_film_parts(headers);
+    FAIL() << "merged parts of two cameras";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("zigzag:camera differs: 1 in h1.exr, 0 in "), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(FilmMergeTest, PartsWithDifferentChannelsAreRefused) {
   write_film(dir / "a.exr", frame_film({0, 0, 7, 2}), ToneMap{});
   write_film(dir / "b.exr", frame_film({0, 2, 7, 5}, false), ToneMap{});

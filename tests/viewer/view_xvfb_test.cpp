@@ -294,7 +294,7 @@ TEST(NoDisplay, AScreenshotNeverReplacesAFileOfTheScene) {
   std::ofstream(dir / "scene.gltf") << gltf.dump();
   std::filesystem::copy_file(std::string(ZZ_SOURCE_DIR) + "/scenes/default.bin", dir / "default.bin");
   std::ofstream(dir / "tex.png") << "the scene's image";
-  for (const std::string args : {"--exit-after-frame --screenshot " + (dir / "tex.png").string(),
+  for (const std::string& args : {"--exit-after-frame --screenshot " + (dir / "tex.png").string(),
                                  "--script \"wait;screenshot:" + (dir / "tex.png").string() + ";quit\""}) {
     const test::CommandResult r = run_command("env -u DISPLAY -u WAYLAND_DISPLAY timeout -k 5 60 " + test::zigzag_binary() +
                                               " view " + (dir / "scene.gltf").string() + " " + args);
