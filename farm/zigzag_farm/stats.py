@@ -21,7 +21,7 @@ import operator
 SUMMED = {"pixels", "rays", "time_s", "bvh.build_s", "adaptive.zones_traced",
           "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s",
           "aov.primary_hit_rays", "aov.primary_hit_s", "nan_radiance"}
-PIXEL_WEIGHTED = {"rays_per_pixel", "geo_fraction", "adaptive.by_level", "adaptive.padded",
+PIXEL_WEIGHTED = {"rays_per_pixel", "padded", "geo_fraction", "adaptive.by_level", "adaptive.padded",
                   "adaptive.level2_fraction", "adaptive.level3_fraction",
                   "adaptive.vertical_fraction", "adaptive.geo_fraction",
                   "adaptive.hidden_fraction", "adaptive.specular_fraction",
