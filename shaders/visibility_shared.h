@@ -42,9 +42,13 @@ using mat4 = glm::mat4;
 
 // Vertex stage: clip = clip_from_view * (position - origin, 1). Camera-relative
 // positions keep float precision when the scene sits far from the world origin.
+// With ZZ_CLIP_PLANES (ids.vert) the camera's clipping planes too: depth along
+// clip_forward.xyz, kept where clip_planes.x <= depth <= clip_planes.y.
 struct RasterPush {
   mat4 clip_from_view;
   vec4 origin;
+  vec4 clip_forward;
+  vec4 clip_planes;
 };
 
 // Compute stage. Supersample (gx, gy) of the frame (gx in [-1, W*S]) has the ray
@@ -73,7 +77,7 @@ struct PlanePush {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(RasterPush) == 80);
+static_assert(sizeof(RasterPush) == 112);  // within the 128-byte push-constant minimum
 static_assert(sizeof(FlagPush) == 128);  // the 128-byte push-constant minimum
 static_assert(offsetof(FlagPush, out_x0) == 12 && offsetof(FlagPush, out_y0) == 28);  // std430: an int after a vec3
 static_assert(sizeof(PlanePush) <= sizeof(FlagPush));

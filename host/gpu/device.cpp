@@ -154,6 +154,11 @@ void VulkanContext::init(const VulkanOptions& options) {
   features13.synchronization2 = VK_TRUE;
   VkPhysicalDeviceFeatures2 features{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   features.pNext = &features13;
+  // Clip distances, for a camera whose znear/zfar cut into the scene (gpu/visibility.cpp).
+  VkPhysicalDeviceFeatures supported{};
+  vkGetPhysicalDeviceFeatures(physical_, &supported);
+  clip_distance_ = supported.shaderClipDistance == VK_TRUE;
+  features.features.shaderClipDistance = supported.shaderClipDistance;
 
   VkDeviceCreateInfo info{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   info.pNext = &features;

@@ -44,6 +44,7 @@ class VulkanContext {
   VkInstance instance() const { return instance_; }
   VkPhysicalDevice physical_device() const { return physical_; }
   VkDevice device() const { return device_; }
+  bool clip_distance() const { return clip_distance_; }  // shaderClipDistance enabled
   uint32_t queue_family() const { return queue_family_; }
   VkSurfaceKHR surface() const { return surface_; }
   const VkPhysicalDeviceProperties& properties() const { return properties_; }
@@ -104,6 +105,7 @@ class VulkanContext {
   VkPhysicalDeviceMemoryProperties memory_{};
   std::atomic<int> messages_{0};
   bool quiet_ = false;
+  bool clip_distance_ = false;
 };
 
 }  // namespace zz

@@ -14,6 +14,7 @@ struct ShaderCode {
 };
 
 ShaderCode shader_ids_vert();
+ShaderCode shader_ids_clip_vert();  // ids.vert with ZZ_CLIP_PLANES
 ShaderCode shader_ids_frag();
 ShaderCode shader_geo_flags_comp();
 ShaderCode shader_triangle_planes_comp();

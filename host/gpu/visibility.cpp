@@ -24,6 +24,7 @@ struct VisibilityPass::Frame {
   glm::dmat3 view_from_ray;  // q = t * (dir00 + px du + py dv)  ->  (t px, t py, t)
   glm::vec3 origin{0.0f};
   double znear = 1e-6;       // in units of t (the forward component: t = depth)
+  CameraClip clip;           // the camera's planes, where they cut into the scene; else none
   gpu::FlagPush flag{};
   std::vector<Tile> tiles;
   uint32_t image_w = 0, image_h = 0;  // largest tile image, ring included
@@ -157,6 +158,7 @@ void VisibilityPass::destroy_objects() noexcept {
   if (flag_layout_) vkDestroyPipelineLayout(d, flag_layout_, nullptr);
   if (flag_set_layout_) vkDestroyDescriptorSetLayout(d, flag_set_layout_, nullptr);
   if (raster_pipeline_) vkDestroyPipeline(d, raster_pipeline_, nullptr);
+  if (raster_clip_pipeline_) vkDestroyPipeline(d, raster_clip_pipeline_, nullptr);
   if (raster_layout_) vkDestroyPipelineLayout(d, raster_layout_, nullptr);
 }
 
@@ -186,6 +188,9 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
     dmax = std::max(dmax, glm::length(corner - glm::dvec3(f.origin)));
   }
   f.znear = std::max(dmax * 1e-15, 1e-30);
+  // The camera's own planes, only where they cut into the scene: the raster that clips is
+  // another pipeline, and a scene between them keeps the plain one's bits.
+  if (rays.clip.cuts_into(bounds_min_, bounds_max_)) f.clip = rays.clip;
   f.flag = make_flag_push(camera, width, height, settings);
 
   // Tiles: full rows when they fit, else bands / columns. Widths are multiples of 4
@@ -349,8 +354,12 @@ void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Ti
     }
     push.clip_from_view[3] = glm::vec4(0.0f, 0.0f, float(f.znear), 0.0f);
     push.origin = glm::vec4(f.origin, 0.0f);
+    // An infinite far plane as the largest float: inf - depth would be NaN-free, but the
+    // clipper interpolates the distances.
+    push.clip_forward = glm::vec4(f.clip.forward, 0.0f);
+    push.clip_planes = glm::vec4(f.clip.znear, std::min(f.clip.zfar, std::numeric_limits<float>::max()), 0.0f, 0.0f);
     VkViewport viewport{0.0f, 0.0f, float(iw), float(ih), 0.0f, 1.0f};
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, raster_pipeline_);
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, f.clip.clips() ? raster_clip_pipeline() : raster_pipeline_);
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdPushConstants(cmd, raster_layout_, VK_SHADER_STAGE_VERTEX_BIT, 0, sizeof(push), &push);

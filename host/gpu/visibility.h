@@ -17,6 +17,7 @@
 #include "core/geo_map.h"
 #include "core/tile.h"
 #include "gpu/device.h"
+#include "gpu/shaders.h"
 #include "gpu/resources.h"
 #include "scene/camera.h"
 #include "scene/scene.h"
@@ -160,6 +161,10 @@ class VisibilityPass {
   // binding (maxStorageBufferRange).
   void check_storage_range(VkDeviceSize bytes, const std::string& what, const char* remedy) const;
   void create_pipelines();  // visibility_pipelines.cpp
+  // The id raster with `vertex_shader` (ids.vert, with or without the clip planes).
+  VkPipeline make_raster_pipeline(ShaderCode vertex_shader);  // visibility_pipelines.cpp
+  // The raster that clips at the camera's planes, made on first use.
+  VkPipeline raster_clip_pipeline();  // visibility_pipelines.cpp
   void destroy_objects() noexcept;  // the pipelines, layouts, descriptors and queries made so far
   // The flag pipeline specialised for S, made on first use.
   VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
@@ -185,6 +190,7 @@ class VisibilityPass {
   Image depth_;       // D32_SFLOAT, reverse-Z
   VkPipelineLayout raster_layout_ = VK_NULL_HANDLE;
   VkPipeline raster_pipeline_ = VK_NULL_HANDLE;
+  VkPipeline raster_clip_pipeline_ = VK_NULL_HANDLE;
   VkShaderModule flag_module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout flag_set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout flag_layout_ = VK_NULL_HANDLE;  // both compute passes

@@ -1,5 +1,6 @@
 // The visibility pass's pipelines: the id raster (dynamic rendering, reverse-Z), the
 // per-frame triangle planes and the flag compute shader (one per S) with their descriptor set.
+#include "core/error.h"
 #include "gpu/shaders.h"
 #include "gpu/visibility.h"
 
@@ -9,14 +10,12 @@ void VisibilityPass::create_pipelines() {
   VkDevice d = context_.device();
   struct Modules {  // destroyed however this returns; null handles are ignored
     VkDevice d;
-    VkShaderModule m[3] = {};
+    VkShaderModule m[1] = {};
     ~Modules() {
       for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
     }
   } modules{d};
-  const VkShaderModule vert = modules.m[0] = create_shader_module(d, shader_ids_vert());
-  const VkShaderModule frag = modules.m[1] = create_shader_module(d, shader_ids_frag());
-  const VkShaderModule planes = modules.m[2] = create_shader_module(d, shader_triangle_planes_comp());
+  const VkShaderModule planes = modules.m[0] = create_shader_module(d, shader_triangle_planes_comp());
   flag_module_ = create_shader_module(d, shader_geo_flags_comp());  // specialised per S later
 
   // Raster: positions in, triangle id out, reverse-Z depth (GREATER, clear 0).
@@ -26,67 +25,7 @@ void VisibilityPass::create_pipelines() {
   layout.pPushConstantRanges = &raster_push;
   vk_check(vkCreatePipelineLayout(d, &layout, nullptr, &raster_layout_), "vkCreatePipelineLayout");
 
-  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
-                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
-  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
-  stages[0].module = vert;
-  stages[0].pName = "main";
-  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
-  stages[1].module = frag;
-  stages[1].pName = "main";
-
-  VkVertexInputBindingDescription binding{0, sizeof(glm::vec4), VK_VERTEX_INPUT_RATE_VERTEX};
-  VkVertexInputAttributeDescription attribute{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
-  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
-  vertex_input.vertexBindingDescriptionCount = 1;
-  vertex_input.pVertexBindingDescriptions = &binding;
-  vertex_input.vertexAttributeDescriptionCount = 1;
-  vertex_input.pVertexAttributeDescriptions = &attribute;
-  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
-  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
-  viewport.viewportCount = 1;
-  viewport.scissorCount = 1;
-  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
-  raster.polygonMode = VK_POLYGON_MODE_FILL;
-  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides
-  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-  raster.lineWidth = 1.0f;
-  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
-  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
-  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
-  depth.depthTestEnable = VK_TRUE;
-  depth.depthWriteEnable = VK_TRUE;
-  depth.depthCompareOp = VK_COMPARE_OP_GREATER;
-  VkPipelineColorBlendAttachmentState blend_attachment{};
-  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
-  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
-  blend.attachmentCount = 1;
-  blend.pAttachments = &blend_attachment;
-  VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
-  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
-  dynamic.dynamicStateCount = 2;
-  dynamic.pDynamicStates = dynamic_states;
-  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
-  rendering.colorAttachmentCount = 1;
-  rendering.pColorAttachmentFormats = &kIdFormat;
-  rendering.depthAttachmentFormat = kDepthFormat;
-
-  VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
-  graphics.pNext = &rendering;
-  graphics.stageCount = 2;
-  graphics.pStages = stages;
-  graphics.pVertexInputState = &vertex_input;
-  graphics.pInputAssemblyState = &assembly;
-  graphics.pViewportState = &viewport;
-  graphics.pRasterizationState = &raster;
-  graphics.pMultisampleState = &multisample;
-  graphics.pDepthStencilState = &depth;
-  graphics.pColorBlendState = &blend;
-  graphics.pDynamicState = &dynamic;
-  graphics.layout = raster_layout_;
-  vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &raster_pipeline_),
-           "vkCreateGraphicsPipelines");
+  raster_pipeline_ = make_raster_pipeline(shader_ids_vert());
 
   // Compute: ids (storage image), first vertices, normals, planes, packed flags; one set and
   // one layout for the planes pass and the flag pass.
@@ -149,5 +88,90 @@ VkPipeline VisibilityPass::flag_pipeline(int s) {
   flag_pipelines_[s] = pipeline;
   return pipeline;
 }
+
+VkPipeline VisibilityPass::make_raster_pipeline(ShaderCode vertex_shader) {
+  VkDevice d = context_.device();
+  struct Modules {  // destroyed however this returns; null handles are ignored
+    VkDevice d;
+    VkShaderModule m[2] = {};
+    ~Modules() {
+      for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
+    }
+  } modules{d};
+  const VkShaderModule vert = modules.m[0] = create_shader_module(d, vertex_shader);
+  const VkShaderModule frag = modules.m[1] = create_shader_module(d, shader_ids_frag());
+  VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},
+                                               {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO}};
+  stages[0].stage = VK_SHADER_STAGE_VERTEX_BIT;
+  stages[0].module = vert;
+  stages[0].pName = "main";
+  stages[1].stage = VK_SHADER_STAGE_FRAGMENT_BIT;
+  stages[1].module = frag;
+  stages[1].pName = "main";
+
+  VkVertexInputBindingDescription binding{0, sizeof(glm::vec4), VK_VERTEX_INPUT_RATE_VERTEX};
+  VkVertexInputAttributeDescription attribute{0, 0, VK_FORMAT_R32G32B32_SFLOAT, 0};
+  VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
+  vertex_input.vertexBindingDescriptionCount = 1;
+  vertex_input.pVertexBindingDescriptions = &binding;
+  vertex_input.vertexAttributeDescriptionCount = 1;
+  vertex_input.pVertexAttributeDescriptions = &attribute;
+  VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
+  assembly.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+  VkPipelineViewportStateCreateInfo viewport{VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO};
+  viewport.viewportCount = 1;
+  viewport.scissorCount = 1;
+  VkPipelineRasterizationStateCreateInfo raster{VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO};
+  raster.polygonMode = VK_POLYGON_MODE_FILL;
+  raster.cullMode = VK_CULL_MODE_NONE;  // the ray tracer sees both sides
+  raster.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+  raster.lineWidth = 1.0f;
+  VkPipelineMultisampleStateCreateInfo multisample{VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO};
+  multisample.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
+  VkPipelineDepthStencilStateCreateInfo depth{VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO};
+  depth.depthTestEnable = VK_TRUE;
+  depth.depthWriteEnable = VK_TRUE;
+  depth.depthCompareOp = VK_COMPARE_OP_GREATER;
+  VkPipelineColorBlendAttachmentState blend_attachment{};
+  blend_attachment.colorWriteMask = VK_COLOR_COMPONENT_R_BIT;
+  VkPipelineColorBlendStateCreateInfo blend{VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO};
+  blend.attachmentCount = 1;
+  blend.pAttachments = &blend_attachment;
+  VkDynamicState dynamic_states[2] = {VK_DYNAMIC_STATE_VIEWPORT, VK_DYNAMIC_STATE_SCISSOR};
+  VkPipelineDynamicStateCreateInfo dynamic{VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO};
+  dynamic.dynamicStateCount = 2;
+  dynamic.pDynamicStates = dynamic_states;
+  VkPipelineRenderingCreateInfo rendering{VK_STRUCTURE_TYPE_PIPELINE_RENDERING_CREATE_INFO};
+  rendering.colorAttachmentCount = 1;
+  rendering.pColorAttachmentFormats = &kIdFormat;
+  rendering.depthAttachmentFormat = kDepthFormat;
+
+  VkGraphicsPipelineCreateInfo graphics{VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO};
+  graphics.pNext = &rendering;
+  graphics.stageCount = 2;
+  graphics.pStages = stages;
+  graphics.pVertexInputState = &vertex_input;
+  graphics.pInputAssemblyState = &assembly;
+  graphics.pViewportState = &viewport;
+  graphics.pRasterizationState = &raster;
+  graphics.pMultisampleState = &multisample;
+  graphics.pDepthStencilState = &depth;
+  graphics.pColorBlendState = &blend;
+  graphics.pDynamicState = &dynamic;
+  graphics.layout = raster_layout_;
+  VkPipeline pipeline = VK_NULL_HANDLE;
+  vk_check(vkCreateGraphicsPipelines(d, VK_NULL_HANDLE, 1, &graphics, nullptr, &pipeline), "vkCreateGraphicsPipelines");
+  return pipeline;
+}
+
+VkPipeline VisibilityPass::raster_clip_pipeline() {
+  if (raster_clip_pipeline_) return raster_clip_pipeline_;
+  if (!context_.clip_distance())
+    throw Error("the Vulkan device cannot clip (no shaderClipDistance), and the camera's znear/zfar cut into the "
+                "scene; render with --edges off");
+  raster_clip_pipeline_ = make_raster_pipeline(shader_ids_clip_vert());
+  return raster_clip_pipeline_;
+}
+
 
 }  // namespace zz

@@ -112,7 +112,7 @@ class SceneSource {
     view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
   }
 
-  Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters); }
+  Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, nullptr, &camera_.clip); }
 
   // The signature hashes the enabled parts of what the lane saw; 0 with none enabled.
   Rgb4 sample4(float4 px, float4 py, int4& signature) {
@@ -123,7 +123,7 @@ class SceneSource {
     PathSignature4 seen;
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
-    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
+    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, &camera_.clip);
     signature = hash(seen, c);
     return c;
   }
@@ -162,7 +162,7 @@ class SceneSource {
     }
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
-    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen);
+    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, &camera_.clip);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
     for (int i = 0; i < 4; ++i) {
       uint32_t highlit = 0;

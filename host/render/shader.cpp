@@ -247,6 +247,51 @@ void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, in
   }
 }
 
+// Camera clipping (scene/camera.h CameraClip). A lane whose first hit lies nearer than the
+// near plane is traced again from where it crosses the plane (`skipped` gets the distance
+// to it); a lane moving along or away from the plane from before it sees nothing.
+void clip_near(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int active_bits, LaneHits& hits,
+               float skipped[4], const CameraClip& clip, RayCounters& counters) {
+  if (!(clip.znear > 0.0f)) return;
+  PacketBuilder from_plane;
+  int again = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
+    const size_t t3 = size_t(hits.prim[i]) * 3;
+    const glm::vec3 p = interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2],
+                                        hits.u[i], hits.v[i]).p;
+    if (clip.depth(p) >= clip.znear) continue;
+    const glm::vec3 origin = lane(rays.ox, rays.oy, rays.oz, i), dir = lane(rays.dx, rays.dy, rays.dz, i);
+    const float along = glm::dot(dir, clip.forward);
+    if (!(along > 0.0f)) {
+      hits.prim[i] = -1;
+      continue;
+    }
+    const float s = std::max(0.0f, (clip.znear - clip.depth(origin)) / along);  // in units of |dir|
+    from_plane.set(i, origin + dir * s, dir, kInfinity);
+    skipped[i] += s * glm::length(dir);
+    again |= 1 << i;
+  }
+  if (again == 0) return;
+  counters.continuation += uint64_t(std::popcount(unsigned(again)));
+  HitPacket4 next;
+  bvh.intersect4(from_plane.packet(), mask4::from_bits(again), next);
+  for (int i = 0; i < 4; ++i)
+    if ((again >> i) & 1) hits.take(next, i);
+}
+
+// A lane whose hit lies beyond the far plane sees the background.
+void clip_far(const Scene& scene, int active_bits, LaneHits& hits, const CameraClip& clip) {
+  if (!(clip.zfar < kInfinity)) return;
+  for (int i = 0; i < 4; ++i) {
+    if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
+    const size_t t3 = size_t(hits.prim[i]) * 3;
+    const glm::vec3 p = interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2],
+                                        hits.u[i], hits.v[i]).p;
+    if (clip.depth(p) > clip.zfar) hits.prim[i] = -1;
+  }
+}
+
 // The light arriving along each lane of a shadow packet through see-through surfaces:
 // alpha cut-outs and BLEND surfaces pass (1 - alpha) of it, transmissive non-metal
 // surfaces transmission x base colour at each crossing, and the path inside a volume
@@ -359,12 +404,15 @@ Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), e
 }
 
 template <bool kTextured, bool kSeeThrough>
-void Shader::primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const {
+void Shader::primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters,
+                           const CameraClip* clip) const {
   HitPacket4 packet_hits;
   bvh_.intersect4(rays, mask4(true), packet_hits);
   LaneHits hits(packet_hits);
   float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  if (clip) clip_near(scene_, bvh_, rays, 0xF, hits, skipped, *clip, counters);
   if constexpr (kSeeThrough) pass_cutouts(scene_, bvh_, rays, 0xF, hits, skipped, counters);
+  if (clip) clip_far(scene_, 0xF, hits, *clip);
   for (int i = 0; i < 4; ++i) {
     if (hits.prim[i] < 0) {
       out.depth[i] = kInfinity;
@@ -397,7 +445,8 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
 
 template <unsigned kEffects>
 Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                         const Media& media, RayCounters& counters, PathSignature4* signature) const {
+                         const Media& media, RayCounters& counters, PathSignature4* signature,
+                         const CameraClip* clip) const {
   constexpr bool kTextured = (kEffects & kTextures) != 0;
   constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
@@ -409,9 +458,11 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
   const int active_bits = active.bits();
   float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // distance travelled through cut-outs
 
+  if (clip) clip_near(scene_, bvh_, rays, active_bits, hits, skipped, *clip, counters);
   // Alpha: a ray that hits a cut-out texel (MASK below the cutoff, BLEND alpha 0)
   // continues behind it.
   if constexpr (kSeeThrough) pass_cutouts(scene_, bvh_, rays, active_bits, hits, skipped, counters);
+  if (clip) clip_far(scene_, active_bits, hits, *clip);
 
   alignas(16) float out[3][4] = {};
   SurfacePoint sp[4];
@@ -786,10 +837,10 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
       if (probed_lanes != 0)
         c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
-                                  crossed, counters, &*seen_behind);
+                                  crossed, counters, &*seen_behind, clip);
       if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
         const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1, throughput,
-                                             crossed, counters, nullptr);
+                                             crossed, counters, nullptr, clip);
         c = select(mask4::from_bits(unprobed), u, c);
       }
       for (int i = 0; i < 4; ++i) {

@@ -21,6 +21,7 @@
 #include "render/lighting4.h"
 #include "render/ray_counters.h"
 #include "render/specular_peak.h"
+#include "scene/camera.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -130,9 +131,11 @@ class Shader {
   // `depth` counts the bounces already taken: 0 for camera rays.
   // `signature`, if given (zero-initialised), receives what the lanes saw: integer
   // bookkeeping only, the same rays are traced either way.
+  // `clip`, for camera rays (depth 0), applies the camera's clipping planes.
   Rgb4 trace4(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters,
-              PathSignature4* signature = nullptr) const {
-    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), Media{}, counters, signature);
+              PathSignature4* signature = nullptr, const CameraClip* clip = nullptr) const {
+    return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), Media{}, counters, signature,
+                            clip && clip->clips() && depth == 0 ? clip : nullptr);
   }
 
   // Throughput cutoff: a reflected or refracted ray is spawned only while the path's
@@ -146,8 +149,8 @@ class Shader {
 
   // The first surface along each ray of a full packet, without shading it: no light,
   // shadow or secondary rays (only cut-out continuations, counted in `counters`).
-  void primary4(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const {
-    (this->*primary_kernel_)(rays, out, counters);
+  void primary4(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters, const CameraClip* clip = nullptr) const {
+    (this->*primary_kernel_)(rays, out, counters, clip && clip->clips() ? clip : nullptr);
   }
 
   const EffectSet& effects() const { return effects_; }
@@ -169,16 +172,17 @@ class Shader {
   // `blend_layers` counts the BLEND surfaces already seen through along this ray.
   template <unsigned kEffects>
   Rgb4 trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
-                   const Media& media, RayCounters& counters, PathSignature4* signature) const;
+                   const Media& media, RayCounters& counters, PathSignature4* signature,
+                   const CameraClip* clip = nullptr) const;
 
   using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, const Media&, RayCounters&,
-                                  PathSignature4*) const;
+                                  PathSignature4*, const CameraClip*) const;
   template <unsigned... kE>
   static Kernel pick_kernel(unsigned effects, std::integer_sequence<unsigned, kE...>);
 
   template <bool kTextured, bool kSeeThrough>
-  void primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters) const;
-  using PrimaryKernel = void (Shader::*)(const RayPacket4&, PrimaryHit4&, RayCounters&) const;
+  void primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters, const CameraClip* clip) const;
+  using PrimaryKernel = void (Shader::*)(const RayPacket4&, PrimaryHit4&, RayCounters&, const CameraClip*) const;
 
   const Scene& scene_;
   const Bvh& bvh_;

@@ -1,5 +1,6 @@
 #include "scene/camera.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "scene/lights.h"  // unit_direction
@@ -27,6 +28,24 @@ CameraRays::CameraRays(const Camera& camera, int width, int height) {
   du = camera.right * pixel;
   dv = -camera.up * pixel;
   dir00 = camera.forward - camera.right * half_w + camera.up * half_h;
+  clip = CameraClip{camera.position, camera.forward, camera.znear, camera.zfar};
+}
+
+bool CameraClip::cuts_into(glm::vec3 lo, glm::vec3 hi) const {
+  if (!clips()) return false;
+  double nearest = std::numeric_limits<double>::infinity(), farthest = -nearest;
+  for (int c = 0; c < 8; ++c) {
+    const glm::dvec3 corner((c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z);
+    const double d = glm::dot(corner - glm::dvec3(origin), glm::dvec3(forward));
+    nearest = std::min(nearest, d);
+    farthest = std::max(farthest, d);
+  }
+  // What lies behind the camera is out of view anyway; what lies at depth [0, znear) or
+  // beyond zfar is cut. A box's corners bound the depth of every point in it; the margin
+  // covers the rounding of a traced hit's depth.
+  constexpr double kMargin = 1e-4;
+  return (znear > 0.0f && nearest < double(znear) * (1.0 + kMargin) && farthest > 0.0) ||
+         farthest > double(zfar) * (1.0 - kMargin);
 }
 
 glm::vec3 CameraRays::direction(float px, float py) const {

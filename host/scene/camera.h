@@ -6,6 +6,7 @@
 
 #include <glm/glm.hpp>
 
+#include <limits>
 #include <string>
 
 #include "core/simd.h"
@@ -23,8 +24,10 @@ struct Camera {
   glm::vec3 forward{0.0f, 0.0f, -1.0f};
   float yfov = 0.8f;     // vertical field of view, radians
   float aspect = 0.0f;   // width / height of the scene's intended frame; 0 = unknown
-  float znear = 0.01f;   // as read; neither the tracer nor the map clips by them (scenes/README.md)
-  float zfar = 1000.0f;
+  // Clipping planes, as depths along `forward` from `position` (world units): camera rays
+  // and the visibility map see only what lies between them. 0 and infinity: no clipping.
+  float znear = 0.0f;
+  float zfar = std::numeric_limits<float>::infinity();
 
   static Camera look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov);
 };
@@ -34,6 +37,21 @@ struct Camera {
 inline constexpr float kMinYfovDegrees = 0.1f, kMaxYfovDegrees = 179.0f;
 inline bool valid_yfov_degrees(double degrees) { return degrees > kMinYfovDegrees && degrees < kMaxYfovDegrees; }
 
+// A camera's clipping planes (glTF znear / zfar) as the renderer applies them: a camera
+// ray sees the first surface at a depth depth(p) in [znear, zfar], what lies nearer is cut
+// away (the ray starts at the near plane) and what lies beyond is background.
+struct CameraClip {
+  glm::vec3 origin{0.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};
+  float znear = 0.0f;
+  float zfar = std::numeric_limits<float>::infinity();
+
+  bool clips() const { return znear > 0.0f || zfar < std::numeric_limits<float>::infinity(); }
+  float depth(glm::vec3 p) const { return glm::dot(p - origin, forward); }
+  // Whether the planes can cut anything inside the box [lo, hi] (depths of its corners).
+  bool cuts_into(glm::vec3 lo, glm::vec3 hi) const;
+};
+
 // A camera fixed to a frame size: maps image-plane points to ray directions.
 // dir(px, py) = dir00 + px * du + py * dv (then normalised).
 struct CameraRays {
@@ -41,6 +59,7 @@ struct CameraRays {
   glm::vec3 dir00;  // direction through image point (0, 0)
   glm::vec3 du;     // change of direction per pixel to the right
   glm::vec3 dv;     // change of direction per pixel downwards
+  CameraClip clip;  // the camera's planes
 
   CameraRays(const Camera& camera, int width, int height);
 

@@ -635,8 +635,11 @@ struct Loader {
     }
     c.yfov = float(p.yfov);
     c.aspect = float(p.aspectRatio);
-    if (p.znear > 0.0) c.znear = float(p.znear);
-    c.zfar = p.zfar > p.znear ? float(p.zfar) : c.znear * 1e6f;  // 0 = infinite projection
+    // The planes are depths in the camera node's frame; the world's depth is the forward
+    // axis's length times that (a scaled node).
+    const float unit = glm::length(f);
+    if (p.znear > 0.0 && std::isfinite(p.znear)) c.znear = float(p.znear) * unit;
+    if (p.zfar > p.znear && std::isfinite(p.zfar)) c.zfar = float(p.zfar) * unit;  // 0: infinite
     scene.cameras.push_back(c);
   }
 

@@ -93,7 +93,7 @@ glm::mat4 parse_transform(const Json& J, const json& t) {
 }
 
 Camera parse_camera(const Json& J, const json& c, const std::string& where) {
-  J.check_keys(c, {"name", "eye", "target", "up", "yfov_deg", "aspect"}, where);
+  J.check_keys(c, {"name", "eye", "target", "up", "yfov_deg", "aspect", "znear", "zfar"}, where);
   if (!c.contains("eye") || !c.contains("target")) J.fail(where + " needs \"eye\" and \"target\"");
   glm::vec3 eye = J.vec3(c["eye"], where + ".eye");
   glm::vec3 target = J.vec3(c["target"], where + ".target");
@@ -111,11 +111,15 @@ Camera parse_camera(const Json& J, const json& c, const std::string& where) {
     cam.aspect = J.number(c["aspect"], where + ".aspect");
     if (!(cam.aspect > 0.0f)) J.fail(where + ".aspect must be > 0 (width / height)");
   }
-  // Near/far from the eye-target distance: the raster pass needs finite planes.
-  float dist = glm::length(f);
-  if (!std::isfinite(dist)) dist = glm::dot(f, *forward);
-  cam.znear = dist * 1e-3f;
-  cam.zfar = dist * 1e3f;
+  // Clipping planes (depths along the view direction): none unless asked for.
+  if (c.contains("znear")) {
+    cam.znear = J.number(c["znear"], where + ".znear");
+    if (!(cam.znear >= 0.0f) || !std::isfinite(cam.znear)) J.fail(where + ".znear must be a finite depth >= 0");
+  }
+  if (c.contains("zfar")) {
+    cam.zfar = J.number(c["zfar"], where + ".zfar");
+    if (!(cam.zfar > cam.znear)) J.fail(where + ".zfar must be greater than znear");
+  }
   return cam;
 }
 
@@ -439,8 +443,6 @@ Camera auto_camera(const Scene& scene, float yfov) {
     fallback.name = "auto";
     return fallback;
   }
-  c.znear = std::max(dist - radius, radius * 1e-3f);
-  c.zfar = dist + 2.0f * radius;
   return c;
 }
 

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "../scene/gltf_fixture.h"
 #include "cli.h"
 #include "render/image_io.h"
 
@@ -184,6 +185,54 @@ TEST(RenderCommand, UniformStatsCountPaddingApart) {
     EXPECT_NEAR(j["rays_per_pixel"].get<double>() - j["padded"].get<double>(), spp, 1e-12) << mode;
     EXPECT_NEAR(j["rays"]["primary"].get<double>(), (spp + j["padded"].get<double>()) * pixels, 1e-6) << mode;
   }
+  fs::remove_all(dir);
+}
+
+// A camera's clipping planes (glTF znear/zfar, a rig's "znear"/"zfar") cut what lies
+// outside them away for camera rays and for the visibility map alike: a quad in front of the
+// near plane renders exactly as if it were not in the scene, rays per pixel included (the
+// map drew its outline and sent rays there; the tracer showed it). Real Vulkan path,
+// validation on. Emissive quads and no lights, so no shadow tells the quads apart.
+TEST(RenderCommand, ClippingPlanesCutAwayWhatLiesOutsideThem) {
+  const fs::path dir = temp_dir() / "clip";
+  fs::create_directories(dir);
+  const auto quad = [](test::GltfBuilder& b, glm::vec3 emit, float half, float z) {
+    if (!b.doc.contains("materials")) b.doc["materials"] = nlohmann::json::array();
+    b.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+                                  {"emissiveFactor", {emit.r, emit.g, emit.b}}});
+    const std::vector<float> pos = {-half, -half, z, half, -half, z, half, half, z, -half, half, z};
+    b.node({{"mesh", b.mesh("quad", pos, {}, {0, 1, 2, 0, 2, 3}, 4, int(b.doc["materials"].size() - 1))}});
+  };
+  const auto render = [&](const std::string& name, bool red, bool green, const std::string& planes) {
+    test::GltfBuilder b;
+    if (red) quad(b, {1, 0, 0}, 1.0f, 0.0f);      // at depth 5
+    if (green) quad(b, {0, 1, 0}, 0.1f, 4.0f);    // at depth 1, half the view there
+    b.write(dir, name);
+    test::write_text(dir / (name + ".json"),
+                     R"({"model": ")" + name + R"(.gltf", "lights": [], "camera": {"eye": [0, 0, 5], "target": [0, 0, 0],
+                         "yfov_deg": 22.6)" + planes + "}}");
+    const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
+    const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
+                                     " --width 48 --height 48 --vk-validate -q -o " + exr.string() + " --stats " +
+                                     stats.string());
+    EXPECT_EQ(r.exit_code, 0) << name << ": " << r.output;
+    return std::pair(read_film(exr).film, read_json(stats));
+  };
+  const auto expect_same = [](const std::pair<Film, nlohmann::json>& a, const std::pair<Film, nlohmann::json>& b,
+                              const char* what) {
+    ASSERT_EQ(a.first.radiance.size(), b.first.radiance.size());
+    EXPECT_EQ(std::memcmp(a.first.radiance.data(), b.first.radiance.data(), a.first.radiance.size() * sizeof(glm::vec3)), 0)
+        << what;
+    EXPECT_EQ(a.second["rays_per_pixel"], b.second["rays_per_pixel"]) << what;
+    EXPECT_EQ(a.second["geo_fraction"], b.second["geo_fraction"]) << what;
+  };
+  const auto both = render("both", true, true, "");
+  const glm::vec3 centre = both.first.radiance[24 * 48 + 24];
+  EXPECT_GT(centre.g, 0.9f) << "the near quad is seen unclipped";
+  expect_same(render("near", true, true, R"(, "znear": 2)"), render("red", true, false, ""), "znear 2");
+  expect_same(render("far", true, true, R"(, "zfar": 3)"), render("green", false, true, ""), "zfar 3");
+  const auto none = render("none", true, true, R"(, "znear": 2, "zfar": 3)");
+  for (const glm::vec3& c : none.first.radiance) EXPECT_EQ(c, glm::vec3(0.0f)) << "both quads clipped: background";
   fs::remove_all(dir);
 }
 

@@ -736,6 +736,9 @@ TEST(GltfLoader, ACameraSeesThroughItsNodesMirrorAndScale) {
     const Camera c = camera_under({scale.x, scale.y, scale.z}, name);
     const CameraRays rays(c, 8, 4);
     expect_vec(c.position, scale * plain.position);
+    // znear is a depth in the node's frame: the world's is scaled along the view axis.
+    EXPECT_NEAR(c.znear, 0.1f * glm::length(scale * plain.forward), 1e-6f) << name;
+    EXPECT_EQ(c.zfar, std::numeric_limits<float>::infinity()) << name << ": no zfar is an infinite projection";
     for (const glm::vec2 p : {glm::vec2(0.5f, 0.5f), glm::vec2(7.5f, 0.5f), glm::vec2(2.0f, 3.5f), glm::vec2(4, 2)}) {
       const glm::vec3 expected = glm::normalize(scale * plain_rays.direction(p.x, p.y));
       const glm::vec3 got = rays.direction(p.x, p.y);

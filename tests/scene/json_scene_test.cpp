@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 #include <cstdlib>
 
@@ -211,6 +213,21 @@ TEST(JsonScene, RigValuesOutsideTheCommandLinesRangesAreErrors) {
 
 // A camera far from its target (coordinates up to +-1e30 are valid): |eye - target|^2
 // overflowed and the rig was refused as "eye equals target".
+// A rig's camera may set clipping planes (depths along the view direction); bad ones are
+// errors naming the key.
+TEST(JsonScene, CameraClippingPlanes) {
+  Rig r("clipplanes");
+  const Scene s = r.load(R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "znear": 2, "zfar": 30}})");
+  EXPECT_EQ(s.cameras[0].znear, 2.0f);
+  EXPECT_EQ(s.cameras[0].zfar, 30.0f);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "znear": -1}})")
+                .find("camera.znear must be a finite depth >= 0"),
+            std::string::npos);
+  EXPECT_NE(r.error(R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "znear": 2, "zfar": 2}})")
+                .find("camera.zfar must be greater than znear"),
+            std::string::npos);
+}
+
 TEST(JsonScene, AFarCameraLooksAtItsTarget) {
   Rig r("farcam");
   const Scene s = r.load(R"({"model": "model.gltf", "camera": {"eye": [2e19, 0, 0], "target": [0, 0, 0]}})");
@@ -219,7 +236,8 @@ TEST(JsonScene, AFarCameraLooksAtItsTarget) {
   ASSERT_EQ(c.name, "rig");
   EXPECT_NEAR(glm::length(c.forward - glm::vec3(-1, 0, 0)), 0.0f, 1e-6f);
   EXPECT_NEAR(glm::length(c.up - glm::vec3(0, 1, 0)), 0.0f, 1e-6f);
-  EXPECT_TRUE(std::isfinite(c.znear) && std::isfinite(c.zfar) && c.znear > 0.0f && c.zfar > c.znear);
+  EXPECT_EQ(c.znear, 0.0f);  // a rig's camera clips nothing unless asked to
+  EXPECT_EQ(c.zfar, std::numeric_limits<float>::infinity());
   // Parallel up is still refused, at any distance.
   EXPECT_NE(r.error(R"({"model": "model.gltf", "camera": {"eye": [0, 2e19, 0], "target": [0, 0, 0]}})")
                 .find("up is parallel"),
