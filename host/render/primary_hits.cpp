@@ -48,7 +48,7 @@ PrimaryHits trace_primary_hits(const Shader& shader, const Camera& camera, int w
           packet.tmax = float4(kInfinity);
           local.primary += 4;
           PrimaryHit4 out;
-          shader.primary4(packet, out, local, &camera_rays.clip);
+          shader.primary4(packet, out, local, shader.clip_in_scene(camera_rays.clip));
           for (int i = 0; i < n; ++i) {
             const size_t k = size_t(row) * size_t(hits.width) + size_t(x0 + i);
             hits.depth[k] = out.depth[i];

@@ -106,13 +106,14 @@ class SceneSource {
               const HiddenDetail* detail = nullptr, ToneMap tonemap = {})
       : shader_(shader), camera_(camera), parts_(signature_parts & kSignatureAll), detail_(detail),
         tonemap_(tonemap),
-        light_slots_(int(std::min(shader.scene().lights.size(), size_t(kLightSlots)))) {
+        light_slots_(int(std::min(shader.scene().lights.size(), size_t(kLightSlots)))),
+        clip_(shader.clip_in_scene(camera.clip)) {
     view_.origin = camera.origin;
     const glm::vec3 forward = glm::normalize(glm::cross(camera.du, camera.dv));
     view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
   }
 
-  Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, nullptr, &camera_.clip); }
+  Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, nullptr, clip_); }
 
   // The signature hashes the enabled parts of what the lane saw; 0 with none enabled.
   Rgb4 sample4(float4 px, float4 py, int4& signature) {
@@ -123,7 +124,7 @@ class SceneSource {
     PathSignature4 seen;
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
-    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, &camera_.clip);
+    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, clip_);
     signature = hash(seen, c);
     return c;
   }
@@ -162,7 +163,7 @@ class SceneSource {
     }
     glm::vec3 light_radiance[kLightSlots][4] = {};
     if (parts_ & kSignatureLights) seen.light_radiance = light_radiance;
-    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, &camera_.clip);
+    const Rgb4 c = shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, &seen, clip_);
     signature = parts_ == kSignatureNone ? int4(0) : hash(seen, c);
     for (int i = 0; i < 4; ++i) {
       uint32_t highlit = 0;
@@ -321,6 +322,7 @@ class SceneSource {
   const HiddenDetail* detail_;
   ToneMap tonemap_;
   int light_slots_;  // the slots the scene's lights fold onto (fold_to_slots)
+  const CameraClip* clip_;  // the camera's planes where they cut into the scene, else null
   FootprintView view_;  // the camera, for the footprint's samples on the primary hit
 };
 

@@ -131,11 +131,11 @@ class Shader {
   // `depth` counts the bounces already taken: 0 for camera rays.
   // `signature`, if given (zero-initialised), receives what the lanes saw: integer
   // bookkeeping only, the same rays are traced either way.
-  // `clip`, for camera rays (depth 0), applies the camera's clipping planes.
+  // `clip` (clip_in_scene), for camera rays (depth 0), applies the camera's clipping planes.
   Rgb4 trace4(const RayPacket4& rays, mask4 active, int depth, RayCounters& counters,
               PathSignature4* signature = nullptr, const CameraClip* clip = nullptr) const {
     return (this->*kernel_)(rays, active, depth, 0, float4(1.0f), Media{}, counters, signature,
-                            clip && clip->clips() && depth == 0 ? clip : nullptr);
+                            depth == 0 ? clip : nullptr);
   }
 
   // Throughput cutoff: a reflected or refracted ray is spawned only while the path's
@@ -150,7 +150,14 @@ class Shader {
   // The first surface along each ray of a full packet, without shading it: no light,
   // shadow or secondary rays (only cut-out continuations, counted in `counters`).
   void primary4(const RayPacket4& rays, PrimaryHit4& out, RayCounters& counters, const CameraClip* clip = nullptr) const {
-    (this->*primary_kernel_)(rays, out, counters, clip && clip->clips() ? clip : nullptr);
+    (this->*primary_kernel_)(rays, out, counters, clip);
+  }
+
+  // `clip` if its planes can cut anything in the scene (its bounds' depths), else null: the
+  // `clip` to pass to trace4 and primary4, so a camera whose planes enclose the scene costs
+  // nothing per ray.
+  const CameraClip* clip_in_scene(const CameraClip& clip) const {
+    return clip.cuts_into(scene_lo_, scene_hi_) ? &clip : nullptr;
   }
 
   const EffectSet& effects() const { return effects_; }
@@ -198,6 +205,7 @@ class Shader {
     }
   };
   std::vector<VolumeBounds> volume_bounds_;
+  glm::vec3 scene_lo_{0.0f}, scene_hi_{0.0f};  // the triangles' bounds
   Kernel kernel_;
   PrimaryKernel primary_kernel_;
 };

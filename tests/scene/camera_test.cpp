@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <cmath>
 
 #include "scene/camera.h"
@@ -109,4 +111,23 @@ TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {
 }
 
 }  // namespace
+// Whether a camera's planes can cut into a box: what decides that the map rasterises with
+// clip distances and the tracer tests its camera rays' hits.
+TEST(CameraClip, CutsIntoABoxOnlyWhereThePlanesCrossIt) {
+  CameraClip clip{glm::vec3(0, 0, 5), glm::vec3(0, 0, -1), 2.0f, 8.0f};  // depth = 5 - z
+  EXPECT_FALSE(clip.cuts_into({-1, -1, -1}, {1, 1, 1})) << "depths 4..6, inside [2, 8]";
+  EXPECT_TRUE(clip.cuts_into({-1, -1, -1}, {1, 1, 4})) << "depths 1..6: the near plane crosses";
+  EXPECT_TRUE(clip.cuts_into({-1, -1, -4}, {1, 1, 1})) << "depths 4..9: the far plane crosses";
+  EXPECT_FALSE(clip.cuts_into({-1, -1, 6}, {1, 1, 9})) << "behind the camera: out of view anyway";
+  EXPECT_FALSE(CameraClip{}.cuts_into({-1, -1, -1}, {1, 1, 1})) << "no planes";
+  clip.zfar = std::numeric_limits<float>::infinity();
+  EXPECT_FALSE(clip.cuts_into({-1, -1, -1e30f}, {1, 1, 1})) << "an infinite far plane cuts nothing";
+  // A Camera's planes reach its rays.
+  Camera c = Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.8f);
+  c.znear = 0.5f;
+  const CameraRays rays(c, 4, 4);
+  EXPECT_EQ(rays.clip.znear, 0.5f);
+  EXPECT_EQ(rays.clip.depth(glm::vec3(0, 0, 0)), 5.0f);
+}
+
 }  // namespace zz
