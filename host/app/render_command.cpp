@@ -30,6 +30,7 @@
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
+#include "render/film_merge.h"
 #include "render/image_io.h"
 #include "render/memory_budget.h"
 #include "render/primary_hits.h"
@@ -371,8 +372,9 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   // The job's files are published together once all are written (core/atomic_file.h).
   OutputSet outputs;
   t = std::chrono::steady_clock::now();
-  write_film(output, film, settings.tonemap,
-             {{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}}, &outputs);
+  FilmAttributes attributes{{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}};
+  if (map_made) attributes[kDeviceAttribute] = job.map->vulkan().device_name();  // merge says when parts' differ
+  write_film(output, film, settings.tonemap, attributes, &outputs);
   std::string written = output.string();  // for the summary line: the image, then the AOV images
   for (const AovRequest& a : o.aovs)
     if (!a.layers()) {

@@ -55,6 +55,12 @@ std::string setting_difference(const FilmPart& a, const FilmPart& b, const std::
   return ": " + path + " is " + text(x) + " in " + a.name + ", " + text(y) + " in " + b.name;
 }
 
+// The attributes parts must share: all but the map's device.
+FilmAttributes compared(FilmAttributes attributes) {
+  attributes.erase(kDeviceAttribute);
+  return attributes;
+}
+
 }  // namespace
 
 void check_film_parts(const std::vector<FilmPart>& parts) {
@@ -73,12 +79,13 @@ void check_film_parts(const std::vector<FilmPart>& parts) {
     if (std::memcmp(&p.file.tonemap.exposure, &first.tonemap.exposure, sizeof(float)) != 0)
       throw Error("merge: " + p.name + " has exposure " + std::to_string(p.file.tonemap.exposure) + " but " +
                   parts.front().name + " " + std::to_string(first.tonemap.exposure));
-    if (p.file.attributes != first.attributes) {
+    const FilmAttributes mine = compared(p.file.attributes), theirs = compared(first.attributes);
+    if (mine != theirs) {
       std::string key;  // the first key whose values differ (or that only one part has)
-      for (const auto& [k, v] : p.file.attributes)
-        if (auto it = first.attributes.find(k); it == first.attributes.end() || it->second != v) key = k;
-      for (const auto& [k, v] : first.attributes)
-        if (!p.file.attributes.count(k)) key = k;
+      for (const auto& [k, v] : mine)
+        if (auto it = theirs.find(k); it == theirs.end() || it->second != v) key = k;
+      for (const auto& [k, v] : theirs)
+        if (!mine.count(k)) key = k;
       throw Error("merge: " + p.name + " and " + parts.front().name + " come from different renders (zigzag:" + key +
                   " differs" + setting_difference(p, parts.front(), key) + ")");
     }
@@ -104,11 +111,21 @@ void check_film_parts(const std::vector<FilmPart>& parts) {
 
 }
 
+std::vector<std::string> devices_of(const std::vector<FilmPart>& parts) {
+  std::vector<std::string> devices;
+  for (const FilmPart& p : parts) {
+    const auto it = p.file.attributes.find(kDeviceAttribute);
+    const std::string device = it == p.file.attributes.end() ? "none" : it->second;
+    if (std::find(devices.begin(), devices.end(), device) == devices.end()) devices.push_back(device);
+  }
+  return devices;
+}
+
 bool same_film_header(const FilmFile& a, const FilmFile& b) {
   const Film &x = a.film, &y = b.film;
   return x.window() == y.window() && x.frame_width == y.frame_width && x.frame_height == y.frame_height &&
          same_channels(x, y) && std::memcmp(&a.tonemap.exposure, &b.tonemap.exposure, sizeof(float)) == 0 &&
-         a.attributes == b.attributes;
+         a.attributes == b.attributes;  // the device included: the same file read twice
 }
 
 FilmFile empty_frame(const FilmFile& first) {

@@ -12,6 +12,12 @@
 
 namespace zz {
 
+// The Vulkan device that made a part's visibility map. Not compared like the other
+// attributes: another device may flag a few edge pixels differently (its rasteriser's
+// rounding), which moves rays, not what the render is, so parts of a farm with GPU and
+// lavapipe workers still merge; `devices_of` names them for a warning.
+inline constexpr const char* kDeviceAttribute = "vulkan_device";
+
 struct FilmPart {
   std::string name;  // for messages (the file)
   FilmFile file;
@@ -21,6 +27,10 @@ struct FilmPart {
 // Reads the films' windows, channel names, exposure and attributes only, so the parts may
 // be headers (read_film_header): a bad set is refused before any pixel is read.
 void check_film_parts(const std::vector<FilmPart>& parts);
+
+// The distinct devices the parts' maps were made on (kDeviceAttribute), in order; "none" for
+// a part made without a map.
+std::vector<std::string> devices_of(const std::vector<FilmPart>& parts);
 
 // Whether two films agree in all check_film_parts reads (windows, channel names, exposure,
 // attributes): a part read whole against its header.

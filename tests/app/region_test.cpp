@@ -122,6 +122,22 @@ TEST_F(RegionTest, RegionExrHasFrameDisplayWindowAndFloatRadiance) {
             s["rays_per_pixel"].get<double>());
 }
 
+// The map's device is recorded in each part; parts of different devices merge with a
+// warning naming them, and the merge records both.
+TEST_F(RegionTest, PartsOfDifferentDevicesMergeWithAWarning) {
+  const std::string a = render("--region 0,0,150,65", "a.exr");
+  FilmFile part = read_film(a);
+  ASSERT_TRUE(part.attributes.count("vulkan_device")) << "the map's device is recorded";
+  const std::string device = part.attributes["vulkan_device"];
+  FilmFile other = read_film(render("--region 0,65,150,130", "b.exr"));
+  other.attributes["vulkan_device"] = "another GPU";
+  write_film(dir / "b.exr", other.film, other.tonemap, other.attributes);
+  const auto r = merge({a, (dir / "b.exr").string()}, "merged.exr");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("different Vulkan devices (" + device + ", another GPU)"), std::string::npos) << r.output;
+  EXPECT_EQ(read_film(dir / "merged.exr").attributes["vulkan_device"], device + "; another GPU");
+}
+
 TEST_F(RegionTest, RegionPngIsRegionSized) {
   int w = 0, h = 0;
   read_rgb_float(render("--region 5,6,25,16", "p.png"), w, h);

@@ -133,6 +133,23 @@ TEST_F(FilmMergeTest, PartsAreCheckedFromTheirHeadersAndPastedOneByOne) {
   }
 }
 
+// Parts whose maps came from different Vulkan devices (a farm of GPU and lavapipe workers)
+// merge: the device is named, not compared; any other attribute still must agree.
+TEST_F(FilmMergeTest, PartsOfDifferentDevicesMergeAndAreNamed) {
+  write_film(dir / "gpu.exr", frame_film({0, 0, 7, 2}), ToneMap{}, {{"camera", "0"}, {kDeviceAttribute, "a GPU"}});
+  write_film(dir / "cpu.exr", frame_film({0, 2, 7, 5}), ToneMap{}, {{"camera", "0"}, {kDeviceAttribute, "llvmpipe"}});
+  write_film(dir / "nomap.exr", frame_film({0, 2, 7, 5}), ToneMap{}, {{"camera", "0"}});
+  std::vector<FilmPart> parts = {{"gpu.exr", read_film(dir / "gpu.exr")}, {"cpu.exr", read_film(dir / "cpu.exr")}};
+  EXPECT_NO_THROW(check_film_parts(parts));
+  EXPECT_EQ(devices_of(parts), (std::vector<std::string>{"a GPU", "llvmpipe"}));
+  parts[1] = {"nomap.exr", read_film(dir / "nomap.exr")};
+  EXPECT_NO_THROW(check_film_parts(parts));
+  EXPECT_EQ(devices_of(parts), (std::vector<std::string>{"a GPU", "none"}));
+  write_film(dir / "other.exr", frame_film({0, 2, 7, 5}), ToneMap{}, {{"camera", "1"}, {kDeviceAttribute, "a GPU"}});
+  parts[1] = {"other.exr", read_film(dir / "other.exr")};
+  EXPECT_THROW(check_film_parts(parts), Error);
+}
+
 TEST_F(FilmMergeTest, PartsWithDifferentChannelsAreRefused) {
   write_film(dir / "a.exr", frame_film({0, 0, 7, 2}), ToneMap{});
   write_film(dir / "b.exr", frame_film({0, 2, 7, 5}, false), ToneMap{});
