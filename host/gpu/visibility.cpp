@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
 #include <limits>
+#include <mutex>
 
 #include "core/error.h"
 
@@ -14,6 +16,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// Once per process: a camera's planes cut into the scene and the device cannot clip.
+void warn_cannot_clip() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    std::fprintf(stderr,
+                 "zigzag: warning: the Vulkan device cannot clip (no shaderClipDistance): the visibility map "
+                 "also draws what the camera's znear/zfar cut away, so it sends rays to those edges too; the "
+                 "image is clipped all the same\n");
+  });
 }
 
 }  // namespace
@@ -190,7 +203,12 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   f.znear = std::max(dmax * 1e-15, 1e-30);
   // The camera's own planes, only where they cut into the scene: the raster that clips is
   // another pipeline, and a scene between them keeps the plain one's bits.
-  if (rays.clip.cuts_into(bounds_min_, bounds_max_)) f.clip = rays.clip;
+  // A device that cannot clip draws everything: the map then flags the edges of what the
+  // planes cut away too (more rays there), and the tracer still clips the image.
+  if (rays.clip.cuts_into(bounds_min_, bounds_max_)) {
+    if (context_.clip_distance()) f.clip = rays.clip;
+    else warn_cannot_clip();
+  }
   f.flag = make_flag_push(camera, width, height, settings);
 
   // Tiles: full rows when they fit, else bands / columns. Widths are multiples of 4

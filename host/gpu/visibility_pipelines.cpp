@@ -166,9 +166,7 @@ VkPipeline VisibilityPass::make_raster_pipeline(ShaderCode vertex_shader) {
 
 VkPipeline VisibilityPass::raster_clip_pipeline() {
   if (raster_clip_pipeline_) return raster_clip_pipeline_;
-  if (!context_.clip_distance())
-    throw Error("the Vulkan device cannot clip (no shaderClipDistance), and the camera's znear/zfar cut into the "
-                "scene; render with --edges off");
+  if (!context_.clip_distance()) throw Error("internal: the clipping raster asked of a device without shaderClipDistance");
   raster_clip_pipeline_ = make_raster_pipeline(shader_ids_clip_vert());
   return raster_clip_pipeline_;
 }

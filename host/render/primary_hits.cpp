@@ -22,6 +22,7 @@ PrimaryHits trace_primary_hits(const Shader& shader, const Camera& camera, int w
   hits.normal.resize(pixels);
   hits.albedo.resize(pixels);
   const CameraRays camera_rays(camera, width, height);
+  const CameraClip* clip = shader.clip_in_scene(camera_rays.clip);
   tbb::combinable<RayCounters> counters;
   WorkerArena arena(threads);
   arena.execute([&] {
@@ -48,7 +49,7 @@ PrimaryHits trace_primary_hits(const Shader& shader, const Camera& camera, int w
           packet.tmax = float4(kInfinity);
           local.primary += 4;
           PrimaryHit4 out;
-          shader.primary4(packet, out, local, shader.clip_in_scene(camera_rays.clip));
+          shader.primary4(packet, out, local, clip);
           for (int i = 0; i < n; ++i) {
             const size_t k = size_t(row) * size_t(hits.width) + size_t(x0 + i);
             hits.depth[k] = out.depth[i];

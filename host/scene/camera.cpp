@@ -28,7 +28,8 @@ CameraRays::CameraRays(const Camera& camera, int width, int height) {
   du = camera.right * pixel;
   dv = -camera.up * pixel;
   dir00 = camera.forward - camera.right * half_w + camera.up * half_h;
-  clip = CameraClip{camera.position, camera.forward, camera.znear, camera.zfar};
+  clip = CameraClip{camera.position, camera.clip_axis == glm::vec3(0.0f) ? camera.forward : camera.clip_axis,
+                    camera.znear, camera.zfar};
 }
 
 bool CameraClip::cuts_into(glm::vec3 lo, glm::vec3 hi) const {

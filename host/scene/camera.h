@@ -24,10 +24,13 @@ struct Camera {
   glm::vec3 forward{0.0f, 0.0f, -1.0f};
   float yfov = 0.8f;     // vertical field of view, radians
   float aspect = 0.0f;   // width / height of the scene's intended frame; 0 = unknown
-  // Clipping planes, as depths along `forward` from `position` (world units): camera rays
-  // and the visibility map see only what lies between them. 0 and infinity: no clipping.
+  // Clipping planes, as depths along `clip_axis` from `position` (world units): camera
+  // rays and the visibility map see only what lies between them. 0 and infinity: no
+  // clipping. The axis is the planes' unit normal: `forward` when zero, as for any
+  // orthonormal frame; a glTF camera under a sheared node has its own (gltf_loader.cpp).
   float znear = 0.0f;
   float zfar = std::numeric_limits<float>::infinity();
+  glm::vec3 clip_axis{0.0f};
 
   static Camera look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float yfov);
 };
@@ -42,7 +45,7 @@ inline bool valid_yfov_degrees(double degrees) { return degrees > kMinYfovDegree
 // away (the ray starts at the near plane) and what lies beyond is background.
 struct CameraClip {
   glm::vec3 origin{0.0f};
-  glm::vec3 forward{0.0f, 0.0f, -1.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};  // the planes' unit normal, towards the view
   float znear = 0.0f;
   float zfar = std::numeric_limits<float>::infinity();
 

@@ -30,8 +30,8 @@ inline constexpr uintmax_t kMaxFileBytes = uintmax_t(1) << 32;
 int json_nesting_depth(std::string_view text, int limit = kMaxJsonDepth);
 
 // The file an external buffer's or image's URI names, as the loader reads it: relative to
-// the glTF's folder and percent-decoded ("My%20Wood.png" is My Wood.png, "C++.png" is
-// itself), never looked for in the working directory. None for a URI that names no file
+// the glTF's folder (an absolute path as it is) and percent-decoded ("My%20Wood.png" is My
+// Wood.png, "C++.png" is itself), never looked for in the working directory. None for a URI that names no file
 // (empty, or a data: URI holding the bytes).
 std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri);
 

@@ -635,9 +635,19 @@ struct Loader {
     }
     c.yfov = float(p.yfov);
     c.aspect = float(p.aspectRatio);
-    // The planes are depths in the camera node's frame; the world's depth is the forward
-    // axis's length times that (a scaled node).
-    const float unit = glm::length(f);
+    // The planes are depths in the camera node's frame: -(m^-1 (q - position)).z = n.(q -
+    // position) with n = m^-T (0, 0, -1), so in the world they are planes of normal n / |n|
+    // at depth z / |n|. For a rotation times a uniform scale s, n is forward / s.
+    float unit = glm::length(f);
+    if (!is_rotation_times_scale(m)) {
+      const glm::vec3 n = glm::transpose(glm::inverse(m)) * glm::vec3(0.0f, 0.0f, -1.0f);
+      unit = 1.0f / glm::length(n);
+      c.clip_axis = n * unit;
+      if (!finite(c.clip_axis) || !std::isfinite(unit)) {
+        ignore_camera(c.name, "has a non-finite transform");
+        return;
+      }
+    }
     if (p.znear > 0.0 && std::isfinite(p.znear)) c.znear = float(p.znear) * unit;
     if (p.zfar > p.znear && std::isfinite(p.zfar)) c.zfar = float(p.zfar) * unit;  // 0: infinite
     scene.cameras.push_back(c);

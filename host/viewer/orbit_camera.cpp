@@ -75,6 +75,7 @@ Camera OrbitCamera::camera() const {
   c.up = glm::normalize(turned_about_y(start_.up * std::cos(pitch_) + start_.forward * std::sin(pitch_), yaw_));
   c.right = glm::normalize(turned_about_y(start_.right, yaw_));
   c.position = target_ - c.forward * distance_;
+  c.clip_axis = glm::vec3(0.0f);  // the planes turn with the (orthonormal) view
   return c;
 }
 

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include <cmath>
 #include <limits>
@@ -736,8 +738,16 @@ TEST(GltfLoader, ACameraSeesThroughItsNodesMirrorAndScale) {
     const Camera c = camera_under({scale.x, scale.y, scale.z}, name);
     const CameraRays rays(c, 8, 4);
     expect_vec(c.position, scale * plain.position);
-    // znear is a depth in the node's frame: the world's is scaled along the view axis.
-    EXPECT_NEAR(c.znear, 0.1f * glm::length(scale * plain.forward), 1e-6f) << name;
+    // znear is a depth in the node's frame: a world point at node depth z is at clip depth
+    // znear * z / 0.1, whatever the node's mirror, scale or shear (its plane is the node's
+    // z = -z plane, not one normal to the view).
+    const glm::mat4 node = glm::scale(glm::mat4(1.0f), scale) * glm::translate(glm::mat4(1.0f), {0.5f, -0.25f, 3.0f}) *
+                           glm::mat4_cast(glm::quat(0.9747f, 0.1f, 0.2f, 0.0f));
+    for (const glm::vec3 local : {glm::vec3(0, 0, -1), glm::vec3(0.8f, -0.5f, -1), glm::vec3(-0.6f, 0.7f, -2.5f)}) {
+      const glm::vec3 world = glm::vec3(node * glm::vec4(local, 1.0f));
+      EXPECT_NEAR(rays.clip.depth(world) / c.znear, -local.z / 0.1f, 1e-3f * -local.z / 0.1f)
+          << name << " local point " << local.x << "," << local.y << "," << local.z;
+    }
     EXPECT_EQ(c.zfar, std::numeric_limits<float>::infinity()) << name << ": no zfar is an infinite projection";
     for (const glm::vec2 p : {glm::vec2(0.5f, 0.5f), glm::vec2(7.5f, 0.5f), glm::vec2(2.0f, 3.5f), glm::vec2(4, 2)}) {
       const glm::vec3 expected = glm::normalize(scale * plain_rays.direction(p.x, p.y));
