@@ -58,6 +58,27 @@ TEST(LightTowards, ANarrowHardSpotIsFullyBrightOnItsAxis) {
   }
 }
 
+// In the penumbra the spot falls off as KHR_lights_punctual's t^2, t = (cos a - cos outer) /
+// (cos inner - cos outer): no scene has a spot light, and squaring t nowhere (scalar and SSE
+// paths alike) changed no test.
+TEST(LightTowards, ASpotsPenumbraFallsOffAsTheSquareOfItsCosineRamp) {
+  Light spot;
+  spot.type = Light::Type::Spot;
+  spot.position = {0.0f, 0.0f, 2.0f};
+  spot.direction = {0.0f, 0.0f, -1.0f};
+  spot.inner_cone = 0.3f;
+  spot.outer_cone = 0.6f;
+  for (const float angle : {0.35f, 0.45f, 0.55f}) {
+    const glm::vec3 p(2.0f * std::tan(angle), 0.0f, 0.0f);
+    glm::vec3 to_light, scale;
+    float distance;
+    ASSERT_TRUE(light_towards(spot, p, to_light, distance, scale)) << angle;
+    const float t = (std::cos(angle) - std::cos(0.6f)) / (std::cos(0.3f) - std::cos(0.6f));
+    const float d2 = glm::dot(p - spot.position, p - spot.position);
+    EXPECT_NEAR(scale.r, t * t / d2, 1e-5f * t * t / d2) << angle;
+  }
+}
+
 // Cones over 3.6 degrees keep the glTF sample code's floor, and so their edge's width: a
 // hard 10-degree spot's scale is 1 / 0.001 as before; a 1-degree one's is 2 / (1 - cos).
 // KHR_lights_punctual's range window, as the spec recommends: clamp(1 - (d/r)^4, 0, 1) / d^2

@@ -331,5 +331,57 @@ TEST(Shader, EmissiveTextureModulatesTheEmissiveFactor) {
   EXPECT_EQ(l, glm::vec3(0.0f, 0.25f, 0.0f));
 }
 
+// A smooth dielectric mirrors with Schlick's Fresnel from F0 = 0.04 (ior 1.5):
+// F(cos 60) = 0.04 + 0.96 (1 - 0.5)^5 = 0.07. The existing mirror tests look at normal
+// incidence or at metals, where the term is 0 or unused: an exponent of 4 changed no test.
+TEST(Shader, ASmoothDielectricMirrorsWithSchlicksFresnel) {
+  Scene s;
+  Material glaze;
+  glaze.base_color = glm::vec3(0.0f);
+  glaze.metallic = 0.0f;
+  glaze.roughness = 0.0f;
+  s.materials = {glaze};
+  test::add_quad(s, {-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}, 0);
+  // The centre ray meets the floor at 60 degrees from its normal; its reflection sees the sky.
+  s.cameras.push_back(Camera::look_at({0, 0, 1}, {std::sqrt(3.0f), 0, 0}, {0, 0, 1}, 0.3f));
+  s.background = glm::vec3(1.0f);
+  s.max_depth = 2;
+  s.finalize_materials();
+  const glm::vec3 l = centre_radiance(s);
+  const float expected = 0.04f + 0.96f * std::pow(0.5f, 5.0f);
+  EXPECT_NEAR(l.r, expected, 1e-4f);
+  EXPECT_NEAR(l.g, expected, 1e-4f);
+}
+
+// A camera inside an absorbing volume (its rays are not known to be inside it) sees what lies
+// beyond the volume's back face through exp(-sigma d) of the path inside (Beer's law): the
+// exit face is a back face, and the segment before it is the volume's. Mutation testing found
+// that counting only segments of rays known to be inside changed no test.
+TEST(Shader, ACameraInsideAVolumeSeesThroughItsAbsorption) {
+  Scene s;
+  Material glow;
+  glow.base_color = glm::vec3(0.0f);
+  glow.emissive = glm::vec3(1.0f);
+  Material tinted = test::glass_material(1.0f);  // ior 1: no bending, no Fresnel
+  tinted.attenuation_color = glm::vec3(0.05f, 1.0f, 1.0f);
+  tinted.attenuation_distance = 0.5f;
+  s.materials = {glow, tinted};
+  test::add_quad(s, {-20, -20, -3}, {20, -20, -3}, {20, 20, -3}, {-20, 20, -3}, 0);
+  test::add_box(s, {-1, -1, -1}, {1, 1, 1}, 1);
+  s.cameras.push_back(Camera::look_at({0, 0, 0.2f}, {0, 0, -1}, {0, 1, 0}, 0.3f));  // 1.2 from the exit face
+  s.background = glm::vec3(0.0f);
+  s.max_depth = 8;
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const CameraRays rays(s.cameras[0], 9, 9);
+  SceneSource source(shader, rays);
+  const Rgb4 c = source.sample4(float4(4.5f), float4(4.5f));
+  const float sigma = -std::log(0.05f) / 0.5f;  // red: 5 % left after 0.5
+  ASSERT_GT(c.g[0], 0.5f);
+  EXPECT_NEAR(c.r[0] / c.g[0], std::exp(-sigma * 1.2f), 1e-4f);
+}
+
 }  // namespace
+
 }  // namespace zz
