@@ -101,6 +101,38 @@ TEST_F(PacketTest, CoherentPacketsMatchSingleRays) {
   EXPECT_GT(hits, 3000);
 }
 
+// Axis-aligned, coplanar geometry: a floor of 64 x 64 cells in z = 0 and a copy of every
+// other triangle shifted a little in x, so boxes touch and hits tie. The random soups above
+// never make such boxes; dropping the packet box test's far-bound scale (kBoxFarScale) made
+// 172 of 1.6 M lanes here return another (sometimes farther) hit than the single ray, and
+// changed no other test (mutation testing).
+TEST(PacketFlatFloor, CoplanarAxisAlignedCellsMatchSingleRays) {
+  std::vector<glm::vec3> p;
+  for (int j = 0; j < 64; ++j)
+    for (int i = 0; i < 64; ++i) {
+      const float x0 = float(i) * 0.37f - 11.0f, y0 = float(j) * 0.37f - 11.0f, x1 = x0 + 0.37f, y1 = y0 + 0.37f;
+      test::add_tri(p, {x0, y0, 0}, {x1, y0, 0}, {x1, y1, 0});
+      test::add_tri(p, {x0, y0, 0}, {x1, y1, 0}, {x0, y1, 0});
+      const float s = 0.013f;
+      test::add_tri(p, {x0 + s, y0, 0}, {x1 + s, y0, 0}, {x1 + s, y1, 0});
+    }
+  const Bvh bvh = Bvh::build(p);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  int hits = 0, packets = 0;
+  for (int it = 0; it < 100000; ++it) {
+    const glm::vec3 o(u(rng) * 8, u(rng) * 8, 1.0f + 4.0f * std::abs(u(rng)));
+    const glm::vec3 target(u(rng) * 10, u(rng) * 10, 0.0f);
+    Ray r[4];
+    for (int k = 0; k < 4; ++k) r[k] = Ray{o, target - o + 0.001f * glm::vec3(float(k & 1), float(k >> 1), 0.0f)};
+    packets += takes_packet_path(r);
+    hits += check_packet(bvh, r, mask4(true));
+    if (::testing::Test::HasFailure()) break;  // one packet's report is enough
+  }
+  EXPECT_GT(packets, 90000);
+  EXPECT_GT(hits, 300000);
+}
+
 // The near hits on a huge floor that only the double-precision re-test finds
 // (triangle_test.cpp): packet lanes settle them with the same arithmetic as single rays.
 TEST(PacketHugeTriangle, NearHitsMatchSingleRays) {
