@@ -129,6 +129,11 @@ TEST_F(FlagSemanticsTest, ParallelPlanesFlagOnlyBeyondTheRelativeDepth) {
     expect_no_background(far_gap);
     expect_flagged_columns(near_gap, {}, what + " x0.9");
     expect_flagged_columns(far_gap, {15, 16}, what + " x1.1");
+    // The limit is rel times the nearer depth, not the farther: a gap of rel (1 +- rel / 2)
+    // lies on either side of it, where rel times the farther depth (rel + rel^2) would not
+    // flag either (mutation testing: max for min changed no test).
+    expect_flagged_columns(all_maps(context(), parallel_planes(rel * (1.0 - rel / 2)), s), {}, what + " x(1 - rel/2)");
+    expect_flagged_columns(all_maps(context(), parallel_planes(rel * (1.0 + rel / 2)), s), {15, 16}, what + " x(1 + rel/2)");
   }
 }
 
