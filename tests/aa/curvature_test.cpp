@@ -168,5 +168,24 @@ TEST(Curvature, BitIdenticalAcrossTileSizesAndThreads) {
     }
 }
 
+// bent(): a row of four corners is one curve when its two second differences d1, d2 agree,
+// a step when they are opposite; the line between is |d1 - d2| = 0.5 (|d1| + |d2|). Only
+// the golden images pinned the 0.5 (mutation testing: 0.6 changed no test).
+TEST(Curvature, BentSplitsCurvesFromStepsHalfway) {
+  const auto row = [](float d1, float d2) {
+    // f(-1), f(0), f(1), f(2) = d1, 0, 0, d2: second differences d1 and d2.
+    static float4 q[4];
+    q[0] = float4(d1), q[1] = float4(0.0f), q[2] = float4(0.0f), q[3] = float4(d2);
+    return bent(q + 1, 1, float4(0.0f));
+  };
+  EXPECT_EQ(row(1.0f, 1.0f), 0) << "a quadratic";
+  EXPECT_EQ(row(1.0f, -1.0f), 0x7) << "a step";
+  // Same-signed d2 = x d1 gives |d1 - d2| / (|d1| + |d2|) = (1 - x) / (1 + x).
+  const auto x_for = [](float ratio) { return (1.0f - ratio) / (1.0f + ratio); };
+  EXPECT_EQ(row(1.0f, x_for(0.45f)), 0) << "ratio 0.45: one curve";
+  EXPECT_EQ(row(1.0f, x_for(0.55f)), 0x7) << "ratio 0.55: bent";
+  EXPECT_EQ(row(-2.0f, -2.0f * x_for(0.55f)), 0x7) << "either sign";
+}
+
 }  // namespace
 }  // namespace zz
