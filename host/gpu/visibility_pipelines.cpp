@@ -6,15 +6,24 @@
 
 namespace zz {
 
+namespace {
+
+// Shader modules destroyed however the function that made them returns (null handles are
+// ignored): a pipeline keeps what it needs of them.
+template <size_t N>
+struct ShaderModules {
+  VkDevice d;
+  VkShaderModule m[N] = {};
+  ~ShaderModules() {
+    for (VkShaderModule x : m) vkDestroyShaderModule(d, x, nullptr);
+  }
+};
+
+}  // namespace
+
 void VisibilityPass::create_pipelines() {
   VkDevice d = context_.device();
-  struct Modules {  // destroyed however this returns; null handles are ignored
-    VkDevice d;
-    VkShaderModule m[1] = {};
-    ~Modules() {
-      for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
-    }
-  } modules{d};
+  ShaderModules<1> modules{d};
   const VkShaderModule planes = modules.m[0] = create_shader_module(d, shader_triangle_planes_comp());
   flag_module_ = create_shader_module(d, shader_geo_flags_comp());  // specialised per S later
 
@@ -91,13 +100,7 @@ VkPipeline VisibilityPass::flag_pipeline(int s) {
 
 VkPipeline VisibilityPass::make_raster_pipeline(ShaderCode vertex_shader) {
   VkDevice d = context_.device();
-  struct Modules {  // destroyed however this returns; null handles are ignored
-    VkDevice d;
-    VkShaderModule m[2] = {};
-    ~Modules() {
-      for (auto x : m) vkDestroyShaderModule(d, x, nullptr);
-    }
-  } modules{d};
+  ShaderModules<2> modules{d};
   const VkShaderModule vert = modules.m[0] = create_shader_module(d, vertex_shader);
   const VkShaderModule frag = modules.m[1] = create_shader_module(d, shader_ids_frag());
   VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO},

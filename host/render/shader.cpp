@@ -215,6 +215,21 @@ glm::vec3 origin_behind(const Scene& scene, size_t t3, float u, float v, const g
   return offset_ray_origin(interpolate_hit(p0, p1, p2, u, v), n);
 }
 
+// Traces the `lanes` of `rays` again and takes their hits (a continuation: counted so).
+void continue_lanes(const Bvh& bvh, const PacketBuilder& rays, int lanes, LaneHits& hits, RayCounters& counters) {
+  counters.continuation += uint64_t(std::popcount(unsigned(lanes)));
+  HitPacket4 next;
+  bvh.intersect4(rays.packet(), mask4::from_bits(lanes), next);
+  for (int i = 0; i < 4; ++i)
+    if ((lanes >> i) & 1) hits.take(next, i);
+}
+
+// Lane i's hit point, interpolated on its triangle.
+glm::vec3 hit_point(const Scene& scene, const LaneHits& hits, int i) {
+  const size_t t3 = size_t(hits.prim[i]) * 3;
+  return interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2], hits.u[i], hits.v[i]).p;
+}
+
 // Moves the active lanes that hit a cut-out texel (MASK below the cutoff, BLEND alpha 0)
 // on to the first surface behind it, one packet per layer; `skipped` gets the distance
 // travelled through them. Bounded: beyond kMaxSeeThroughLayers a ray escapes (a miss).
@@ -239,11 +254,7 @@ void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, in
       again |= 1 << i;
     }
     if (again == 0) break;
-    counters.continuation += uint64_t(std::popcount(unsigned(again)));
-    HitPacket4 next;
-    bvh.intersect4(behind.packet(), mask4::from_bits(again), next);
-    for (int i = 0; i < 4; ++i)
-      if ((again >> i) & 1) hits.take(next, i);
+    continue_lanes(bvh, behind, again, hits, counters);
   }
 }
 
@@ -257,10 +268,7 @@ void clip_near(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int a
   int again = 0;
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-    const size_t t3 = size_t(hits.prim[i]) * 3;
-    const glm::vec3 p = interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2],
-                                        hits.u[i], hits.v[i]).p;
-    if (clip.depth(p) >= clip.znear) continue;
+    if (clip.depth(hit_point(scene, hits, i)) >= clip.znear) continue;
     const glm::vec3 origin = lane(rays.ox, rays.oy, rays.oz, i), dir = lane(rays.dx, rays.dy, rays.dz, i);
     const float along = glm::dot(dir, clip.forward);
     if (!(along > 0.0f)) {
@@ -272,12 +280,7 @@ void clip_near(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int a
     skipped[i] += s * glm::length(dir);
     again |= 1 << i;
   }
-  if (again == 0) return;
-  counters.continuation += uint64_t(std::popcount(unsigned(again)));
-  HitPacket4 next;
-  bvh.intersect4(from_plane.packet(), mask4::from_bits(again), next);
-  for (int i = 0; i < 4; ++i)
-    if ((again >> i) & 1) hits.take(next, i);
+  if (again != 0) continue_lanes(bvh, from_plane, again, hits, counters);
 }
 
 // A lane whose hit lies beyond the far plane sees the background.
@@ -285,10 +288,7 @@ void clip_far(const Scene& scene, int active_bits, LaneHits& hits, const CameraC
   if (!(clip.zfar < kInfinity)) return;
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-    const size_t t3 = size_t(hits.prim[i]) * 3;
-    const glm::vec3 p = interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2],
-                                        hits.u[i], hits.v[i]).p;
-    if (clip.depth(p) > clip.zfar) hits.prim[i] = -1;
+    if (clip.depth(hit_point(scene, hits, i)) > clip.zfar) hits.prim[i] = -1;
   }
 }
 
