@@ -62,22 +62,21 @@ void add_merge_command(CLI::App& app) {
     for (const std::string& p : o->parts) headers.push_back({p, read_film_header(p)});
     check_film_parts(headers);
     const std::vector<std::string> devices = devices_of(headers);
+    const auto joined = [&](const char* separator) {
+      std::string all;
+      for (const std::string& d : devices) all += (all.empty() ? "" : separator) + d;
+      return all;
+    };
     if (devices.size() > 1) {
-      std::string names;
-      for (const std::string& d : devices) names += (names.empty() ? "" : ", ") + d;
       std::fprintf(stderr,
                    "zigzag: warning: the parts' visibility maps were made on different Vulkan devices (%s); "
                    "a device may flag a few edge pixels differently, so the merge can differ there from a "
                    "one-device render\n",
-                   names.c_str());
+                   joined(", ").c_str());
     }
     check_memory(merge_bytes(headers, holds_extra_channels(o->output)), "merging these parts");
     FilmFile merged = empty_frame(headers.front().file);
-    if (devices.size() > 1) {
-      std::string all;
-      for (const std::string& d : devices) all += (all.empty() ? "" : "; ") + d;
-      merged.attributes[kDeviceAttribute] = all;
-    }
+    if (devices.size() > 1) merged.attributes[kDeviceAttribute] = joined("; ");
     for (const FilmPart& p : headers) {
       const FilmFile part = read_film(p.name);
       if (!same_film_header(part, p.file)) throw Error("merge: " + p.name + " changed while the parts were merged");

@@ -84,12 +84,8 @@ int view(const ViewOptions& o) {
   v.name = std::filesystem::path(o.scene).stem().string();
   v.started = started;
   v.camera = scene.cameras[camera];
-  glm::vec3 lo(INFINITY), hi(-INFINITY);
-  for (const glm::vec3& p : scene.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
   if (!scene.positions.empty()) {
+    const auto [lo, hi] = scene.bounds();
     v.scene_centre = 0.5f * (lo + hi);
     v.scene_radius = 0.5f * glm::length(hi - lo);
   }

@@ -373,7 +373,8 @@ float fresnel_dielectric(float cos_i, float eta) {
   return 0.5f * (rs * rs + rp * rp);
 }
 
-Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), effects_(scene.effects()) {
+Shader::Shader(const Scene& scene, const Bvh& bvh)
+    : scene_(scene), bvh_(bvh), effects_(scene.effects()), scene_bounds_(scene.bounds()) {
   light_constants_.reserve(scene.lights.size());
   for (const Light& light : scene.lights) light_constants_.emplace_back(light);
   unsigned bits = 0;
@@ -383,8 +384,6 @@ Shader::Shader(const Scene& scene, const Bvh& bvh) : scene_(scene), bvh_(bvh), e
   if (effects_.textures) bits |= kTextures;
   if (effects_.alpha_mask || effects_.alpha_blend) bits |= kAlpha;
   kernel_ = pick_kernel(bits, std::make_integer_sequence<unsigned, kAllEffects + 1>{});
-  if (!scene.positions.empty()) scene_lo_ = scene_hi_ = scene.positions[0];
-  for (const glm::vec3& p : scene.positions) scene_lo_ = glm::min(scene_lo_, p), scene_hi_ = glm::max(scene_hi_, p);
   volume_bounds_.resize(scene.whitted.size());
   for (size_t t = 0; t < scene.material_of.size(); ++t) {
     const uint32_t m = scene.material_of[t];

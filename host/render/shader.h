@@ -157,7 +157,7 @@ class Shader {
   // `clip` to pass to trace4 and primary4, so a camera whose planes enclose the scene costs
   // nothing per ray.
   const CameraClip* clip_in_scene(const CameraClip& clip) const {
-    return clip.cuts_into(scene_lo_, scene_hi_) ? &clip : nullptr;
+    return clip.cuts_into(scene_bounds_.lo, scene_bounds_.hi) ? &clip : nullptr;
   }
 
   const EffectSet& effects() const { return effects_; }
@@ -194,6 +194,7 @@ class Shader {
   const Scene& scene_;
   const Bvh& bvh_;
   EffectSet effects_;
+  Scene::Bounds scene_bounds_;  // the triangles' box, for clip_in_scene
   std::vector<LightConstants> light_constants_;  // per scene light, made once for the SoA light loop
   // Per material, the bounds of its triangles (widened by their rounding), for volumes
   // only: a ray "inside" a volume whose hit lies outside its bounds went through an open
@@ -205,7 +206,6 @@ class Shader {
     }
   };
   std::vector<VolumeBounds> volume_bounds_;
-  glm::vec3 scene_lo_{0.0f}, scene_hi_{0.0f};  // the triangles' bounds
   Kernel kernel_;
   PrimaryKernel primary_kernel_;
 };

@@ -606,7 +606,8 @@ struct Loader {
       return;
     }
     c.forward = glm::normalize(f);
-    if (is_rotation_times_scale(m)) {
+    const bool orthonormal_view = is_rotation_times_scale(m);
+    if (orthonormal_view) {
       c.right = glm::normalize(glm::cross(c.forward, u));
       c.up = glm::cross(c.right, c.forward);
     } else {
@@ -639,7 +640,7 @@ struct Loader {
     // position) with n = m^-T (0, 0, -1), so in the world they are planes of normal n / |n|
     // at depth z / |n|. For a rotation times a uniform scale s, n is forward / s.
     float unit = glm::length(f);
-    if (!is_rotation_times_scale(m)) {
+    if (!orthonormal_view) {
       const glm::vec3 n = glm::transpose(glm::inverse(m)) * glm::vec3(0.0f, 0.0f, -1.0f);
       unit = 1.0f / glm::length(n);
       c.clip_axis = n * unit;

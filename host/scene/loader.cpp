@@ -425,11 +425,7 @@ std::vector<Light> default_lights(const Camera& camera) {
 
 Camera auto_camera(const Scene& scene, float yfov) {
   if (scene.positions.empty()) return Camera{};
-  glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-  for (const glm::vec3& p : scene.positions) {
-    lo = glm::min(lo, p);
-    hi = glm::max(hi, p);
-  }
+  const auto [lo, hi] = scene.bounds();
   const glm::vec3 centre = 0.5f * (lo + hi);
   const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
   // The bounding sphere just fits the vertical field of view: d = r / sin(fov / 2).

@@ -26,6 +26,13 @@ void Scene::finalize_materials() {
   for (const Material& m : materials) whitted.push_back(whitted_from_gltf(m));
 }
 
+Scene::Bounds Scene::bounds() const {
+  Bounds b;
+  if (!positions.empty()) b.lo = b.hi = positions[0];
+  for (const glm::vec3& p : positions) b.lo = glm::min(b.lo, p), b.hi = glm::max(b.hi, p);
+  return b;
+}
+
 EffectSet Scene::effects() const {
   // Only materials some triangle uses count: an unused glass material in a file must not
   // switch on refraction code for a scene that has no glass on screen.

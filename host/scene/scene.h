@@ -92,6 +92,11 @@ struct Scene {
   // Fill `whitted` from `materials`; call after editing materials.
   void finalize_materials();
   EffectSet effects() const;
+  // The box around every vertex: {lo, hi}, both 0 without any.
+  struct Bounds {
+    glm::vec3 lo{0.0f}, hi{0.0f};
+  };
+  Bounds bounds() const;
 };
 
 }  // namespace zz
