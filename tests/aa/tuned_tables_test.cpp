@@ -2,6 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
 
 #include "aa/table_tuning.h"
 #include "test_sources.h"
@@ -72,6 +76,84 @@ TEST(TunedTables, TunerModelMatchesTheSampler) {
     EXPECT_FLOAT_EQ(std::fabs(a.radiance[0].r - l.radiance[0].r), r.error[zones]);
     EXPECT_EQ(a.rays[0], r.refined ? 5 + 4 * std::popcount(unsigned(zones)) : 1);
   }
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream f(path);
+  EXPECT_TRUE(f.good()) << path;
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+void parse_table(const std::string& text, uint8_t (&table)[16]) {
+  std::stringstream ss(text);
+  for (uint8_t& entry : table) {
+    int v = -1;
+    char sep = 0;
+    ss >> sep >> v;  // "{0, 6, ..." : the brace or comma, then the entry
+    ASSERT_TRUE(v >= 0 && v <= kAllZones) << text;
+    entry = uint8_t(v);
+  }
+}
+
+// Six significant digits, as the tuner prints them.
+void expect_recorded(double recorded, double measured, const std::string& what) {
+  EXPECT_NEAR(measured, recorded, 6e-6 * std::fabs(recorded)) << what;
+}
+
+// The numbers the tuner wrote -- every point of its Pareto front in pareto.csv and the
+// shipped sets' held-out error in tuned_tables.inc -- are what the population and the
+// sampler's model give today: a change to either that moves the tables' claimed error
+// fails here, not silently in a stale comment.
+TEST(TunedTables, TheTunersRecordedNumbersAreWhatTheCodeMeasures) {
+  AdaptiveSettings settings;
+  settings.eps = 0.05f;  // the CLI's default, at which the shipped tables were tuned
+  const Population pop = make_population();
+  const std::vector<PatternRecord> train = evaluate_population(pop.train, settings);
+  const std::vector<PatternRecord> held = evaluate_population(pop.held_out, settings);
+
+  std::stringstream csv(read_text(std::string(ZZ_SOURCE_DIR) + "/tools/table_tuner/pareto.csv"));
+  std::string line;
+  std::getline(csv, line);
+  ASSERT_EQ(line, "set,lambda,rays_per_px_held_out,error_held_out,rays_per_px_train,error_train,b,c0,c1");
+  const std::regex row(R"re(^(\w+),([-\d.e]+),([\d.e-]+),([\d.e-]+),([\d.e-]+),([\d.e-]+),"([^"]+)","([^"]+)","([^"]+)"$)re");
+  int rows = 0;
+  while (std::getline(csv, line)) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(line, m, row)) << line;
+    TableSet t{"row", {}, {}, {}};
+    parse_table(m[7], t.b);
+    parse_table(m[8], t.c0);
+    parse_table(m[9], t.c1);
+    const TableScore h = score_tables(t, held), tr = score_tables(t, train);
+    const std::string what = m[1].str() + " lambda " + m[2].str();
+    expect_recorded(std::stod(m[3]), h.rays, what + ": held-out rays");
+    expect_recorded(std::stod(m[4]), h.error, what + ": held-out error");
+    expect_recorded(std::stod(m[5]), tr.rays, what + ": train rays");
+    expect_recorded(std::stod(m[6]), tr.error, what + ": train error");
+    ++rows;
+  }
+  EXPECT_GE(rows, 10);
+
+  // "// NAME: lambda = L, eps = E. Held-out population: ...\n// ERR at RAYS rays/px (paper: PERR at PRAYS rays/px)."
+  const std::string inc = read_text(std::string(ZZ_SOURCE_DIR) + "/host/aa/tuned_tables.inc");
+  const std::regex claim(
+      R"re(// ([\w-]+): lambda = [\d.e-]+, eps = ([\d.]+)\. [^\n]*\n// ([\d.e-]+) at ([\d.]+) rays/px \(paper: ([\d.e-]+) at ([\d.]+) rays/px\))re");
+  const TableScore paper = score_tables(paper_table_set(), held);
+  int sets = 0;
+  for (std::sregex_iterator it(inc.begin(), inc.end(), claim), end; it != end; ++it, ++sets) {
+    const std::smatch& m = *it;
+    const TableSet* t = find_table_set(m[1].str());
+    ASSERT_NE(t, nullptr) << m[1];
+    EXPECT_EQ(std::stof(m[2]), settings.eps) << m[1];
+    const TableScore s = score_tables(*t, held);
+    expect_recorded(std::stod(m[3]), s.error, m[1].str() + ": held-out error");
+    expect_recorded(std::stod(m[4]), s.rays, m[1].str() + ": held-out rays");
+    expect_recorded(std::stod(m[5]), paper.error, "paper: held-out error");
+    expect_recorded(std::stod(m[6]), paper.rays, "paper: held-out rays");
+  }
+  EXPECT_EQ(sets, 2);  // tuned and tuned-hq
 }
 
 }  // namespace

@@ -100,6 +100,101 @@ TEST(Glass, TotalInternalReflectionAndTheCriticalAngle) {
   }
 }
 
+// Fresnel reflectance of unpolarised light at a smooth dielectric interface, written out
+// here (Born & Wolf) rather than taken from the shader: eta = n_transmitted / n_incident.
+double fresnel_reference(double cos_i, double eta) {
+  const double sin_t2 = (1.0 - cos_i * cos_i) / (eta * eta);
+  if (sin_t2 >= 1.0) return 1.0;  // total internal reflection
+  const double cos_t = std::sqrt(1.0 - sin_t2);
+  const double rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  const double rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+// What a ray inside a solid slab brings back, heading for one face at `depth` with the
+// path's throughput so far: the faces are parallel, so every inner ray meets them at the
+// same angle, with reflectance F. Leaving through the top it reaches a glow of 1, through
+// the bottom a black background. Whitted's tree summed as the shader prunes it: a ray is
+// spawned below the trace depth and while its path keeps Shader::kMinThroughput.
+double slab_inner(double f, int depth, int max_depth, double path, bool upwards) {
+  if (depth >= max_depth) return 0.0;
+  double l = 0.0;
+  if (f < 1.0 && path * (1.0 - f) >= Shader::kMinThroughput && upwards) l += 1.0 - f;
+  if (path * f >= Shader::kMinThroughput) l += f * slab_inner(f, depth + 1, max_depth, path * f, !upwards);
+  return l;
+}
+
+// A solid slab (n = 1.5, z in [-1, 1]) under a glowing ceiling (z = 3) over a black
+// background. With no cutoff and unlimited depth the sums have closed forms:
+//   from inside, upwards:  (1 - F) (1 + F^2 + F^4 + ...) = 1 / (1 + F), and 0 beyond the
+//                          critical angle, where no path ever leaves;
+//   from below the slab:   (1 - F)^2 (1 + F^2 + ...)   = (1 - F) / (1 + F)
+// (F the same from either side: Stokes' relations). The renderer must give the pruned
+// sum exactly and the closed form within what the throughput cutoff drops. Catches a
+// wrong relative index on the way out, a ray that leaves from the wrong side, and
+// Fresnel weights that do not sum to 1.
+TEST(Glass, ASlabsInnerReflectionsSumToTheirClosedForm) {
+  Scene s;
+  Material glow;
+  glow.base_color = glm::vec3(0.0f);
+  glow.emissive = glm::vec3(1.0f);
+  s.materials = {test::glass_material(1.5f), glow};
+  // Wide enough that no ray reaches the slab's rim within the trace depth (85 deg: 550).
+  test::add_box(s, {-2000, -2000, -1}, {2000, 2000, 1}, 0);
+  test::add_quad(s, {-3000, -3000, 3}, {3000, -3000, 3}, {3000, 3000, 3}, {-3000, 3000, 3}, 1);
+  s.background = glm::vec3(0.0f);
+  s.cameras.push_back(Camera::look_at({0, 0, 0}, {1, 0, 0}, {0, 0, 1}, 0.5f));
+  s.max_depth = 24;
+  s.finalize_materials();
+  ASSERT_FALSE(s.whitted[0].thin_walled);
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  const double critical = std::asin(1.0 / 1.5);
+
+  // Angles to +z, in degrees, of rays from inside the slab and from below it.
+  struct Case {
+    float origin_z;
+    double degrees[4];
+  };
+  for (const Case& c : {Case{0.0f, {0, 20, 35, 41}}, Case{0.0f, {43, 50, 65, 85}}, Case{-3.0f, {0, 30, 60, 80}}}) {
+    const bool inside = c.origin_z == 0.0f;
+    RayPacket4 rays;
+    alignas(16) float dx[4], dz[4];
+    for (int i = 0; i < 4; ++i) {
+      dx[i] = float(std::sin(glm::radians(c.degrees[i])));
+      dz[i] = float(std::cos(glm::radians(c.degrees[i])));
+    }
+    rays.ox = rays.oy = float4(0.0f);
+    rays.oz = float4(c.origin_z);
+    rays.dx = float4::load(dx), rays.dy = float4(0.0f), rays.dz = float4::load(dz);
+    rays.tmax = float4(kInfinity);
+    RayCounters counters;
+    const Rgb4 l = shader.trace4(rays, mask4(true), 0, counters);
+    for (int i = 0; i < 4; ++i) {
+      const double outer = glm::radians(c.degrees[i]);
+      const double inner = inside ? outer : std::asin(std::sin(outer) / 1.5);  // Snell
+      const double f = fresnel_reference(std::cos(inner), 1.0 / 1.5);
+      double pruned, closed;
+      if (inside) {
+        pruned = slab_inner(f, 0, s.max_depth, 1.0, true);
+        closed = inner > critical ? 0.0 : 1.0 / (1.0 + f);
+      } else {
+        const double entering = fresnel_reference(std::cos(outer), 1.5);
+        EXPECT_NEAR(entering, f, 1e-12) << "Stokes";
+        pruned = (1.0 - entering) * slab_inner(f, 1, s.max_depth, 1.0 - entering, true);
+        closed = (1.0 - f) / (1.0 + f);
+      }
+      const std::string what = std::to_string(c.degrees[i]) + (inside ? " deg inside" : " deg below");
+      std::printf("[ glass ] slab, %s: F = %.6f, L = %.7f (pruned sum %.7f, closed form %.7f)\n", what.c_str(), f,
+                  l.r[i], pruned, closed);
+      EXPECT_NEAR(l.r[i], pruned, 2e-6) << what;
+      // The cutoff drops terms below 1/1024 of the radiance each; here, at most 4 of them.
+      EXPECT_NEAR(l.r[i], closed, 4.0 * Shader::kMinThroughput) << what;
+      EXPECT_EQ(l.g[i], l.r[i]);
+    }
+  }
+}
+
 // KHR_materials_volume: a transmissive surface without a thickness is a thin wall, light
 // crosses it unbent; with one it is a solid's face and bends light (Snell). A sheet tilted
 // 45 deg over a floor that glows only where x > 0: a ray straight down at x = -0.05 lands
