@@ -37,7 +37,18 @@ layout(std430, binding = ZZ_BIND_NORMALS) readonly buffer Normals { vec4 normals
 layout(std430, binding = ZZ_BIND_FLAGS) writeonly buffer Flags { uint words[]; };
 
 
+// An orthographic camera (limits.w = 1) steps its rays' origins by du, dv instead: every
+// ray runs along dir00, from origin + gx du + gy dv.
+bool orthographic() { return p.limits.w != 0.0; }
+
+precise vec3 grid_step(ivec2 g) {
+  precise vec3 d = float(g.x) * p.du.xyz;
+  d = d + float(g.y) * p.dv.xyz;
+  return d;
+}
+
 precise vec3 ray_dir(ivec2 g) {
+  if (orthographic()) return p.dir00.xyz;
   precise vec3 d = p.dir00.xyz + float(g.x) * p.du.xyz;
   d = d + float(g.y) * p.dv.xyz;
   return d;
@@ -72,12 +83,20 @@ bool differs(uint ia, ivec2 ga, uint ib, ivec2 gb, bool inner) {
   precise float c = dot3(na, nb);
   if ((sa < 0.0) != (sb < 0.0)) c = -c;
   if (c < p.limits.x) return true;
-  // Plane n.x = n.v0 hit by ray o + t d at t = n.(v0 - o) / n.d; h = n.(v0 - o) per frame.
-  precise float ha = pa.w;
-  precise float hb = pb.w;
+  // Plane n.x = n.v0 hit by ray o + t d at t = n.(v0 - o) / n.d; h = n.(v0 - o) per frame,
+  // o the camera's origin; an orthographic ray's own origin lies grid_step further.
+  precise float ha = pa.w, hb = pb.w;
+  precise float hab = ha, hba = hb;  // sample b's offset for plane a, sample a's for plane b
+  if (orthographic()) {
+    precise vec3 oa = grid_step(ga), ob = grid_step(gb);
+    hab = ha - dot3(na, ob);
+    hba = hb - dot3(nb, oa);
+    ha = ha - dot3(na, oa);
+    hb = hb - dot3(nb, ob);
+  }
   precise float taa = ha / sa;
-  precise float tba = hb / dot3(nb, da);
-  precise float tab = ha / dot3(na, db);
+  precise float tba = hba / dot3(nb, da);
+  precise float tab = hab / dot3(na, db);
   precise float tbb = hb / sb;
   return far_apart(taa, tba) || far_apart(tbb, tab);
 }

@@ -52,21 +52,23 @@ struct RasterPush {
 };
 
 // Compute stage. Supersample (gx, gy) of the frame (gx in [-1, W*S]) has the ray
-// direction dir00 + gx*du + gy*dv (unnormalised), i.e. CameraRays at image point
-// ((gx + 0.5)/S, (gy + 0.5)/S). The id image of a tile holds supersamples
+// direction dir00 + gx*du + gy*dv (unnormalised) from origin, i.e. CameraRays at image
+// point ((gx + 0.5)/S, (gy + 0.5)/S); for an orthographic camera (limits.w = 1) the
+// direction dir00 from origin + gx*du + gy*dv. The id image of a tile holds supersamples
 // gx in [tile.x*S - 1, (tile.x + tile.z)*S], gy likewise: the tile plus a one-sample ring.
 // The flag buffer holds the rows of the flagged pixels only (a region's, not the frame's):
 // pixel (x, y) is byte (x - out_x0) % 4 of uint (y - out_y0) * frame.w + (x - out_x0) / 4.
 struct FlagPush {
-  vec3 origin;   // camera position
+  vec3 origin;   // camera position (orthographic: the ray origin of supersample (0, 0))
   int out_x0;    // the flag buffer's first pixel column (a multiple of 4)
   vec3 dir00;    // ray direction through supersample (0, 0)
   int out_y0;    // the flag buffer's first row
-  vec4 du;       // direction step per supersample to the right
-  vec4 dv;       // direction step per supersample downwards
+  vec4 du;       // direction (orthographic: origin) step per supersample to the right
+  vec4 dv;       // direction (orthographic: origin) step per supersample downwards
   ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
   ivec4 frame;   // frame width, height in pixels, S, uints per flag buffer row
-  vec4 limits;   // cos(normal angle threshold), relative distance threshold, material rule (1 on, 0 off), 0
+  vec4 limits;   // cos(normal angle threshold), relative distance threshold, material rule (1 on, 0 off),
+                 // orthographic camera (1) or pinhole (0)
   ivec4 area;    // frame pixels x0, y0, width, height flagged by this dispatch (x0 % 4 == 0)
 };
 

@@ -36,7 +36,10 @@ struct Rule {
   const gpu::FlagPush& p;
   const std::vector<glm::vec4>* normals;  // w: material tag; with the material rule on
 
+  bool orthographic() const { return p.limits.w != 0.0f; }
+  glm::vec3 grid_step(int gx, int gy) const { return float(gx) * glm::vec3(p.du) + float(gy) * glm::vec3(p.dv); }
   glm::vec3 ray_dir(int gx, int gy) const {
+    if (orthographic()) return glm::vec3(p.dir00);
     glm::vec3 d = glm::vec3(p.dir00) + float(gx) * glm::vec3(p.du);
     return d + float(gy) * glm::vec3(p.dv);
   }
@@ -56,7 +59,16 @@ struct Rule {
     float c = dot3(na, nb);
     if ((sa < 0.0f) != (sb < 0.0f)) c = -c;
     if (c < p.limits.x) return true;
-    const float taa = pa.w / sa, tba = pb.w / dot3(nb, da), tab = pa.w / dot3(na, db), tbb = pb.w / sb;
+    // An orthographic ray's origin lies grid_step from the planes' (shaders/geo_flags.comp).
+    float ha = pa.w, hb = pb.w, hab = ha, hba = hb;
+    if (orthographic()) {
+      const glm::vec3 oa = grid_step(gxa, gya), ob = grid_step(gxb, gyb);
+      hab = ha - dot3(na, ob);
+      hba = hb - dot3(nb, oa);
+      ha = ha - dot3(na, oa);
+      hb = hb - dot3(nb, ob);
+    }
+    const float taa = ha / sa, tba = hba / dot3(nb, da), tab = hab / dot3(na, db), tbb = hb / sb;
     return far_apart(taa, tba) || far_apart(tbb, tab);
   }
 };

@@ -34,9 +34,13 @@ void warn_cannot_clip() {
 // Everything one run() needs besides the tiles' own offsets.
 struct VisibilityPass::Frame {
   int width = 0, height = 0, s = 4;
-  glm::dmat3 view_from_ray;  // q = t * (dir00 + px du + py dv)  ->  (t px, t py, t)
+  // Pinhole: q = t * (dir00 + px du + py dv)  ->  (t px, t py, t);
+  // orthographic: q = px ou + py ov + t dir00  ->  (px, py, t).
+  glm::dmat3 view_from_ray;
   glm::vec3 origin{0.0f};
-  double znear = 1e-6;       // in units of t (the forward component: t = depth)
+  bool orthographic = false;
+  double znear = 1e-6;       // pinhole, in units of t (the forward component: t = depth)
+  double zfar = 0.0;         // orthographic: the depth range [0, zfar] holds the scene
   CameraClip clip;           // the camera's planes, where they cut into the scene; else none
   gpu::FlagPush flag{};
   std::vector<Tile> tiles;
@@ -101,15 +105,23 @@ gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
   float s = float(settings.supersample);
   gpu::FlagPush p{};
   // Supersample (gx, gy) sits at image point ((gx + 0.5)/S, (gy + 0.5)/S).
-  glm::vec3 du = rays.du / s, dv = rays.dv / s;
-  p.origin = rays.origin;
-  p.dir00 = rays.dir00 + 0.5f * du + 0.5f * dv;
-  p.du = glm::vec4(du, 0.0f);
-  p.dv = glm::vec4(dv, 0.0f);
+  if (rays.orthographic) {  // the origins step, the direction stays (limits.w)
+    glm::vec3 ou = rays.ou / s, ov = rays.ov / s;
+    p.origin = rays.origin + 0.5f * ou + 0.5f * ov;
+    p.dir00 = rays.dir00;
+    p.du = glm::vec4(ou, 0.0f);
+    p.dv = glm::vec4(ov, 0.0f);
+  } else {
+    glm::vec3 du = rays.du / s, dv = rays.dv / s;
+    p.origin = rays.origin;
+    p.dir00 = rays.dir00 + 0.5f * du + 0.5f * dv;
+    p.du = glm::vec4(du, 0.0f);
+    p.dv = glm::vec4(dv, 0.0f);
+  }
   p.frame = glm::ivec4(width, height, settings.supersample,
                        (width + ZZ_PIXELS_PER_WORD - 1) / ZZ_PIXELS_PER_WORD);
   p.limits = glm::vec4(std::cos(double(settings.normal_angle_deg) * M_PI / 180.0), settings.depth_rel,
-                       settings.material_edges ? 1.0f : 0.0f, 0.0f);
+                       settings.material_edges ? 1.0f : 0.0f, rays.orthographic ? 1.0f : 0.0f);
   return p;
 }
 
@@ -186,9 +198,12 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   f.s = settings.supersample;
   CameraRays rays(camera, width, height);
   f.origin = rays.origin;
+  f.orthographic = rays.orthographic;
   // Columns du, dv, dir00: a point q = M (t px, t py, t); its inverse projects exactly
-  // like CameraRays, even for a slightly non-orthonormal camera basis.
-  glm::dmat3 m(glm::dvec3(rays.du), glm::dvec3(rays.dv), glm::dvec3(rays.dir00));
+  // like CameraRays, even for a slightly non-orthonormal camera basis. Orthographic:
+  // columns ou, ov, dir00 and q = M (px, py, t).
+  glm::dmat3 m(glm::dvec3(rays.orthographic ? rays.ou : rays.du), glm::dvec3(rays.orthographic ? rays.ov : rays.dv),
+               glm::dvec3(rays.dir00));
   f.view_from_ray = glm::inverse(m);
   // Reverse-Z with an infinite far plane: depth = znear / t has float's relative
   // precision at every t, so znear only decides what is clipped. 1e-15 of the farthest
@@ -201,6 +216,14 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
     dmax = std::max(dmax, glm::length(corner - glm::dvec3(f.origin)));
   }
   f.znear = std::max(dmax * 1e-15, 1e-30);
+  // An orthographic depth is linear: from the camera's plane (what lies behind it is out
+  // of view, as for its rays) to beyond the farthest corner of the scene's bounds.
+  for (int c = 0; c < 8; ++c) {
+    glm::dvec3 corner((c & 1) ? bounds_max_.x : bounds_min_.x, (c & 2) ? bounds_max_.y : bounds_min_.y,
+                      (c & 4) ? bounds_max_.z : bounds_min_.z);
+    f.zfar = std::max(f.zfar, 1.01 * (f.view_from_ray * (corner - glm::dvec3(f.origin))).z);
+  }
+  if (!(f.zfar > 0.0 && std::isfinite(f.zfar))) f.zfar = 1.0;  // all behind the camera: any range
   // The camera's own planes, only where they cut into the scene: the raster that clips is
   // another pipeline, and a scene between them keeps the plain one's bits.
   // A device that cannot clip draws everything: the map then flags the edges of what the
@@ -358,19 +381,28 @@ void VisibilityPass::record_raster(VkCommandBuffer cmd, const Frame& f, const Ti
     // Image sample (u, v) has its centre at frame supersample gx = u + ox, i.e. image
     // point px = (u + 0.5 + ox)/S. With (a, b, c) = view_from_ray q (c = t):
     // fb_x = S a/c - ox, ndc_x = 2 fb_x / iw - 1, clip = ndc * c, z = znear (reverse-Z).
+    // Orthographic, (a, b, c) = view_from_ray q with c = t: fb_x = S a - ox, clip = ndc
+    // (w = 1), z = 1 - c / zfar (reverse-Z, linear: the camera's plane at 1).
     double ox = double(tile.x) * f.s - 1.0, oy = double(tile.y) * f.s - 1.0;
     glm::dmat3 r = glm::transpose(f.view_from_ray);  // r[k] = row k of view_from_ray
-    glm::dvec3 row_x = (2.0 * f.s / iw) * r[0] - (2.0 * ox / iw + 1.0) * r[2];
-    glm::dvec3 row_y = (2.0 * f.s / ih) * r[1] - (2.0 * oy / ih + 1.0) * r[2];
-    glm::dvec3 row_w = r[2];
     gpu::RasterPush push{};
-    for (int k = 0; k < 3; ++k) {  // glm is column-major: m[column][row]
-      push.clip_from_view[k][0] = float(row_x[k]);
-      push.clip_from_view[k][1] = float(row_y[k]);
-      push.clip_from_view[k][2] = 0.0f;
-      push.clip_from_view[k][3] = float(row_w[k]);
+    if (f.orthographic) {
+      glm::dvec3 row_x = (2.0 * f.s / iw) * r[0], row_y = (2.0 * f.s / ih) * r[1], row_z = -r[2] / f.zfar;
+      for (int k = 0; k < 3; ++k)
+        push.clip_from_view[k] = glm::vec4(float(row_x[k]), float(row_y[k]), float(row_z[k]), 0.0f);
+      push.clip_from_view[3] = glm::vec4(float(-(2.0 * ox / iw + 1.0)), float(-(2.0 * oy / ih + 1.0)), 1.0f, 1.0f);
+    } else {
+      glm::dvec3 row_x = (2.0 * f.s / iw) * r[0] - (2.0 * ox / iw + 1.0) * r[2];
+      glm::dvec3 row_y = (2.0 * f.s / ih) * r[1] - (2.0 * oy / ih + 1.0) * r[2];
+      glm::dvec3 row_w = r[2];
+      for (int k = 0; k < 3; ++k) {  // glm is column-major: m[column][row]
+        push.clip_from_view[k][0] = float(row_x[k]);
+        push.clip_from_view[k][1] = float(row_y[k]);
+        push.clip_from_view[k][2] = 0.0f;
+        push.clip_from_view[k][3] = float(row_w[k]);
+      }
+      push.clip_from_view[3] = glm::vec4(0.0f, 0.0f, float(f.znear), 0.0f);
     }
-    push.clip_from_view[3] = glm::vec4(0.0f, 0.0f, float(f.znear), 0.0f);
     push.origin = glm::vec4(f.origin, 0.0f);
     // An infinite far plane as the largest float: inf - depth would be NaN-free, but the
     // clipper interpolates the distances.

@@ -42,9 +42,7 @@ PrimaryHits trace_primary_hits(const Shader& shader, const Camera& camera, int w
             py[i] = float(y) + 0.5f;
           }
           RayPacket4 packet;
-          packet.ox = float4(camera_rays.origin.x);
-          packet.oy = float4(camera_rays.origin.y);
-          packet.oz = float4(camera_rays.origin.z);
+          camera_rays.origins4(float4::load(px), float4::load(py), packet.ox, packet.oy, packet.oz);
           camera_rays.directions4(float4::load(px), float4::load(py), packet.dx, packet.dy, packet.dz);
           packet.tmax = float4(kInfinity);
           local.primary += 4;

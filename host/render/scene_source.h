@@ -109,8 +109,13 @@ class SceneSource {
         light_slots_(int(std::min(shader.scene().lights.size(), size_t(kLightSlots)))),
         clip_(shader.clip_in_scene(camera.clip)) {
     view_.origin = camera.origin;
-    const glm::vec3 forward = glm::normalize(glm::cross(camera.du, camera.dv));
-    view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
+    view_.orthographic = camera.orthographic;
+    if (camera.orthographic) {
+      view_.forward = camera.dir00;
+    } else {
+      const glm::vec3 forward = glm::normalize(glm::cross(camera.du, camera.dv));
+      view_.forward = glm::dot(forward, camera.dir00) < 0.0f ? -forward : forward;
+    }
   }
 
   Rgb4 sample4(float4 px, float4 py) { return shader_.trace4(camera_rays(px, py), mask4(true), 0, counters, nullptr, clip_); }
@@ -280,9 +285,7 @@ class SceneSource {
  private:
   RayPacket4 camera_rays(float4 px, float4 py) {
     RayPacket4 rays;
-    rays.ox = float4(camera_.origin.x);
-    rays.oy = float4(camera_.origin.y);
-    rays.oz = float4(camera_.origin.z);
+    camera_.origins4(px, py, rays.ox, rays.oy, rays.oz);
     camera_.directions4(px, py, rays.dx, rays.dy, rays.dz);
     rays.tmax = float4(kInfinity);
     counters.primary += 4;

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "aa/lattice.h"
 
@@ -268,9 +269,11 @@ class CornerTriangles {
   }
   int count() const { return count_; }
 
-  // Lane i's ray: from `origin` along d[i]. A lane that meets none of the triangles keeps
-  // the interpolation.
-  SampleSurface4 hit4(glm::vec3 origin, const glm::vec3 d[4]) const {
+  // Lane i's ray: from `origin` (a pinhole's, or lane i's on an orthographic camera's
+  // plane) along d[i]. A lane that meets none of the triangles keeps the interpolation.
+  template <class Origin>
+  SampleSurface4 hit4(const Origin& origin, const glm::vec3 d[4]) const {
+    constexpr bool kPinhole = std::is_same_v<Origin, glm::vec3>;
     SampleSurface4 out;
     alignas(16) float x[4], y[4], z[4];
     for (int lane = 0; lane < 4; ++lane) x[lane] = d[lane].x, y[lane] = d[lane].y, z[lane] = d[lane].z;
@@ -284,12 +287,21 @@ class CornerTriangles {
       const vec3x4 p = cross(dir, broadcast(e2_[j]));
       const float4 det = dot(broadcast(e1_[j]), p);
       const float4 inv = float4(1.0f) / det;
-      const glm::vec3 s = origin - p0_[j];
-      const float4 u = dot(broadcast(s), p) * inv;
-      const glm::vec3 q = glm::cross(s, e1_[j]);
-      const float4 v = dot(dir, broadcast(q)) * inv;
+      float4 u, v, t;
+      if constexpr (kPinhole) {
+        const glm::vec3 s = origin - p0_[j];
+        u = dot(broadcast(s), p) * inv;
+        const glm::vec3 q = glm::cross(s, e1_[j]);
+        v = dot(dir, broadcast(q)) * inv;
+        t = float4(glm::dot(e2_[j], q)) * inv;
+      } else {
+        const vec3x4 s = origin - broadcast(p0_[j]);
+        u = dot(s, p) * inv;
+        const vec3x4 q = cross(s, broadcast(e1_[j]));
+        v = dot(dir, q) * inv;
+        t = dot(broadcast(e2_[j]), q) * inv;
+      }
       constexpr float kSlack = 1e-4f;
-      const float4 t = float4(glm::dot(e2_[j], q)) * inv;
       const mask4 take = (abs(det) > float4(0.0f)) & (u >= float4(-kSlack)) & (v >= float4(-kSlack)) &
                          (u + v <= float4(1.0f + kSlack)) & (t > float4(0.0f)) & (t < best);
       best = select(take, t, best);
@@ -509,11 +521,12 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   // scaled to unit depth interpolate to them exactly.
   const CornerTriangles triangles(scene, view ? f : nullptr, per_light);
   const bool exact = view && triangles.count() > 1;
+  // An orthographic view's rays are parallel: their origins on its plane interpolate.
   glm::vec3 image[4];
   if (exact)
     for (int i = 0; i < 4; ++i) {
       const glm::vec3 d = c[i].position - view->origin;
-      image[i] = d / glm::dot(d, view->forward);
+      image[i] = view->orthographic ? d - glm::dot(d, view->forward) * view->forward : d / glm::dot(d, view->forward);
     }
 
   // The model's radiance at four points (s, t) of the pixel at once (corner TL at 0, 0; BR
@@ -524,7 +537,17 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
     if (exact) {
       glm::vec3 d[4];
       for (int lane = 0; lane < 4; ++lane) d[lane] = w.lane3(lane, image[0], image[1], image[2], image[3]);
-      own = triangles.hit4(view->origin, d);
+      if (view->orthographic) {
+        alignas(16) float x[4], y[4], z[4];
+        for (int lane = 0; lane < 4; ++lane) {
+          const glm::vec3 o = view->origin + d[lane];
+          x[lane] = o.x, y[lane] = o.y, z[lane] = o.z;
+          d[lane] = view->forward;
+        }
+        own = triangles.hit4(vec3x4{float4::load(x), float4::load(y), float4::load(z)}, d);
+      } else {
+        own = triangles.hit4(view->origin, d);
+      }
     }
     vec3x4 sum = zero;
     if (emissive) {

@@ -92,11 +92,13 @@ struct FootprintCorner {
 };
 FootprintCorner footprint_corner(const Scene& scene, const SurfaceProbe& corner, const FootprintProbe& footprint);
 
-// The camera of a pinhole view (origin, unit forward axis): with it, a sample whose camera
-// ray meets one of the corners' triangles takes that triangle's texture coordinates and
-// shading frame, not the corners' interpolation. Only for the primary hit (node 0).
+// The camera (origin, unit forward axis; a pinhole, or an orthographic camera's plane
+// through origin): with it, a sample whose camera ray meets one of the corners' triangles
+// takes that triangle's texture coordinates and shading frame, not the corners'
+// interpolation. Only for the primary hit (node 0).
 struct FootprintView {
   glm::vec3 origin{0.0f}, forward{0.0f, 0.0f, -1.0f};
+  bool orthographic = false;
 };
 
 // `settled`: per channel, kFootprintSettledSteps of a display step: the 2 x 2 first

@@ -20,14 +20,24 @@ Camera Camera::look_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float
 }
 
 CameraRays::CameraRays(const Camera& camera, int width, int height) {
-  // The image plane at distance 1: half height tan(yfov/2); square pixels.
-  float half_h = std::tan(camera.yfov * 0.5f);
+  // The image plane: at distance 1 with half height tan(yfov/2), or for an orthographic
+  // camera through its position with half height ymag; square pixels.
+  orthographic = camera.orthographic();
+  float half_h = orthographic ? camera.ymag : std::tan(camera.yfov * 0.5f);
   float pixel = 2.0f * half_h / float(height);
   float half_w = pixel * float(width) * 0.5f;
-  origin = camera.position;
-  du = camera.right * pixel;
-  dv = -camera.up * pixel;
-  dir00 = camera.forward - camera.right * half_w + camera.up * half_h;
+  if (orthographic) {
+    origin = camera.position - camera.right * half_w + camera.up * half_h;
+    ou = camera.right * pixel;
+    ov = -camera.up * pixel;
+    dir00 = camera.forward;
+    du = dv = glm::vec3(0.0f);
+  } else {
+    origin = camera.position;
+    du = camera.right * pixel;
+    dv = -camera.up * pixel;
+    dir00 = camera.forward - camera.right * half_w + camera.up * half_h;
+  }
   clip = CameraClip{camera.position, camera.clip_axis == glm::vec3(0.0f) ? camera.forward : camera.clip_axis,
                     camera.znear, camera.zfar};
 }
@@ -54,6 +64,22 @@ glm::vec3 CameraRays::direction(float px, float py) const {
   float4 x, y, z;
   directions4(float4(px), float4(py), x, y, z);
   return {x[0], y[0], z[0]};
+}
+
+glm::vec3 CameraRays::origin_at(float px, float py) const {
+  float4 x, y, z;
+  origins4(float4(px), float4(py), x, y, z);
+  return {x[0], y[0], z[0]};
+}
+
+void CameraRays::origins4(float4 px, float4 py, float4& ox, float4& oy, float4& oz) const {
+  if (!orthographic) {
+    ox = float4(origin.x), oy = float4(origin.y), oz = float4(origin.z);
+    return;
+  }
+  ox = float4(origin.x) + px * float4(ou.x) + py * float4(ov.x);
+  oy = float4(origin.y) + px * float4(ou.y) + py * float4(ov.y);
+  oz = float4(origin.z) + px * float4(ou.z) + py * float4(ov.z);
 }
 
 void CameraRays::directions4(float4 px, float4 py, float4& dx, float4& dy, float4& dz) const {

@@ -590,8 +590,9 @@ struct Loader {
       return;
     }
     const tinygltf::Camera& g = model.cameras[size_t(node.camera)];
-    if (g.type != "perspective") {
-      ignore_camera(g.name, "is " + g.type + ", and only perspective cameras are used");
+    const bool orthographic = g.type == "orthographic";
+    if (g.type != "perspective" && !orthographic) {
+      ignore_camera(g.name, "has unknown type '" + g.type + "'");
       return;
     }
     // glTF cameras look down -Z with +Y up in their node's frame.
@@ -622,20 +623,43 @@ struct Loader {
       ignore_camera(c.name, "has a non-finite transform");
       return;
     }
-    const auto& p = g.perspective;
-    if (!valid_yfov_degrees(glm::degrees(p.yfov))) {
-      char why[128];
-      std::snprintf(why, sizeof why, "has yfov %g rad (%g degrees), outside (%g, %g) degrees", p.yfov,
-                    glm::degrees(p.yfov), double(kMinYfovDegrees), double(kMaxYfovDegrees));
-      ignore_camera(c.name, why);
-      return;
+    // The view's size: a field of view, or an orthographic camera's half extents in the
+    // node's units (the node's scale scales them, as it does the clipping planes below).
+    double znear = 0.0, zfar = 0.0;
+    if (orthographic) {
+      const auto& o = g.orthographic;
+      const double ymag = double(o.ymag) * double(glm::length(f));
+      if (!(o.ymag > 0.0 && std::isfinite(ymag) && float(ymag) > 0.0f && std::isfinite(float(ymag)))) {
+        ignore_camera(c.name, "has ymag " + std::to_string(o.ymag) + " (orthographic: not > 0)");
+        return;
+      }
+      if (!(o.xmag > 0.0 && std::isfinite(o.xmag))) {
+        ignore_camera(c.name, "has xmag " + std::to_string(o.xmag) + " (orthographic: not > 0)");
+        return;
+      }
+      c.ymag = float(ymag);
+      c.aspect = float(o.xmag / o.ymag);
+      if (!(c.aspect > 0.0f && std::isfinite(c.aspect))) c.aspect = 0.0f;  // out of float's range: unknown
+      znear = o.znear;
+      zfar = o.zfar;
+    } else {
+      const auto& p = g.perspective;
+      if (!valid_yfov_degrees(glm::degrees(p.yfov))) {
+        char why[128];
+        std::snprintf(why, sizeof why, "has yfov %g rad (%g degrees), outside (%g, %g) degrees", p.yfov,
+                      glm::degrees(p.yfov), double(kMinYfovDegrees), double(kMaxYfovDegrees));
+        ignore_camera(c.name, why);
+        return;
+      }
+      if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {  // 0: not given
+        ignore_camera(c.name, "has aspectRatio " + std::to_string(p.aspectRatio) + " (not > 0)");
+        return;
+      }
+      c.yfov = float(p.yfov);
+      c.aspect = float(p.aspectRatio);
+      znear = p.znear;
+      zfar = p.zfar;
     }
-    if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio))) {  // 0: not given
-      ignore_camera(c.name, "has aspectRatio " + std::to_string(p.aspectRatio) + " (not > 0)");
-      return;
-    }
-    c.yfov = float(p.yfov);
-    c.aspect = float(p.aspectRatio);
     // The planes are depths in the camera node's frame: -(m^-1 (q - position)).z = n.(q -
     // position) with n = m^-T (0, 0, -1), so in the world they are planes of normal n / |n|
     // at depth z / |n|. For a rotation times a uniform scale s, n is forward / s.
@@ -649,8 +673,8 @@ struct Loader {
         return;
       }
     }
-    if (p.znear > 0.0 && std::isfinite(p.znear)) c.znear = float(p.znear) * unit;
-    if (p.zfar > p.znear && std::isfinite(p.zfar)) c.zfar = float(p.zfar) * unit;  // 0: infinite
+    if (znear > 0.0 && std::isfinite(znear)) c.znear = float(znear) * unit;
+    if (zfar > znear && std::isfinite(zfar)) c.zfar = float(zfar) * unit;  // 0: infinite
     scene.cameras.push_back(c);
   }
 

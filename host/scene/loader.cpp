@@ -93,7 +93,7 @@ glm::mat4 parse_transform(const Json& J, const json& t) {
 }
 
 Camera parse_camera(const Json& J, const json& c, const std::string& where) {
-  J.check_keys(c, {"name", "eye", "target", "up", "yfov_deg", "aspect", "znear", "zfar"}, where);
+  J.check_keys(c, {"name", "eye", "target", "up", "yfov_deg", "ymag", "aspect", "znear", "zfar"}, where);
   if (!c.contains("eye") || !c.contains("target")) J.fail(where + " needs \"eye\" and \"target\"");
   glm::vec3 eye = J.vec3(c["eye"], where + ".eye");
   glm::vec3 target = J.vec3(c["target"], where + ".target");
@@ -107,6 +107,11 @@ Camera parse_camera(const Json& J, const json& c, const std::string& where) {
     J.fail(where + ": eye equals target or up is parallel to the view direction");
   Camera cam = Camera::look_at(eye, target, up, glm::radians(yfov_deg));
   cam.name = c.contains("name") ? J.string(c["name"], where + ".name") : "rig";
+  if (c.contains("ymag")) {  // orthographic: the view's half height, in world units
+    if (c.contains("yfov_deg")) J.fail(where + " has both yfov_deg (perspective) and ymag (orthographic)");
+    cam.ymag = J.number(c["ymag"], where + ".ymag");
+    if (!(cam.ymag > 0.0f) || !std::isfinite(cam.ymag)) J.fail(where + ".ymag must be a finite half height > 0");
+  }
   if (c.contains("aspect")) {
     cam.aspect = J.number(c["aspect"], where + ".aspect");
     if (!(cam.aspect > 0.0f)) J.fail(where + ".aspect must be > 0 (width / height)");

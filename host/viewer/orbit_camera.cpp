@@ -23,6 +23,7 @@ glm::vec3 turned_about_y(glm::vec3 v, float yaw) {
 
 OrbitCamera::OrbitCamera(const Camera& start, float focus) : start_(start) {
   distance_ = std::max(focus, 1e-4f);
+  ymag_ = start.ymag;
   target_ = start.position + start.forward * distance_;
 }
 
@@ -58,15 +59,21 @@ void OrbitCamera::orbit(float dx, float dy, int viewport_height) {
 }
 
 void OrbitCamera::pan(float dx, float dy, int viewport_height) {
-  // World units per pixel at the target's depth: the image plane there is 2 d tan(fov/2) tall,
-  // so the point under the cursor stays under the cursor.
+  // World units per pixel at the target's depth: the image plane there is 2 d tan(fov/2) tall
+  // (orthographic: 2 ymag at any depth), so the point under the cursor stays under the cursor.
   const Camera c = camera();
-  const float units = 2.0f * distance_ * std::tan(start_.yfov * 0.5f) / float(std::max(viewport_height, 1));
+  const float height = c.orthographic() ? 2.0f * ymag_ : 2.0f * distance_ * std::tan(start_.yfov * 0.5f);
+  const float units = height / float(std::max(viewport_height, 1));
   target_ += (-dx * c.right + dy * c.up) * units;
 }
 
 void OrbitCamera::zoom(float wheel_steps) {
-  distance_ = std::clamp(distance_ * std::pow(0.85f, wheel_steps), 1e-4f, 1e6f);
+  // An orthographic view does not change with distance: it narrows instead, within a
+  // millionth to a million times the start's.
+  if (start_.orthographic())
+    ymag_ = std::clamp(ymag_ * std::pow(0.85f, wheel_steps), start_.ymag * 1e-6f, start_.ymag * 1e6f);
+  else
+    distance_ = std::clamp(distance_ * std::pow(0.85f, wheel_steps), 1e-4f, 1e6f);
 }
 
 Camera OrbitCamera::camera() const {
@@ -75,6 +82,7 @@ Camera OrbitCamera::camera() const {
   c.up = glm::normalize(turned_about_y(start_.up * std::cos(pitch_) + start_.forward * std::sin(pitch_), yaw_));
   c.right = glm::normalize(turned_about_y(start_.right, yaw_));
   c.position = target_ - c.forward * distance_;
+  c.ymag = ymag_;
   c.clip_axis = glm::vec3(0.0f);  // the planes turn with the (orthonormal) view
   return c;
 }

@@ -18,7 +18,7 @@ class OrbitCamera {
   // Mouse motion in pixels over a viewport `viewport_height` pixels tall.
   void orbit(float dx, float dy, int viewport_height);  // left drag: turn around the target
   void pan(float dx, float dy, int viewport_height);    // right/middle drag: slide target + eye
-  void zoom(float wheel_steps);                         // wheel: 15% closer per step up
+  void zoom(float wheel_steps);                         // wheel: 15% closer (orthographic: smaller view) per step up
 
   Camera camera() const;
   glm::vec3 target() const { return target_; }
@@ -30,6 +30,7 @@ class OrbitCamera {
   Camera start_;
   glm::vec3 target_{0.0f};
   float distance_ = 1.0f;
+  float ymag_ = 0.0f;  // an orthographic start's half height, zoomed
   // The start's frame turned by pitch about its right axis (positive turns the view towards
   // the start's -up: down on screen), then by yaw about world +Y.
   float yaw_ = 0.0f;

@@ -91,7 +91,8 @@ void ProgressiveRenderer::run() {
 namespace {
 
 bool same_view(const Camera& a, const Camera& b) {
-  return a.position == b.position && a.right == b.right && a.up == b.up && a.forward == b.forward && a.yfov == b.yfov;
+  return a.position == b.position && a.right == b.right && a.up == b.up && a.forward == b.forward && a.yfov == b.yfov &&
+         a.ymag == b.ymag;
 }
 
 }  // namespace

@@ -236,6 +236,49 @@ TEST(RenderCommand, ClippingPlanesCutAwayWhatLiesOutsideThem) {
   fs::remove_all(dir);
 }
 
+// A glTF orthographic camera through the real Vulkan path (validation on): a square shows
+// at the same size at any depth. Two emissive squares of side 0.5, one twice as far as the
+// other and turned 30 degrees in the image so that antialiasing matters: with ymag 1 at
+// 64 x 64 a pixel is 1/32 wide, so each covers 16 x 16 = 256 pixels' area, which the
+// adaptive image's summed radiance gives back (a pinhole would shrink the far one 4x).
+TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
+  const fs::path dir = temp_dir() / "ortho";
+  fs::create_directories(dir);
+  test::GltfBuilder b;
+  b.doc["materials"] = nlohmann::json::array();
+  const auto square = [&](glm::vec3 emit, glm::vec2 centre, float z) {
+    b.doc["materials"].push_back({{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}},
+                                  {"emissiveFactor", {emit.r, emit.g, emit.b}}});
+    std::vector<float> pos;
+    for (int k = 0; k < 4; ++k) {
+      const float a = glm::radians(30.0f + 90.0f * float(k)), r = 0.25f * std::sqrt(2.0f);
+      const glm::vec2 p = centre + r * glm::vec2(std::cos(a + glm::radians(45.0f)), std::sin(a + glm::radians(45.0f)));
+      pos.insert(pos.end(), {p.x, p.y, z});
+    }
+    b.node({{"mesh", b.mesh("square", pos, {}, {0, 1, 2, 0, 2, 3}, 4, int(b.doc["materials"].size() - 1))}});
+  };
+  square({1, 0, 0}, {-0.45f, 0.013f}, -2.0f);  // 2 in front of the camera... red
+  square({0, 1, 0}, {0.47f, -0.021f}, -6.0f);  // ...and green 6 in front
+  b.doc["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.0}, {"zfar", 100.0}}}}};
+  b.node({{"camera", 0}});
+  b.write(dir, "ortho");
+  const fs::path exr = dir / "ortho.exr", stats = dir / "ortho_stats.json";
+  const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / "ortho.gltf").string() +
+                                   " --width 64 --height 64 --vk-validate -q -o " + exr.string() + " --stats " +
+                                   stats.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const Film film = read_film(exr).film;
+  glm::dvec3 sum(0.0);
+  for (const glm::vec3& c : film.radiance) sum += glm::dvec3(c);
+  EXPECT_NEAR(sum.r, 256.0, 1.0) << "the near square";
+  EXPECT_NEAR(sum.g, 256.0, 1.0) << "the far square, as large";
+  EXPECT_EQ(sum.b, 0.0);
+  const nlohmann::json j = read_json(stats);
+  EXPECT_GT(j["geo_fraction"].get<double>(), 0.0) << "the map flags the squares' outlines";
+  EXPECT_LT(j["rays_per_pixel"].get<double>(), 4.0);
+  fs::remove_all(dir);
+}
+
 TEST(RenderCommand, BatchWithCameraPatternWritesOneImagePerJob) {
   const fs::path dir = temp_dir();
   const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") + " " +

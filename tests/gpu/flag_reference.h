@@ -24,7 +24,13 @@ struct FlagReference {
     float r = a.x * b.x + a.y * b.y;
     return r + a.z * b.z;
   }
+  bool orthographic() const { return p.limits.w != 0.0f; }
+  glm::vec3 grid_step(glm::ivec2 g) const {
+    glm::vec3 d = float(g.x) * glm::vec3(p.du);
+    return d + float(g.y) * glm::vec3(p.dv);
+  }
   glm::vec3 ray_dir(glm::ivec2 g) const {
+    if (orthographic()) return glm::vec3(p.dir00);
     glm::vec3 d = glm::vec3(p.dir00) + float(g.x) * glm::vec3(p.du);
     return d + float(g.y) * glm::vec3(p.dv);
   }
@@ -47,7 +53,15 @@ struct FlagReference {
     glm::vec3 o(p.origin);
     float ha = dot3(na, positions[3 * (ia - 1)] - o);
     float hb = dot3(nb, positions[3 * (ib - 1)] - o);
-    float taa = ha / sa, tba = hb / dot3(nb, da), tab = ha / dot3(na, db), tbb = hb / sb;
+    float hab = ha, hba = hb;  // an orthographic ray starts grid_step from o
+    if (orthographic()) {
+      glm::vec3 oa = grid_step(ga), ob = grid_step(gb);
+      hab = ha - dot3(na, ob);
+      hba = hb - dot3(nb, oa);
+      ha = ha - dot3(na, oa);
+      hb = hb - dot3(nb, ob);
+    }
+    float taa = ha / sa, tba = hba / dot3(nb, da), tab = hab / dot3(na, db), tbb = hb / sb;
     return far_apart(taa, tba) || far_apart(tbb, tab);
   }
   uint32_t id(glm::ivec2 g) const {  // frame supersample, ring = -1 and W*S

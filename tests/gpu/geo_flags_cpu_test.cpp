@@ -65,6 +65,21 @@ TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderWithTheMaterialRule) {
   expect_all_agree(context(), camera, 53, 41, s, busy_checker_scene());
 }
 
+// An orthographic camera steps the rays' origins, not their directions (limits.w): the
+// shader, the reference and the SSE rule intersect each plane with the same ray.
+TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderOrthographic) {
+  Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  camera.ymag = 0.9f;
+  ASSERT_EQ(make_flag_push(camera, 96, 72, {}).limits.w, 1.0f);
+  expect_all_agree(context(), camera, 96, 72, {});
+  VisibilitySettings s;
+  s.supersample = 6;
+  s.normal_angle_deg = 5.0f;
+  s.depth_rel = 0.002f;
+  s.material_edges = true;
+  expect_all_agree(context(), camera, 53, 41, s, busy_checker_scene());
+}
+
 // One pixel at S = 4 whose samples (and ring) lie on triangle 1 where `inside` says so and
 // on the background elsewhere: the flag byte names the way the edge runs and its zones.
 uint8_t one_pixel_byte(bool (*inside)(int gx, int gy)) {

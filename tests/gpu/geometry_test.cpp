@@ -15,6 +15,11 @@ using GeometryTest = GpuTest;
 
 // Image-plane position (pixels) of a world point, inverting CameraRays exactly.
 glm::dvec2 project(const CameraRays& rays, glm::dvec3 p) {
+  if (rays.orthographic) {  // p - origin = px ou + py ov + t dir00
+    glm::dmat3 m(glm::dvec3(rays.ou), glm::dvec3(rays.ov), glm::dvec3(rays.dir00));
+    glm::dvec3 a = glm::inverse(m) * (p - glm::dvec3(rays.origin));
+    return {a.x, a.y};
+  }
   glm::dmat3 m(glm::dvec3(rays.du), glm::dvec3(rays.dv), glm::dvec3(rays.dir00));
   glm::dvec3 a = glm::inverse(m) * (p - glm::dvec3(rays.origin));
   return {a.x / a.z, a.y / a.z};
@@ -71,14 +76,54 @@ TEST_F(GeometryTest, SmoothSphereFlagsOnlyItsSilhouette) {
   }
 }
 
-TEST_F(GeometryTest, CubeFlagsSilhouetteAndCreases) {
+// Through an orthographic camera the silhouette is where the parallel rays pass the centre
+// at one radius: the depth rule, which intersects both facets' planes with one ray from its
+// own origin, must keep the smooth facets apart from it.
+TEST_F(GeometryTest, SmoothSphereFlagsOnlyItsSilhouetteOrthographic) {
+  SceneBuilder b;
+  const glm::dvec3 center(0.1, -0.05, 0.0);
+  const double radius = 1.0;
+  b.sphere(glm::vec3(center), float(radius), 128, 64);
+  const Scene scene = b.done();
+  Camera camera = Camera::look_at({0.3f, 0.5f, 3.4f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
+  camera.ymag = 1.3f;
+  const int w = 96, h = 80;
+  for (int ss : {4, 6}) {
+    VisibilityPass pass(context(), scene);
+    VisibilitySettings s;
+    s.supersample = ss;
+    const GeoMap map = pass.run(camera, w, h, s);
+    const CameraRays rays(camera, w, h);
+    const double pixel = glm::length(glm::dvec3(rays.ou));
+    size_t inner = 0, missed = 0, on_silhouette = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const glm::dvec3 o(rays.origin_at(x + 0.5f, y + 0.5f)), d(rays.direction(x + 0.5f, y + 0.5f));
+        const glm::dvec3 to_centre = center - o;
+        const double miss = glm::length(to_centre - glm::dot(to_centre, d) * d);  // the ray's distance to the centre
+        const double px = std::abs(miss - radius) / pixel;
+        const bool flag = map.at(x, y);
+        if (flag && px > 1.6) ++inner;
+        if (px < 0.3) {
+          ++on_silhouette;
+          if (!flag) ++missed;
+        }
+      }
+    EXPECT_EQ(inner, 0u) << "flags away from the silhouette, S=" << ss;
+    EXPECT_EQ(missed, 0u) << "of " << on_silhouette << " silhouette pixels unflagged";
+    EXPECT_GT(on_silhouette, 50u);
+  }
+}
+
+void cube_flags_silhouette_and_creases(VulkanContext& context, float ymag) {
   SceneBuilder b;
   b.box({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
   Scene scene = b.done();
   glm::dvec3 eye(1.6, 1.3, 2.1);
   Camera camera = Camera::look_at(glm::vec3(eye), {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
+  camera.ymag = ymag;
   const int w = 90, h = 70;
-  VisibilityPass pass(context(), scene);
+  VisibilityPass pass(context, scene);
   GeoMap map = pass.run(camera, w, h);
   CameraRays rays(camera, w, h);
   // Edges of the convex box are visible when one of their two faces faces the eye.
@@ -117,23 +162,34 @@ TEST_F(GeometryTest, CubeFlagsSilhouetteAndCreases) {
   EXPECT_GT(on_edge, 100u);
 }
 
+// Also through an orthographic camera (ymag > 0), whose view of a box has parallel edges.
+TEST_F(GeometryTest, CubeFlagsSilhouetteAndCreases) {
+  for (const float ymag : {0.0f, 1.0f}) {
+    SCOPED_TRACE(ymag);
+    cube_flags_silhouette_and_creases(context(), ymag);
+  }
+}
+
 TEST_F(GeometryTest, CoplanarTrianglesFlagNothing) {
   SceneBuilder b;
   // A tilted plane (not axis-aligned) tessellated into 2 x 24^2 triangles filling the frame.
   glm::vec3 u(4.0f, 0.6f, 0.0f), v(0.0f, 0.9f, -4.0f);
   b.grid({-2.0f, -0.8f, 2.0f}, u, v, 24);
   Scene scene = b.done();
-  Camera camera = Camera::look_at({0.2f, 1.0f, 0.9f}, {0.0f, -0.1f, -0.2f}, {0, 1, 0}, 0.7f);
+  const Camera pinhole = Camera::look_at({0.2f, 1.0f, 0.9f}, {0.0f, -0.1f, -0.2f}, {0, 1, 0}, 0.7f);
+  Camera orthographic = pinhole;
+  orthographic.ymag = 0.6f;
   VisibilityPass pass(context(), scene);
-  for (int ss : {4, 6}) {
-    VisibilitySettings s;
-    s.supersample = ss;
-    std::vector<uint32_t> ids = pass.render_ids(camera, 64, 48, s);
-    size_t background = 0;
-    for (uint32_t id : ids) background += id == 0;
-    ASSERT_EQ(background, 0u) << "the plane must fill the frame";
-    EXPECT_EQ(count(pass.run(camera, 64, 48, s)), 0u) << "S=" << ss;
-  }
+  for (const Camera& camera : {pinhole, orthographic})
+    for (int ss : {4, 6}) {
+      VisibilitySettings s;
+      s.supersample = ss;
+      std::vector<uint32_t> ids = pass.render_ids(camera, 64, 48, s);
+      size_t background = 0;
+      for (uint32_t id : ids) background += id == 0;
+      ASSERT_EQ(background, 0u) << "the plane must fill the frame";
+      EXPECT_EQ(count(pass.run(camera, 64, 48, s)), 0u) << "S=" << ss << " ymag " << camera.ymag;
+    }
 }
 
 TEST_F(GeometryTest, GrazingFloorFlagsOnlyAtTheHorizon) {

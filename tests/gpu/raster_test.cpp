@@ -37,8 +37,9 @@ void check_agreement(VulkanContext& context, const Scene& scene, const Camera& c
   std::vector<uint32_t> traced(ids.size());
   for (int v = 0; v < sh; ++v)
     for (int u = 0; u < sw; ++u) {
-      glm::vec3 d = rays.direction((u - 1 + 0.5f) / s, (v - 1 + 0.5f) / s);
-      traced[size_t(v) * sw + u] = first_hit(seen, glm::dvec3(rays.origin), glm::dvec3(d));
+      const float px = (u - 1 + 0.5f) / s, py = (v - 1 + 0.5f) / s;
+      traced[size_t(v) * sw + u] =
+          first_hit(seen, glm::dvec3(rays.origin_at(px, py)), glm::dvec3(rays.direction(px, py)));
     }
   size_t mismatches = 0, hits = 0;
   for (int v = 0; v < sh; ++v)
@@ -69,6 +70,18 @@ TEST_F(RasterTest, IdsMatchPrimaryRaysS4) {
 TEST_F(RasterTest, IdsMatchPrimaryRaysS6OddSize) {
   Camera camera = Camera::look_at({-1.5f, 0.4f, 2.0f}, {0.1f, 0.0f, -0.2f}, {0, 1, 0}, 0.7f);
   check_agreement(context(), mixed_scene(), camera, 37, 29, 6);
+}
+
+// An orthographic camera's parallel rays, from the plane through its position: the raster
+// projects the same way, and draws nothing behind that plane (the second camera stands
+// inside the scene, between the sphere and the box).
+TEST_F(RasterTest, IdsMatchOrthographicRays) {
+  Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
+  camera.ymag = 1.1f;
+  check_agreement(context(), mixed_scene(), camera, 80, 60, 4);
+  Camera inside = Camera::look_at({-0.2f, 0.1f, 0.0f}, {0.8f, 0.0f, -0.1f}, {0, 1, 0}, 0.9f);
+  inside.ymag = 0.7f;
+  check_agreement(context(), mixed_scene(), inside, 37, 29, 6);
 }
 
 // mixed_scene() behind a pane of material `pane_material` that covers most of the frame.

@@ -73,6 +73,41 @@ TEST(CameraRays, PixelStepsAreSquare) {
   EXPECT_NEAR(glm::length(rays.dv), 2.0f * std::tan(0.45f) / 200.0f, 1e-7f);
 }
 
+// An orthographic camera (glTF "orthographic", a rig's "ymag"): every ray runs along
+// forward, from the plane through the camera's position; the view is 2 ymag tall, its
+// width from the frame's shape (square pixels), centred on the position.
+TEST(CameraRays, OrthographicRaysAreParallelFromThePlaneThroughThePosition) {
+  Camera c = tilted();
+  c.ymag = 1.5f;
+  ASSERT_TRUE(c.orthographic());
+  const int w = 333, h = 217;
+  const CameraRays rays(c, w, h);
+  ASSERT_TRUE(rays.orthographic);
+  const float pixel = 3.0f / float(h);
+  const float xs[4] = {0.0f, 333.0f, 166.5f, 17.25f}, ys[4] = {0.0f, 217.0f, 108.5f, 200.0f};
+  float4 ox, oy, oz, dx, dy, dz;
+  rays.origins4(float4(xs[0], xs[1], xs[2], xs[3]), float4(ys[0], ys[1], ys[2], ys[3]), ox, oy, oz);
+  rays.directions4(float4(xs[0], xs[1], xs[2], xs[3]), float4(ys[0], ys[1], ys[2], ys[3]), dx, dy, dz);
+  for (int i = 0; i < 4; ++i) {
+    const glm::vec3 o = rays.origin_at(xs[i], ys[i]), d = rays.direction(xs[i], ys[i]);
+    EXPECT_EQ(o, glm::vec3(ox[i], oy[i], oz[i]));  // scalar and packet agree bit for bit
+    EXPECT_EQ(d, glm::vec3(dx[i], dy[i], dz[i]));
+    expect_vec(d, c.forward);
+    const glm::vec3 rel = o - c.position;
+    EXPECT_NEAR(glm::dot(rel, c.forward), 0.0f, 1e-5f) << "on the camera's plane";
+    EXPECT_NEAR(glm::dot(rel, c.right), (xs[i] - 0.5f * float(w)) * pixel, 1e-5f);
+    EXPECT_NEAR(glm::dot(rel, c.up), (0.5f * float(h) - ys[i]) * pixel, 1e-5f);
+  }
+  expect_vec(rays.origin_at(0.5f * w, 0.5f * h), c.position, 1e-5f);
+  // The clipping planes are depths from that plane, as for a pinhole.
+  expect_vec(rays.clip.origin, c.position);
+  expect_vec(rays.clip.forward, c.forward);
+  // A pinhole's origin is its position in every lane.
+  const CameraRays pinhole(tilted(), w, h);
+  EXPECT_FALSE(pinhole.orthographic);
+  EXPECT_EQ(pinhole.origin_at(17.25f, 200.0f), tilted().position);
+}
+
 // The frame size rule (camera_select.h): the rig's sides, the camera's aspect for a side
 // it leaves out, 512 on the longer side; one side from the command line keeps that shape.
 TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {

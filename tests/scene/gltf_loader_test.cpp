@@ -757,6 +757,47 @@ TEST(GltfLoader, ACameraSeesThroughItsNodesMirrorAndScale) {
   }
 }
 
+// glTF orthographic cameras: half extents xmag, ymag (their ratio the intended frame's
+// shape) and planes in the node's units, so a node scaled by 2 shows twice as much.
+TEST(GltfLoader, OrthographicCamerasKeepTheirExtentsAndPlanes) {
+  for (const float scale : {1.0f, 2.0f}) {
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["cameras"] = {{{"type", "orthographic"}, {"name", "plan"},
+                         {"orthographic", {{"xmag", 3.0}, {"ymag", 1.5}, {"znear", 0.25}, {"zfar", 40}}}}};
+    const float h = std::sqrt(0.5f);
+    b.node({{"camera", 0}, {"translation", {4, 0, 0}}, {"rotation", {0, h, 0, h}}, {"scale", {scale, scale, scale}}});
+    const Scene s = load_scene(b.write(test::temp_dir("ortho")), kQuiet);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    const Camera& c = s.cameras[0];
+    EXPECT_EQ(c.name, "plan");
+    ASSERT_TRUE(c.orthographic());
+    expect_vec(c.position, {4, 0, 0});
+    expect_vec(c.forward, {-1, 0, 0});
+    expect_vec(c.right, {0, 0, -1});
+    EXPECT_FLOAT_EQ(c.ymag, 1.5f * scale);
+    EXPECT_FLOAT_EQ(c.aspect, 2.0f);
+    EXPECT_FLOAT_EQ(c.znear, 0.25f * scale);
+    EXPECT_FLOAT_EQ(c.zfar, 40.0f * scale);
+  }
+  // Extents that are not > 0 leave the camera out, with a warning, as a bad field of view does.
+  for (const nlohmann::json& orthographic :
+       {nlohmann::json{{"xmag", 1.0}, {"ymag", 0.0}, {"znear", 0.0}, {"zfar", 10}},
+        nlohmann::json{{"xmag", 1.0}, {"ymag", -1.0}, {"znear", 0.0}, {"zfar", 10}},
+        nlohmann::json{{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.0}, {"zfar", 10}},
+        nlohmann::json{{"xmag", 1.0}, {"ymag", 1e300}, {"znear", 0.0}, {"zfar", 10}}}) {
+    SCOPED_TRACE(orthographic.dump());
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["cameras"] = {{{"type", "orthographic"}, {"name", "bad"}, {"orthographic", orthographic}}};
+    b.node({{"camera", 0}, {"translation", {0, 0, 5}}});
+    const Scene s = load_scene(b.write(test::temp_dir("badortho")), kQuiet);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    EXPECT_NE(s.cameras[0].name, "bad");
+    EXPECT_FALSE(s.cameras[0].orthographic());
+  }
+}
+
 TEST(GltfLoader, ACameraWithAnImpossibleFieldOfViewIsIgnored) {
   for (const nlohmann::json& perspective :
        {nlohmann::json{{"yfov", 0.0}, {"znear", 0.1}}, nlohmann::json{{"yfov", 3.5}, {"znear", 0.1}},

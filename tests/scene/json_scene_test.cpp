@@ -211,8 +211,6 @@ TEST(JsonScene, RigValuesOutsideTheCommandLinesRangesAreErrors) {
   EXPECT_EQ(r.error(model + R"("exposure": 1e-6, "fps": 0.001, "background": [0, 0.5, 0]})"), "");
 }
 
-// A camera far from its target (coordinates up to +-1e30 are valid): |eye - target|^2
-// overflowed and the rig was refused as "eye equals target".
 // A rig's camera may set clipping planes (depths along the view direction); bad ones are
 // errors naming the key.
 TEST(JsonScene, CameraClippingPlanes) {
@@ -228,6 +226,24 @@ TEST(JsonScene, CameraClippingPlanes) {
             std::string::npos);
 }
 
+// A rig's camera is orthographic with "ymag", the view's half height in world units.
+TEST(JsonScene, AnOrthographicCamera) {
+  Rig r("orthocam");
+  const Scene s = r.load(R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "ymag": 2.5}})");
+  ASSERT_TRUE(s.cameras[0].orthographic());
+  EXPECT_EQ(s.cameras[0].ymag, 2.5f);
+  EXPECT_FALSE(r.load(R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0]}})")
+                   .cameras[0]
+                   .orthographic());
+  const std::string cam = R"({"model": "model.gltf", "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], )";
+  for (const char* bad : {R"("ymag": 0})", R"("ymag": -1})"})
+    EXPECT_NE(r.error(cam + bad + "}").find("camera.ymag must be a finite half height > 0"), std::string::npos) << bad;
+  EXPECT_NE(r.error(cam + R"("ymag": 1, "yfov_deg": 30})" + "}").find("both yfov_deg (perspective) and ymag"),
+            std::string::npos);
+}
+
+// A camera far from its target (coordinates up to +-1e30 are valid): |eye - target|^2
+// overflowed and the rig was refused as "eye equals target".
 TEST(JsonScene, AFarCameraLooksAtItsTarget) {
   Rig r("farcam");
   const Scene s = r.load(R"({"model": "model.gltf", "camera": {"eye": [2e19, 0, 0], "target": [0, 0, 0]}})");

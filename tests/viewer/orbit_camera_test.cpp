@@ -125,6 +125,23 @@ TEST(OrbitCamera, ZoomScalesTheDistance) {
   EXPECT_NEAR(orbit.distance(), 4.0f, 1e-5f);
 }
 
+// An orthographic view does not change with distance: the wheel narrows it (ymag), and a
+// pan moves by 2 ymag per viewport height at any depth.
+TEST(OrbitCamera, AnOrthographicViewZoomsByItsExtentAndPansByIt) {
+  Camera start = Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.8f);
+  start.ymag = 2.0f;
+  OrbitCamera orbit(start, 5.0f);
+  orbit.zoom(2.0f);
+  EXPECT_NEAR(orbit.distance(), 5.0f, 1e-6f);
+  EXPECT_NEAR(orbit.camera().ymag, 2.0f * 0.85f * 0.85f, 1e-6f);
+  orbit.zoom(-2.0f);
+  EXPECT_NEAR(orbit.camera().ymag, 2.0f, 1e-5f);
+  orbit.pan(200.0f, 0.0f, 400);
+  expect_near(orbit.camera().position, {-2.0f, 0.0f, 5.0f}, 1e-5f);
+  orbit.orbit(100.0f, 30.0f, 400);
+  EXPECT_TRUE(orbit.camera().orthographic()) << "orbiting keeps the camera type";
+}
+
 TEST(OrbitCamera, FocusDistanceIsTheSceneCentreAlongTheView) {
   const Camera c = Camera::look_at({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 0.8f);
   EXPECT_NEAR(focus_distance(c, {1.0f, 0.0f, 2.0f}, 3.0f), 8.0f, 1e-5f);
