@@ -166,4 +166,23 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
     }
 }
 
+void OutputClaims::claim(const std::vector<OutputPattern>& patterns, const OutputKey& job, const std::string& job_label) {
+  try {
+    check_distinct_outputs(patterns, {job});
+  } catch (const Error& e) {
+    throw UsageError(e.what());
+  }
+  std::vector<std::pair<std::filesystem::path, std::string>> mine;
+  for (const OutputPattern& p : patterns) {
+    const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
+    const std::filesystem::path id = output_identity(given);
+    const auto it = writers_.find(id);
+    if (it != writers_.end())
+      throw UsageError(p.option + " " + given.lexically_normal().string() + ": the " + it->second +
+                       " writes it too, earlier in this batch");
+    mine.emplace_back(id, p.option + " of " + job_label);
+  }
+  writers_.insert(mine.begin(), mine.end());
+}
+
 }  // namespace zz

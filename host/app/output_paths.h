@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,20 @@ std::filesystem::path output_identity(const std::filesystem::path& path);
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:
 // "-o out.png: jobs room and glass would both write out.png (add {scene})".
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs);
+
+// The files a batch's jobs write, claimed as each job starts, with its real camera: the
+// check before loading saw stand-ins (`--camera front` is camera 0 only once the scene is
+// read; `--camera all` has cameras 0 and 1), so `-o {camera}.png --aov rays 0.png`, or
+// camera 1's `a1{camera}` against camera 11's `a{camera}`, would replace a file written
+// earlier in the batch. claim() throws zz::UsageError, naming both writers, before the
+// job renders.
+class OutputClaims {
+ public:
+  void claim(const std::vector<OutputPattern>& patterns, const OutputKey& job, const std::string& job_label);
+
+ private:
+  std::map<std::filesystem::path, std::string> writers_;  // output_identity -> "OPTION of JOB"
+};
 
 // Before a render, for one expanded output path: the file name is not a directory, an
 // image has an extension OpenImageIO can write (`image`), and the nearest existing

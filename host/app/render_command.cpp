@@ -211,6 +211,7 @@ struct SceneJob {
   double load_s, bvh_s;          // counted in the first camera's total
   double device_wait_s;          // the wait for the device that the load and BVH did not hide (idem)
   const std::vector<std::string>& batch_inputs;  // every scene's files, listed before the first loaded
+  OutputClaims& claims;                          // the files the batch's jobs so far write
 };
 
 void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera);
@@ -218,7 +219,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
 // `device` yields the Vulkan context (null: no map wanted); it may still be being created.
 // A camera whose job fails is reported and the scene's other cameras still render.
 void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, const std::vector<std::string>& inputs,
-                DeviceSource& device, JobTally& tally) {
+                DeviceSource& device, OutputClaims& claims, JobTally& tally) {
   const LoadOptions load = load_options(o.render, o.quiet);
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
@@ -240,7 +241,7 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   std::optional<SceneMap> map;
   if (vulkan) map.emplace(*vulkan, scene);
 
-  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s, inputs};
+  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s, inputs, claims};
   for (int camera_index : cameras) {
     ++tally.jobs;
     try {
@@ -290,6 +291,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   const uint64_t memory_estimate = resident_bytes() + frame_need;
   const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);
+  job.claims.claim(output_patterns(o), key, "job " + job.name + " camera " + key.camera);
   for (const OutputPattern& p : output_patterns(o)) {
     const std::filesystem::path path = expand_output_pattern(p.pattern, key, p.option);
     // Again with this job's own frame and camera (the batch's check saw stand-ins: an
@@ -468,10 +470,11 @@ void add_render_command(CLI::App& app, int& exit_code) {
     }
     DeviceSource device(std::move(creating));
     JobTally tally;
+    OutputClaims claims;
     for (const std::string& scene : o->scenes) {
       const int jobs_before = tally.jobs;
       try {
-        render_job(*o, scene, inputs, device, tally);
+        render_job(*o, scene, inputs, device, claims, tally);
       } catch (const std::exception& e) {
         if (device.failed()) device.get();  // rethrows: no device ends the batch
         tally.jobs = jobs_before + 1;  // the scene failed before its cameras: one job

@@ -15,6 +15,7 @@
 
 #include "../scene/gltf_fixture.h"
 #include "cli.h"
+#include "core/error.h"
 #include "render/image_io.h"
 
 namespace zz {
@@ -276,6 +277,44 @@ TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
   const nlohmann::json j = read_json(stats);
   EXPECT_GT(j["geo_fraction"].get<double>(), 0.0) << "the map flags the squares' outlines";
   EXPECT_LT(j["rays_per_pixel"].get<double>(), 4.0);
+  fs::remove_all(dir);
+}
+
+// The check before loading sees stand-in cameras (`--camera c2` is camera 2 only once the
+// scene is read; `--camera all` has 0 and 1), so each job claims its real files before it
+// renders: none may be another of its outputs or one an earlier job wrote (review: the
+// image was silently replaced by the rays heatmap, exit 0).
+TEST(RenderCommand, AJobsRealCameraCannotMakeTwoOutputsOneFile) {
+  const fs::path dir = temp_dir() / "claims";
+  fs::create_directories(dir);
+  test::GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
+  b.doc["cameras"] = nlohmann::json::array();
+  for (int i = 0; i < 12; ++i) {
+    b.doc["cameras"].push_back(
+        {{"type", "perspective"}, {"name", "c" + std::to_string(i)}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}});
+    b.node({{"camera", i}, {"translation", {0.3 + 0.01 * i, 0.3, 3}}});
+  }
+  const std::string scene = b.write(dir, "twelve").string();
+  const std::string run = test::zigzag_binary() + " render " + scene + " --edges off --aa none --width 16 --height 16 -q ";
+  auto r = test::run_command(run + "--camera c2 -o " + (dir / "{camera}.png").string() + " --aov rays " +
+                             (dir / "2.png").string());
+  EXPECT_EQ(r.exit_code, kUsageExit) << r.output;
+  EXPECT_NE(r.output.find("-o and --aov rays would both write"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "2.png"));
+  // Camera 1 writes a1.png and its heatmap a11.png, which camera 11's image would replace
+  // (camera 0's a10.png likewise).
+  r = test::run_command(run + "--camera all -o " + (dir / "a{camera}.png").string() + " --aov rays " +
+                        (dir / "a1{camera}.png").string());
+  EXPECT_EQ(r.exit_code, kUsageExit) << r.output;
+  EXPECT_NE(r.output.find("a11.png: the --aov rays of job twelve camera 1 writes it too, earlier in this batch"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("2 of 12 jobs failed"), std::string::npos) << r.output;
+  int width = 0, height = 0;
+  (void)read_rgb_float(dir / "a11.png", width, height);
+  EXPECT_GT(height, 16) << "the heatmap (with its legend), not camera 11's image";
+  EXPECT_TRUE(fs::exists(dir / "a10.png"));
   fs::remove_all(dir);
 }
 
