@@ -216,7 +216,20 @@ void write_film(const std::filesystem::path& path, const Film& film, const ToneM
   }
 }
 
+namespace {
+
+// OpenImageIO reads whatever it is given: a FIFO or /dev/zero as an image never ends.
+void require_regular_file(const std::string& file) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (ec || !std::filesystem::exists(status)) return;  // OpenImageIO says it is missing
+  if (!std::filesystem::is_regular_file(status)) throw Error("cannot read " + file + ": not a regular file");
+}
+
+}  // namespace
+
 std::vector<float> read_rgb_float(const std::filesystem::path& path, int& width, int& height) {
+  require_regular_file(path.string());
   auto in = OIIO::ImageInput::open(path.string());
   if (!in) throw Error("cannot read " + path.string() + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();
@@ -233,6 +246,7 @@ namespace {
 // An EXR written by write_film, opened: its spec checked, the windows, exposure, attributes
 // and channel names read into *f (no pixel buffers); `rgb` gets R, G, B's channel indices.
 std::unique_ptr<OIIO::ImageInput> open_film(const std::string& file, FilmFile* f, int rgb[3]) {
+  require_regular_file(file);
   auto in = OIIO::ImageInput::open(file);
   if (!in) throw Error("cannot read " + file + ": " + OIIO::geterror());
   const OIIO::ImageSpec& spec = in->spec();

@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cstring>
@@ -188,7 +189,11 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
       {{a, png}, "zigzag:exposure"},
       {{a, (dir / "nothing.exr").string()}, "nothing.exr"},
       {{geo_a, geo_b}, "/edge/angle is 170"},
+      // A part that is not a file: OpenImageIO read /dev/zero (or a FIFO) for ever (review).
+      {{a, "/dev/zero"}, "/dev/zero: not a regular file"},
+      {{a, (dir / "fifo.exr").string()}, "fifo.exr: not a regular file"},
   };
+  ASSERT_EQ(::mkfifo((dir / "fifo.exr").c_str(), 0600), 0);
   for (const Case& c : cases) {
     const auto r = merge(c.parts, "m.png");
     EXPECT_EQ(r.exit_code, 1) << c.message << ": " << r.output;
