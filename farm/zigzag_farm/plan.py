@@ -136,8 +136,8 @@ class Plan:
 
 
 # The longest output file name: a job writes ".NAME.HOST-PID-UUID8.tmp.EXT" (and its stats,
-# ".stats.json" more), zigzag a temporary of that ("." and ".zz-PID-N"); host names run to
-# 64 bytes, so 100 bytes of 255 are kept for them.
+# ".stats.json" more); host names run to 64 bytes, so 100 bytes of 255 are kept for them.
+# zigzag's temporary of that (".", ".zz-PID-RANDOM16-N") is shortened by a hash if need be.
 MAX_OUTPUT_NAME = 155
 
 

@@ -93,11 +93,13 @@ def _temporaries_of(path: str) -> re.Pattern:
     must not match `.shot.v2.*.tmp.png`, the temporary of shot.v2.png):
     - the job's own, job.temporary_name: ".STEM.TAG.tmp.EXT" (TAG = HOST-PID-UUID8, no dots),
       and its stats ".STEM.TAG.tmp.EXT.stats.json";
-    - zigzag's temporaries of those (core/atomic_file: "." + stem + ".zz-PID-N" + ext):
-      "..STEM.TAG.tmp.zz-PID-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-N.json"."""
+    - zigzag's temporaries of those (core/atomic_file: "." + stem + ".zz-PID-RANDOM16-N" + ext):
+      "..STEM.TAG.tmp.zz-PID-RANDOM16-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-RANDOM16-N.json".
+    zigzag shortens the temporary of a name near the file system's limit (a hash in place of
+    its tail, from an output name of 100-odd bytes): those are not matched, and stay."""
     stem, ext = os.path.splitext(os.path.basename(path))
     ours = rf"{re.escape(stem)}\.[^./]+-\d+-[0-9a-f]{{8}}\.tmp"
-    zz, ext = r"\.zz-\d+-\d+", re.escape(ext)
+    zz, ext = r"\.zz-\d+-[0-9a-f]{16}-\d+", re.escape(ext)
     return re.compile(rf"\.{ours}{ext}(\.stats\.json)?|\.\.{ours}({zz}{ext}|{ext}\.stats{zz}\.json)")
 
 

@@ -16,13 +16,15 @@ def frame_job(folder):
 
 def test_stale_temporaries_are_exactly_this_outputs(workdir):
     tag = "node_7_example_org-4242-0123abcd"
+    zz = "zz-99-c36ddd58c2531d1b"  # core/atomic_file's: PID, 64 random bits, then a serial
     ours = [os.path.basename(job.temporary_name(os.path.join(workdir, "shot.png"))),
             f".shot.{tag}.tmp.png", f".shot.{tag}.tmp.png.stats.json",       # the job's
-            f"..shot.{tag}.tmp.zz-99-0.png", f"..shot.{tag}.tmp.png.stats.zz-99-1.json",  # zigzag's
-            f".shot.{tag}.tmp.json", f"..shot.{tag}.tmp.zz-5-3.json"]        # the stats file's
+            f"..shot.{tag}.tmp.{zz}-0.png", f"..shot.{tag}.tmp.png.stats.{zz}-1.json",  # zigzag's
+            f".shot.{tag}.tmp.json", f"..shot.{tag}.tmp.zz-5-0123456789abcdef-3.json"]  # the stats file's
     others = ["shot.png", "shot.json", f".shot.v2.{tag}.tmp.png",          # shot.v2.png's
-              f"..shot.v2.{tag}.tmp.zz-99-0.png", f".shotgun.{tag}.tmp.png",
-              f".shot.{tag}.tmp.exr", ".shot.png.keep", f".shot.{tag}.tmp.png.bak"]
+              f"..shot.v2.{tag}.tmp.{zz}-0.png", f".shotgun.{tag}.tmp.png",
+              f".shot.{tag}.tmp.exr", ".shot.png.keep", f".shot.{tag}.tmp.png.bak",
+              f"..shot.{tag}.tmp.zz-99-0.png"]                             # no random part: not zigzag's
     for name in ours + others:
         open(os.path.join(workdir, name), "w").close()
     remove_stale_temporaries(frame_job(workdir))
