@@ -17,10 +17,11 @@ from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
 from .progress import summary
 from .runner import Failure, RunSettings, Runner, indent
-from .scene_info import SceneError, scene_infos
+from .scene_info import InfoUsageError, SceneError, scene_infos
 
 USAGE_ERROR = 2
 LAST_FRAME = 100_000_000  # zigzag render --frame's range
+MAX_FRAME_SIDE = 16384  # zigzag's --width / --height (scene/scene.h kMaxImageSide)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -88,6 +89,9 @@ def _check_numbers(o) -> None:
                                ("--slurm-cores", o.slurm_cores, 1)):
         if value is not None and value < least:
             raise UsageError(f"{name} {value}: must be at least {least}")
+    for name, value in (("--width", o.width), ("--height", o.height)):
+        if value is not None and value > MAX_FRAME_SIDE:
+            raise UsageError(f"{name} {value}: the renderer's frames are at most {MAX_FRAME_SIDE} pixels a side")
     for name, value in (("--timeout", o.timeout), ("--wait", o.wait)):
         if value is not None and not value > 0:
             raise UsageError(f"{name} {value:g}: must be more than 0")
@@ -165,6 +169,8 @@ def _scenes(zigzag: str, paths: list[str], info_args: list[str], hashes: HashCac
     failures: list[Failure] = []
     infos = []
     for path, info in scene_infos(zigzag, paths, info_args):
+        if isinstance(info, InfoUsageError):
+            raise UsageError(str(info))
         if isinstance(info, SceneError):
             failures.append(Failure(path, "scene", str(info)))
             print(f"zigzag-farm: FAILED {path}: {info}", file=sys.stderr)

@@ -13,6 +13,10 @@ class SceneError(RuntimeError):
     pass
 
 
+class InfoUsageError(SceneError):
+    """zigzag info refused the options it was given (the render's --width, --fps, ...)."""
+
+
 def _frame_range(d: dict) -> tuple[int, int] | None:
     for key in ("frame_range", "frames"):
         v = d.get(key)
@@ -58,8 +62,13 @@ def scene_info(zigzag: str, path: str, info_args: list[str] = (), timeout: float
     except (OSError, subprocess.TimeoutExpired) as e:
         raise SceneError(f"{path}: zigzag info failed: {e}") from None
     if p.returncode != 0:
-        msg = p.stderr.strip().splitlines()
-        raise SceneError(msg[-1] if msg else f"{path}: zigzag info exit code {p.returncode}")
+        # The message, without CLI11's "Run with --help" line that follows an option's error.
+        lines = [line for line in p.stderr.strip().splitlines()
+                 if line.strip() and not line.startswith("Run with --help")]
+        msg = " ".join(lines) if lines else f"{path}: zigzag info exit code {p.returncode}"
+        # 100-127: the options were refused (CLI11's codes; zigzag's usage exit is 105), for
+        # every scene alike: bad options, not a scene that fails to load.
+        raise (InfoUsageError if 100 <= p.returncode <= 127 else SceneError)(msg)
     try:
         d = json.loads(p.stdout)
         if isinstance(d, list):

@@ -8,6 +8,7 @@ import pytest
 
 from conftest import FAKE_ZIGZAG, write_scene
 from zigzag_farm import cli
+from zigzag_farm.scene_info import InfoUsageError, SceneError, scene_info
 
 
 def options(*farm_args, passed=()):
@@ -68,6 +69,7 @@ def usage_error(capsys, *args):
     (["--workers", "-1"], "--workers -1: must be at least 1"),
     (["--workers", "0"], "--workers 0: must be at least 1"),
     (["--width", "0"], "--width 0: must be at least 1"),
+    (["--width", "20000"], "--width 20000: the renderer's frames are at most 16384 pixels a side"),
     (["--regions", "0"], "--regions 0: must be at least 1"),
     (["--timeout", "0"], "--timeout 0: must be more than 0"),
     (["--frames=-2-1"], "the renderer's frames are 0 to 100000000"),
@@ -153,3 +155,24 @@ def test_an_impossible_region_count_fails_at_once(capsys, workdir, scene, region
                       "--frames", "0", "--regions", regions)
     assert message in err
     assert time.monotonic() - started < 5
+
+
+@pytest.mark.parametrize("code,stderr,kind,message", [
+    # CLI11 refusing an option zigzag info was passed: a usage error, said as the renderer says it
+    (105, "--fps: Value 5000 not in range 0.001 to 1000\nRun with --help for more information.\n",
+     InfoUsageError, "--fps: Value 5000 not in range 0.001 to 1000"),
+    (109, "The following arguments were not expected: --bogus\nRun with --help for more information.\n",
+     InfoUsageError, "The following arguments were not expected: --bogus"),
+    # a scene that does not load: that scene's failure
+    (1, "zigzag: error: s.json: cannot read: no such file\n", SceneError, "zigzag: error: s.json: cannot read"),
+])
+def test_info_errors_keep_the_renderers_message(tmp_path, code, stderr, kind, message):
+    """The farm reported only stderr's last line, CLI11's "Run with --help for more
+    information.", as a scene that failed to load (review)."""
+    fake = tmp_path / "zigzag"
+    fake.write_text(f"#!/bin/sh\nprintf '%s' '{stderr}' >&2\nexit {code}\n")
+    fake.chmod(0o755)
+    with pytest.raises(SceneError) as e:
+        scene_info(str(fake), "s.json")
+    assert type(e.value) is kind
+    assert message in str(e.value) and "Run with --help" not in str(e.value)
