@@ -100,6 +100,8 @@ class RenderOptions:
 
 
 def render_options(o, passed: list[str]) -> RenderOptions:
+    if passed and passed[-1] in (*INFO_OPTIONS, *RUNTIME_OPTIONS):
+        raise UsageError(f"{passed[-1]} after --: needs a value")
     for name in DRIVER_OPTIONS:
         if option_value(passed, name) is not None or name in passed:
             raise UsageError(f"{name} after --: zigzag-farm sets it for every job "

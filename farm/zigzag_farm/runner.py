@@ -74,7 +74,9 @@ def render_spec(j: RenderJob, s: RunSettings) -> dict:
     return {"key": j.key, "what": describe(j), "zigzag": s.zigzag, "scene": j.scene,
             "frame": j.frame, "camera": j.camera,
             "region": list(j.region.bounds) if j.region else None,
-            "output": j.output, "args": [*j.args, *s.runtime_args], "timeout": s.timeout}
+            # The user's options last: one left without its value (`-- --assets`) then takes
+            # none of the driver's (it took `--threads` as its folder) and zigzag says so.
+            "output": j.output, "args": [*s.runtime_args, *j.args], "timeout": s.timeout}
 
 
 def merge_key(f: FrameJob) -> str:

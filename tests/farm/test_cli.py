@@ -78,6 +78,8 @@ def usage_error(capsys, *args):
     (["--", "--height=-5"], "--height (after --) -5: must be at least 1"),
     (["--", "--threads=x"], "--threads (after --) 'x': expected a whole number"),
     (["--width", "64", "--", "--width=32"], "--width 64 and --width 32 after --: give it once"),
+    (["--", "--threads", "1", "--assets"], "--assets after --: needs a value"),
+    (["--", "--fps"], "--fps after --: needs a value"),
     (["--", "--frame", "3"], "--frame after --: zigzag-farm sets it for every job"),
     (["--", "--stats=x.json"], "--stats after --: zigzag-farm sets it"),
     (["--", "--time", "0.5"], "frames, not times"),

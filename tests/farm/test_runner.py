@@ -3,7 +3,7 @@ import os
 
 from zigzag_farm import job
 from zigzag_farm.plan import FrameJob, RenderJob
-from zigzag_farm.runner import Runner, remove_stale_temporaries
+from zigzag_farm.runner import Runner, RunSettings, remove_stale_temporaries, render_spec
 
 
 def frame_job(folder):
@@ -29,6 +29,15 @@ def test_stale_temporaries_are_exactly_this_outputs(workdir):
         open(os.path.join(workdir, name), "w").close()
     remove_stale_temporaries(frame_job(workdir))
     assert sorted(os.listdir(workdir)) == sorted(others)
+
+
+def test_the_users_options_come_after_the_drivers():
+    """A user's option left without its value at the end took the driver's --threads as its
+    value (`-- --assets`: a folder named --threads, and 1 a second scene; review)."""
+    j = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None,
+                  output="/o.png", args=("--eps", "0.1"))
+    spec = render_spec(j, RunSettings(zigzag="zigzag", runtime_args=("--threads", "2")))
+    assert spec["args"] == ["--threads", "2", "--eps", "0.1"]
 
 
 class FakeClient:
