@@ -3,6 +3,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -146,6 +147,13 @@ bool holds_extra_channels(const std::filesystem::path& path) {
 
 bool can_write_image_format(const std::filesystem::path& path) {
   if (path.extension().empty()) return false;
+  // Writers that take the proxy but do not give the image back, found only after the
+  // render by the read-back: GIF quantises to a 256-colour palette (and reads back with
+  // alpha); OpenImageIO 2.4's JPEG 2000 writer leaves the proxy empty, its TX writer a
+  // TIFF directory without the image's length.
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".gif" || ext == ".jp2" || ext == ".j2k" || ext == ".j2c" || ext == ".tx") return false;
   const auto out = OIIO::ImageOutput::create(path.string());
   return out && out->supports("ioproxy");  // see OpenOutput
 }

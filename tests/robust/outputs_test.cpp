@@ -213,7 +213,8 @@ TEST_F(Outputs, AnOutputThroughAFolderNotMadeYetIsComparedWithTheInputsToo) {
 // permission bits (a private image stays private).
 TEST_F(Outputs, ImagesReadBackSameBytesSameMode) {
   const std::string good = path("good.json").string();
-  for (const char* ext : {"png", "exr", "tif", "jpg", "bmp", "tga", "hdr", "webp"}) {
+  // Every format the README says is written.
+  for (const char* ext : {"png", "exr", "tif", "jpg", "bmp", "tga", "hdr", "webp", "pnm", "dpx", "iff"}) {
     SCOPED_TRACE(ext);
     const fs::path out = path(std::string("img.") + ext);
     ASSERT_EQ(render({good, "--width", "40", "--height", "24", "-o", out.string()}).exit_code, 0);
@@ -315,6 +316,11 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   // Writers that cannot write through a checked stream: their write errors would go unseen
   // (a truncated SGI published, exit 0).
   expect_error(render({good, "-o", path("out.sgi").string()}), "unsupported image format", kUsageExit);
+  // Writers whose files do not read back as the image: refused before the render, not
+  // after it (review: GIF's palette, JPEG 2000's empty proxy, TX's incomplete TIFF; a farm
+  // retried them twice).
+  for (const char* name : {"out.gif", "out.GIF", "out.jp2", "out.j2k", "out.tx"})
+    expect_error(render({good, "-o", path(name).string()}), "unsupported image format", kUsageExit);
   expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
                kUsageExit);
   // A name the file system cannot hold, of the file or of a folder to make.
