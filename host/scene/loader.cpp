@@ -261,7 +261,19 @@ json parse_rig_file(const fs::path& path) {
   } catch (const json::parse_error& e) {
     throw_json_error(file, text, e.byte, e.what());
   } catch (const json::exception& e) {
-    throw_json_error(file, text, 0, e.what());
+    // "[json.exception.out_of_range.406] number overflow parsing '1e400'": no byte offset
+    // (review: reported at 1:1), so the position is the number's first occurrence.
+    std::string what = e.what();
+    if (const size_t bracket = what.find("] "); what.rfind("[json.", 0) == 0 && bracket != std::string::npos)
+      what = what.substr(bracket + 2);
+    size_t byte = 0;
+    const size_t open = what.find("parsing '");
+    const size_t close = open == std::string::npos ? open : what.find('\'', open + 9);
+    if (close != std::string::npos) {
+      const size_t at = text.find(what.substr(open + 9, close - open - 9));
+      if (at != std::string::npos) byte = at + 1;
+    }
+    throw_json_error(file, text, byte, what);
   }
 }
 

@@ -430,6 +430,10 @@ TEST_F(Outputs, JsonErrorsGiveFileLineColumn) {
   write("bad.json", "{\"model\": \"default.gltf\",\n  \"width\": }");
   expect_error(render({path("bad.json").string(), "-o", path("{scene}.png").string()}),
                path("bad.json").string() + ":2:12: invalid JSON");
+  // A number out of double's range has no parser position of its own: the number's.
+  write("huge.json", "{\"model\": \"default.gltf\",\n \"exposure\": 1e400}");
+  expect_error(render({path("huge.json").string(), "-o", path("{scene}.png").string()}),
+               path("huge.json").string() + ":2:14: invalid JSON: number overflow parsing '1e400'");
 }
 
 TEST_F(Outputs, NoTrianglesIsAnError) {
