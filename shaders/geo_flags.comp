@@ -61,9 +61,11 @@ precise float dot3(vec3 a, vec3 b) {
 }
 
 // !(|a - b| <= rel * min(a, b)) also flags NaN, infinities and planes behind the camera.
+// An orthographic view looks the same from anywhere along its axis, so its depths are not
+// relative to the distance from its plane but to the view's height (du.w).
 bool far_apart(float a, float b) {
   precise float diff = abs(a - b);
-  precise float lim = p.limits.y * min(a, b);
+  precise float lim = p.limits.y * (orthographic() ? p.du.w : min(a, b));
   return !(diff <= lim);
 }
 

@@ -63,7 +63,8 @@ struct FlagPush {
   int out_x0;    // the flag buffer's first pixel column (a multiple of 4)
   vec3 dir00;    // ray direction through supersample (0, 0)
   int out_y0;    // the flag buffer's first row
-  vec4 du;       // direction (orthographic: origin) step per supersample to the right
+  vec4 du;       // direction (orthographic: origin) step per supersample to the right;
+                 // orthographic: w = the view's height, the depth rule's scale
   vec4 dv;       // direction (orthographic: origin) step per supersample downwards
   ivec4 tile;    // pixel x0, y0, width, height of this tile (x0 a multiple of 4)
   ivec4 frame;   // frame width, height in pixels, S, uints per flag buffer row

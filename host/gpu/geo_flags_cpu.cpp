@@ -43,9 +43,9 @@ struct Rule {
     glm::vec3 d = glm::vec3(p.dir00) + float(gx) * glm::vec3(p.du);
     return d + float(gy) * glm::vec3(p.dv);
   }
-  bool far_apart(float a, float b) const {
+  bool far_apart(float a, float b) const {  // orthographic: relative to the view's height (du.w)
     float diff = std::fabs(a - b);
-    float lim = p.limits.y * std::min(a, b);
+    float lim = p.limits.y * (orthographic() ? p.du.w : std::min(a, b));
     return !(diff <= lim);
   }
   // Ids known to differ; `inner`: both samples in one pixel (the material rule's pairs).

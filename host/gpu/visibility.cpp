@@ -109,7 +109,9 @@ gpu::FlagPush make_flag_push(const Camera& camera, int width, int height,
     glm::vec3 ou = rays.ou / s, ov = rays.ov / s;
     p.origin = rays.origin + 0.5f * ou + 0.5f * ov;
     p.dir00 = rays.dir00;
-    p.du = glm::vec4(ou, 0.0f);
+    // The depth rule's scale (geo_flags.comp far_apart): the view's height, as a pinhole's
+    // depth is its view's height there up to the field of view's tangent.
+    p.du = glm::vec4(ou, glm::length(rays.ov) * float(height));
     p.dv = glm::vec4(ov, 0.0f);
   } else {
     glm::vec3 du = rays.du / s, dv = rays.dv / s;

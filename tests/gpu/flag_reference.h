@@ -36,7 +36,7 @@ struct FlagReference {
   }
   bool far_apart(float a, float b) const {
     float diff = std::fabs(a - b);
-    float lim = p.limits.y * std::min(a, b);
+    float lim = p.limits.y * (orthographic() ? p.du.w : std::min(a, b));
     return !(diff <= lim);
   }
   // `inner`: both samples inside the pixel, where the material rule applies.

@@ -115,6 +115,31 @@ TEST_F(GeometryTest, SmoothSphereFlagsOnlyItsSilhouetteOrthographic) {
   }
 }
 
+// An orthographic view is the same from anywhere along its axis, and so is its map: the
+// depth rule's scale is the view's height, not the distance from the camera's plane
+// (review: from 100 times as far, a rod's outline against its wall was no longer flagged;
+// with the plane close, smooth facets were).
+TEST_F(GeometryTest, AnOrthographicMapDoesNotDependOnWhereTheCameraSitsOnItsAxis) {
+  SceneBuilder b;
+  b.quad({-1.5f, -0.5f, -1.0f}, {1.5f, -0.5f, -1.0f}, {1.5f, 1.2f, -1.0f}, {-1.5f, 1.2f, -1.0f});  // wall
+  b.box({-0.6f, 0.0f, -0.96f}, {0.6f, 0.03f, -0.9f});  // a rod 0.1 before it: a depth step alone
+  b.sphere({0.3f, 0.6f, -0.5f}, 0.3f, 48, 24);
+  const Scene scene = b.done();
+  VisibilityPass pass(context(), scene);
+  std::vector<uint8_t> first;
+  for (const float eye_z : {0.0f, 3.0f, 300.0f}) {
+    Camera camera = Camera::look_at({0.05f, 0.35f, eye_z}, {0.05f, 0.35f, eye_z - 1.0f}, {0, 1, 0}, 0.8f);
+    camera.ymag = 0.6f;  // a view 1.2 tall: the depth rule flags steps above 0.024
+    const GeoMap map = pass.run(camera, 96, 64);
+    const CameraRays rays(camera, 96, 64);
+    const glm::dvec2 rod = project(rays, {0.0, 0.015, -0.9});  // the rod's front, mid-length
+    EXPECT_TRUE(map.at(int(rod.x), int(rod.y) - 1) || map.at(int(rod.x), int(rod.y)) || map.at(int(rod.x), int(rod.y) + 1))
+        << "the rod's outline, eye at z " << eye_z;
+    if (first.empty()) first = map.flags;
+    EXPECT_EQ(map.flags, first) << "eye at z " << eye_z;
+  }
+}
+
 void cube_flags_silhouette_and_creases(VulkanContext& context, float ymag) {
   SceneBuilder b;
   b.box({-0.5f, -0.5f, -0.5f}, {0.5f, 0.5f, 0.5f});
