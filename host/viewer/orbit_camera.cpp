@@ -21,10 +21,17 @@ glm::vec3 turned_about_y(glm::vec3 v, float yaw) {
 
 }  // namespace
 
-OrbitCamera::OrbitCamera(const Camera& start, float focus) : start_(start) {
+OrbitCamera::OrbitCamera(const Camera& start, float focus, float standoff) : start_(start) {
   distance_ = std::max(focus, 1e-4f);
   ymag_ = start.ymag;
   target_ = start.position + start.forward * distance_;
+  if (start.orthographic() && standoff > distance_) {
+    const float back = standoff - distance_;
+    distance_ = standoff;
+    start_.position -= start.forward * back;
+    if (start_.znear > 0.0f) start_.znear += back;
+    start_.zfar += back;  // infinity stays
+  }
 }
 
 // Pitch turns the start's forward towards its -up: forward(p) = f0 cos p - u0 sin p.
@@ -85,6 +92,12 @@ Camera OrbitCamera::camera() const {
   c.ymag = ymag_;
   c.clip_axis = glm::vec3(0.0f);  // the planes turn with the (orthonormal) view
   return c;
+}
+
+OrbitCamera orbit_for(const Camera& camera, glm::vec3 scene_centre, float scene_radius) {
+  const float focus = focus_distance(camera, scene_centre, scene_radius);
+  const glm::vec3 target = camera.position + glm::normalize(camera.forward) * focus;
+  return OrbitCamera(camera, focus, glm::length(scene_centre - target) + 1.05f * scene_radius);
 }
 
 float focus_distance(const Camera& camera, glm::vec3 scene_centre, float scene_radius) {

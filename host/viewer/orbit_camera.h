@@ -12,8 +12,11 @@ namespace zz {
 class OrbitCamera {
  public:
   OrbitCamera() = default;
-  // Orbits around the point `focus_distance` in front of `start`.
-  OrbitCamera(const Camera& start, float focus_distance);
+  // Orbits around the point `focus_distance` in front of `start`. An orthographic start
+  // stands back to at least `standoff` from that point (its image is the same; its planes
+  // move with it), so that its plane, whose rays start there, turns around the scene and
+  // not through it.
+  OrbitCamera(const Camera& start, float focus_distance, float standoff = 0.0f);
 
   // Mouse motion in pixels over a viewport `viewport_height` pixels tall.
   void orbit(float dx, float dy, int viewport_height);  // left drag: turn around the target
@@ -40,5 +43,9 @@ class OrbitCamera {
 // The focus distance for a camera: how far along its view the scene's centre lies
 // (at least a tenth of the scene radius, so a camera inside the scene still orbits).
 float focus_distance(const Camera& camera, glm::vec3 scene_centre, float scene_radius);
+
+// The viewer's orbit for a scene camera: about its focus, an orthographic one standing off
+// beyond the scene's bounding sphere seen from that point.
+OrbitCamera orbit_for(const Camera& camera, glm::vec3 scene_centre, float scene_radius);
 
 }  // namespace zz

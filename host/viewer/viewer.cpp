@@ -187,7 +187,7 @@ Viewer::Viewer(const Shader& shader, const ViewerOptions& options)
   glfwSetWindowRefreshCallback(window, [](GLFWwindow* w) { guarded(w, [](Viewer* v) { v->on_refresh(); }); });
   glfwSetWindowIconifyCallback(window, [](GLFWwindow* w, int) { guarded(w, [](Viewer* v) { v->on_refresh(); }); });
 
-  orbit_ = OrbitCamera(camera_, focus_distance(camera_, options.scene_centre, options.scene_radius));
+  orbit_ = orbit_for(camera_, options.scene_centre, options.scene_radius);
   render_width_ = settings_.width;
   render_height_ = settings_.height;
 }
@@ -228,7 +228,7 @@ void Viewer::on_key(int key) {
     case GLFW_KEY_4: mode_ = ViewMode::Geo; break;
     case GLFW_KEY_R:
       camera_ = options_.camera;  // exactly the scene's camera, not a round trip through the orbit
-      orbit_ = OrbitCamera(camera_, focus_distance(camera_, options_.scene_centre, options_.scene_radius));
+      orbit_ = orbit_for(camera_, options_.scene_centre, options_.scene_radius);
       restart();
       break;
     case GLFW_KEY_LEFT_BRACKET:

@@ -142,6 +142,28 @@ TEST(OrbitCamera, AnOrthographicViewZoomsByItsExtentAndPansByIt) {
   EXPECT_TRUE(orbit.camera().orthographic()) << "orbiting keeps the camera type";
 }
 
+// An orthographic camera's rays start at its plane: a plan view 10 above a scene of radius
+// 70 would swing that plane through the scene when orbited to a side view, cutting its near
+// half away for good (the wheel narrows the view, nothing moves the plane; review). Its
+// orbit stands off beyond the scene's sphere, with the same image and planes at the start.
+TEST(OrbitCamera, AnOrthographicOrbitStandsOffBeyondTheScene) {
+  Camera plan = Camera::look_at({0, 10, 0}, {0, 0, 0}, {0, 0, -1}, 0.8f);
+  plan.ymag = 5.0f;
+  plan.znear = 2.0f;
+  OrbitCamera orbit = orbit_for(plan, {0, 0, 0}, 70.0f);
+  const Camera start = orbit.camera();
+  expect_near(start.forward, plan.forward, 1e-6f);
+  EXPECT_EQ(start.ymag, plan.ymag);
+  EXPECT_NEAR(glm::dot(start.position - plan.position, plan.forward), -63.5f, 1e-3f) << "stood back along the view";
+  EXPECT_NEAR(glm::length(glm::cross(start.position - plan.position, plan.forward)), 0.0f, 1e-4f);
+  EXPECT_NEAR(start.znear, 65.5f, 1e-3f) << "the near plane stays where it was";
+  orbit.orbit(0.0f, 200.0f, 400);  // half a turn of pitch: towards a side view
+  EXPECT_GE(glm::length(orbit.camera().position), 70.0f) << "the plane stays outside the scene";
+  // A pinhole orbits about its focus as before.
+  EXPECT_NEAR(orbit_for(Camera::look_at({0, 10, 0}, {0, 0, 0}, {0, 0, -1}, 0.8f), {0, 0, 0}, 70.0f).distance(), 10.0f,
+              1e-5f);
+}
+
 TEST(OrbitCamera, FocusDistanceIsTheSceneCentreAlongTheView) {
   const Camera c = Camera::look_at({0, 0, 10}, {0, 0, 0}, {0, 1, 0}, 0.8f);
   EXPECT_NEAR(focus_distance(c, {1.0f, 0.0f, 2.0f}, 3.0f), 8.0f, 1e-5f);
