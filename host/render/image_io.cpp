@@ -147,15 +147,18 @@ bool holds_extra_channels(const std::filesystem::path& path) {
 
 bool can_write_image_format(const std::filesystem::path& path) {
   if (path.extension().empty()) return false;
+  const auto out = OIIO::ImageOutput::create(path.string());
+  if (!out || !out->supports("ioproxy")) return false;  // see OpenOutput
   // Writers that take the proxy but do not give the image back, found only after the
-  // render by the read-back: GIF quantises to a 256-colour palette (and reads back with
-  // alpha); OpenImageIO 2.4's JPEG 2000 writer leaves the proxy empty, its TX writer a
-  // TIFF directory without the image's length.
+  // render by the read-back; by the format OpenImageIO picks, not the extension (the TIFF
+  // writer also answers to .tx, .env, .sm, .vsm): GIF quantises to a 256-colour palette
+  // (and reads back with alpha); OpenImageIO 2.4's JPEG 2000 writer leaves the proxy empty,
+  // its TIFF writer a texture's directory without the image's length; "null" writes nothing.
+  const std::string format = out->format_name();
+  if (format == "gif" || format == "jpeg2000" || format == "null") return false;
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  if (ext == ".gif" || ext == ".jp2" || ext == ".j2k" || ext == ".j2c" || ext == ".tx") return false;
-  const auto out = OIIO::ImageOutput::create(path.string());
-  return out && out->supports("ioproxy");  // see OpenOutput
+  return format != "tiff" || ext == ".tif" || ext == ".tiff";
 }
 
 std::vector<uint8_t> display_bytes(const Film& film, const ToneMap& tonemap) {

@@ -317,9 +317,10 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   // (a truncated SGI published, exit 0).
   expect_error(render({good, "-o", path("out.sgi").string()}), "unsupported image format", kUsageExit);
   // Writers whose files do not read back as the image: refused before the render, not
-  // after it (review: GIF's palette, JPEG 2000's empty proxy, TX's incomplete TIFF; a farm
-  // retried them twice).
-  for (const char* name : {"out.gif", "out.GIF", "out.jp2", "out.j2k", "out.tx"})
+  // after it (review: GIF's palette, JPEG 2000's empty proxy, the TIFF writer's texture
+  // names' incomplete TIFF, the null writer; a farm retried them twice).
+  for (const char* name : {"out.gif", "out.GIF", "out.jp2", "out.j2k", "out.tx", "out.env", "out.sm", "out.vsm", "out.null",
+                           "out.nul"})
     expect_error(render({good, "-o", path(name).string()}), "unsupported image format", kUsageExit);
   expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
                kUsageExit);
@@ -430,8 +431,9 @@ TEST_F(Outputs, JsonErrorsGiveFileLineColumn) {
   write("bad.json", "{\"model\": \"default.gltf\",\n  \"width\": }");
   expect_error(render({path("bad.json").string(), "-o", path("{scene}.png").string()}),
                path("bad.json").string() + ":2:12: invalid JSON");
-  // A number out of double's range has no parser position of its own: the number's.
-  write("huge.json", "{\"model\": \"default.gltf\",\n \"exposure\": 1e400}");
+  // A number out of double's range has no parser position of its own: the number's, not
+  // where its digits first appear inside a string (review).
+  write("huge.json", "{\"model\": \"default.gltf\", \"description\": \"1e400 \\\" 1e400\",\n \"exposure\": 1e400}");
   expect_error(render({path("huge.json").string(), "-o", path("{scene}.png").string()}),
                path("huge.json").string() + ":2:14: invalid JSON: number overflow parsing '1e400'");
 }
