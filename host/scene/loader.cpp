@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cctype>
 #include <cstring>
 #include <cmath>
 #include <cstdio>
@@ -247,6 +248,27 @@ void warn_if_nothing_lights(const Scene& scene, const std::string& file, const L
                scene.lights.empty() ? " (add \"lights\" to the rig, see scenes/README.md)" : "");
 }
 
+// Where `number` first stands as a number in JSON `text` (not inside a string, nor part of
+// a longer number); npos if nowhere.
+size_t find_json_number(const std::string& text, const std::string& number) {
+  if (number.empty()) return std::string::npos;
+  const auto in_number = [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || std::strchr("+-.eE", c); };
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;  // the escaped character
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (text.compare(i, number.size(), number) == 0 && (i == 0 || !in_number(text[i - 1])) &&
+               (i + number.size() == text.size() || !in_number(text[i + number.size()]))) {
+      return i;
+    }
+  }
+  return std::string::npos;
+}
+
 constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
 
 json parse_rig_file(const fs::path& path) {
@@ -266,14 +288,10 @@ json parse_rig_file(const fs::path& path) {
     std::string what = e.what();
     if (const size_t bracket = what.find("] "); what.rfind("[json.", 0) == 0 && bracket != std::string::npos)
       what = what.substr(bracket + 2);
-    size_t byte = 0;
     const size_t open = what.find("parsing '");
     const size_t close = open == std::string::npos ? open : what.find('\'', open + 9);
-    if (close != std::string::npos) {
-      const size_t at = text.find(what.substr(open + 9, close - open - 9));
-      if (at != std::string::npos) byte = at + 1;
-    }
-    throw_json_error(file, text, byte, what);
+    const size_t at = close == std::string::npos ? std::string::npos : find_json_number(text, what.substr(open + 9, close - open - 9));
+    throw_json_error(file, text, at == std::string::npos ? 0 : at + 1, what);
   }
 }
 
