@@ -37,82 +37,55 @@ size_t count(const GeoMap& m) {
   return n;
 }
 
+// Also through an orthographic camera (ymag > 0), whose silhouette is where the parallel
+// rays pass the centre at one radius: the depth rule, which intersects both facets' planes
+// with one ray from its own origin, must keep the smooth facets apart from it.
 TEST_F(GeometryTest, SmoothSphereFlagsOnlyItsSilhouette) {
-  for (int slices : {48, 128}) {
-    SceneBuilder b;
-    glm::dvec3 center(0.1, -0.05, 0.0);
-    double radius = 1.0;
-    b.sphere(glm::vec3(center), float(radius), slices, slices / 2);
-    Scene scene = b.done();
-    Camera camera = Camera::look_at({0.3f, 0.5f, 3.4f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
-    const int w = 96, h = 80;
-    for (int ss : {4, 6}) {
-      VisibilityPass pass(context(), scene);
-      VisibilitySettings s;
-      s.supersample = ss;
-      GeoMap map = pass.run(camera, w, h, s);
-      CameraRays rays(camera, w, h);
-      glm::dvec3 o(rays.origin);
-      double beta = std::asin(radius / glm::length(center - o));  // silhouette cone half-angle
-      double pixel_angle = glm::length(glm::dvec3(rays.du));      // at the image centre, dir00 ~ unit
-      size_t inner = 0, missed = 0, on_silhouette = 0;
-      for (int y = 0; y < h; ++y)
-        for (int x = 0; x < w; ++x) {
-          glm::dvec3 d(rays.direction(x + 0.5f, y + 0.5f));
-          double alpha = std::acos(std::clamp(glm::dot(d, glm::normalize(center - o)), -1.0, 1.0));
-          // Pixels are slightly smaller in angle off-centre; 1.25 keeps the bound safe.
-          double px = std::abs(alpha - beta) / pixel_angle * 1.25;
-          bool flag = map.at(x, y);
-          if (flag && px > 1.6) ++inner;
-          if (px < 0.3) {
-            ++on_silhouette;
-            if (!flag) ++missed;
+  for (const float ymag : {0.0f, 1.3f})
+    for (int slices : {48, 128}) {
+      SceneBuilder b;
+      glm::dvec3 center(0.1, -0.05, 0.0);
+      double radius = 1.0;
+      b.sphere(glm::vec3(center), float(radius), slices, slices / 2);
+      Scene scene = b.done();
+      Camera camera = Camera::look_at({0.3f, 0.5f, 3.4f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
+      camera.ymag = ymag;
+      const int w = 96, h = 80;
+      for (int ss : {4, 6}) {
+        VisibilityPass pass(context(), scene);
+        VisibilitySettings s;
+        s.supersample = ss;
+        GeoMap map = pass.run(camera, w, h, s);
+        CameraRays rays(camera, w, h);
+        // In pixels: a pinhole's silhouette is a cone of half-angle beta around the centre
+        // (pixels are slightly smaller in angle off-centre; 1.25 keeps the bound safe), an
+        // orthographic one a cylinder of the sphere's radius.
+        const auto from_silhouette = [&](int x, int y) {
+          glm::dvec3 o(rays.origin_at(x + 0.5f, y + 0.5f)), d(rays.direction(x + 0.5f, y + 0.5f));
+          if (rays.orthographic) {
+            const glm::dvec3 to_centre = center - o;
+            return std::abs(glm::length(to_centre - glm::dot(to_centre, d) * d) - radius) / glm::length(glm::dvec3(rays.ou));
           }
-        }
-      EXPECT_EQ(inner, 0u) << "flags away from the silhouette, slices=" << slices << " S=" << ss;
-      EXPECT_EQ(missed, 0u) << "of " << on_silhouette << " silhouette pixels unflagged";
-      EXPECT_GT(on_silhouette, 50u);
-    }
-  }
-}
-
-// Through an orthographic camera the silhouette is where the parallel rays pass the centre
-// at one radius: the depth rule, which intersects both facets' planes with one ray from its
-// own origin, must keep the smooth facets apart from it.
-TEST_F(GeometryTest, SmoothSphereFlagsOnlyItsSilhouetteOrthographic) {
-  SceneBuilder b;
-  const glm::dvec3 center(0.1, -0.05, 0.0);
-  const double radius = 1.0;
-  b.sphere(glm::vec3(center), float(radius), 128, 64);
-  const Scene scene = b.done();
-  Camera camera = Camera::look_at({0.3f, 0.5f, 3.4f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.8f);
-  camera.ymag = 1.3f;
-  const int w = 96, h = 80;
-  for (int ss : {4, 6}) {
-    VisibilityPass pass(context(), scene);
-    VisibilitySettings s;
-    s.supersample = ss;
-    const GeoMap map = pass.run(camera, w, h, s);
-    const CameraRays rays(camera, w, h);
-    const double pixel = glm::length(glm::dvec3(rays.ou));
-    size_t inner = 0, missed = 0, on_silhouette = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        const glm::dvec3 o(rays.origin_at(x + 0.5f, y + 0.5f)), d(rays.direction(x + 0.5f, y + 0.5f));
-        const glm::dvec3 to_centre = center - o;
-        const double miss = glm::length(to_centre - glm::dot(to_centre, d) * d);  // the ray's distance to the centre
-        const double px = std::abs(miss - radius) / pixel;
-        const bool flag = map.at(x, y);
-        if (flag && px > 1.6) ++inner;
-        if (px < 0.3) {
-          ++on_silhouette;
-          if (!flag) ++missed;
-        }
+          double beta = std::asin(radius / glm::length(center - o));
+          double alpha = std::acos(std::clamp(glm::dot(d, glm::normalize(center - o)), -1.0, 1.0));
+          return std::abs(alpha - beta) / glm::length(glm::dvec3(rays.du)) * 1.25;  // dir00 ~ unit
+        };
+        size_t inner = 0, missed = 0, on_silhouette = 0;
+        for (int y = 0; y < h; ++y)
+          for (int x = 0; x < w; ++x) {
+            const double px = from_silhouette(x, y);
+            bool flag = map.at(x, y);
+            if (flag && px > 1.6) ++inner;
+            if (px < 0.3) {
+              ++on_silhouette;
+              if (!flag) ++missed;
+            }
+          }
+        EXPECT_EQ(inner, 0u) << "flags away from the silhouette, slices=" << slices << " S=" << ss << " ymag " << ymag;
+        EXPECT_EQ(missed, 0u) << "of " << on_silhouette << " silhouette pixels unflagged, ymag " << ymag;
+        EXPECT_GT(on_silhouette, 50u);
       }
-    EXPECT_EQ(inner, 0u) << "flags away from the silhouette, S=" << ss;
-    EXPECT_EQ(missed, 0u) << "of " << on_silhouette << " silhouette pixels unflagged";
-    EXPECT_GT(on_silhouette, 50u);
-  }
+    }
 }
 
 // An orthographic view is the same from anywhere along its axis, and so is its map: the
