@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "accel/bvh.h"
 #include "test_meshes.h"
@@ -30,6 +31,43 @@ TEST(RayOffset, MovesStrictlyToTheNormalSide) {
   EXPECT_EQ(up.x, hit.p.x);  // zero normal components leave the point alone
   EXPECT_EQ(up.z, hit.p.z);
   EXPECT_LT(up.y - hit.p.y, 1e4f * 1e-5f);  // a few ULPs of 1e4, not a scene epsilon
+  // Past the error bound, and every component rounded away from the surface: a normal
+  // with a tiny -x part moves x down, never up (mutation testing: next_down stepping the
+  // wrong way on negative components passed every test).
+  EXPECT_GE(hit.p.y - down.y, hit.error.y);
+  const glm::vec3 tilted = offset_ray_origin(hit, glm::normalize(glm::vec3(-1e-6f, 1.0f, 0.0f)));
+  EXPECT_LT(tilted.x, hit.p.x);
+  EXPECT_GT(tilted.y, hit.p.y);
+}
+
+// A triangle in a plane z = +-Z far along z (1e2 to 1e6) but small in x and y: its error
+// bound is all in z, so the offset must follow that component (mutation testing: an offset
+// from the x and y bounds alone stayed inside the z bound every time, and 40 of 160 000
+// spawned rays hit their own triangle; the random triangles below never have one axis so
+// much larger than the others).
+TEST(RayOffset, AnErrorBoundInOneAxisAloneIsCleared) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int self_hits = 0, trials = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const float z = (i % 2 ? -1.0f : 1.0f) * std::pow(10.0f, 2.0f + 4.0f * u(rng));
+    const std::vector<glm::vec3> tri = {{-1 + 0.1f * u(rng), -1, z}, {1, -1 + 0.1f * u(rng), z}, {0.1f * u(rng), 1, z}};
+    const Bvh bvh = Bvh::build(tri);
+    float b1 = u(rng), b2 = u(rng);
+    if (b1 + b2 > 1.0f) b1 = 1.0f - b1, b2 = 1.0f - b2;
+    const SurfacePosition hit = interpolate_hit(tri[0], tri[1], tri[2], b1, b2);
+    const glm::vec3 side(0.0f, 0.0f, rng() % 2 ? 1.0f : -1.0f);
+    const glm::vec3 start = offset_ray_origin(hit, side);
+    ASSERT_GT(std::fabs(start.z - hit.p.z), hit.error.z) << z;
+    for (int k = 0; k < 8; ++k) {
+      glm::vec3 d = test::random_unit(rng);
+      if (glm::dot(d, side) < 0.0f) d = -d;
+      ++trials;
+      self_hits += bvh.intersect1(Ray{start, d}).hit();
+    }
+  }
+  EXPECT_EQ(trials, 40000);
+  EXPECT_EQ(self_hits, 0);
 }
 
 // pbrt-v4 style: random triangles from 1e-8 to 1e8 in size and position, hit from a

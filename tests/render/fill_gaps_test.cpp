@@ -30,22 +30,24 @@ constexpr int kRow = 24;  // the stripes are vertical: any row will do
 // A dim glowing ceiling at z = 5 with bright vertical stripes every 3 pixels: one over
 // every pixel corner x = 3k, and one thin one in the middle of pixel 3k + 1, between its
 // corners. Seen from below through a black alpha-BLEND pane of coverage 0.3 at z = 2 (an
-// image pixel: eps_specular's), or, with `through_pane` false, straight.
+// image pixel: eps_specular's), or, with `through_pane` false, straight. `across`: the
+// camera turned a quarter, so the stripes run across the image (rows y = 3k + 1).
 struct StripeScene {
   Scene scene;
-  explicit StripeScene(bool through_pane) {
+  explicit StripeScene(bool through_pane, bool across = false) {
     Material dim = test::diffuse_material(glm::vec3(0.0f)), bright = dim, pane = dim;
     dim.emissive = glm::vec3(0.5f);
     bright.emissive = glm::vec3(1.0f);
     pane.alpha_mode = AlphaMode::Blend;
     pane.base_alpha = 0.3f;
     scene.materials = {dim, bright, pane};
-    scene.cameras.push_back(Camera::look_at({0.3f, 0.2f, -2.5f}, {0.3f, 0.2f, 5}, {0, 1, 0}, 0.5f));
+    scene.cameras.push_back(
+        Camera::look_at({0.3f, 0.2f, -2.5f}, {0.3f, 0.2f, 5}, across ? glm::vec3(1, 0, 0) : glm::vec3(0, 1, 0), 0.5f));
     test::add_quad(scene, {-10, -10, 5}, {-10, 10, 5}, {10, 10, 5}, {10, -10, 5}, 0);  // faces -z
     // The stripes a hair in front of the ceiling, placed in pixel units along the row.
     const CameraRays rays(scene.cameras[0], kSize, kSize);
     auto world_x = [&](float px) {
-      const glm::vec3 d = rays.direction(px, float(kRow) + 0.5f);
+      const glm::vec3 d = across ? rays.direction(float(kRow) + 0.5f, px) : rays.direction(px, float(kRow) + 0.5f);
       const glm::vec3 o = scene.cameras[0].position;
       return o.x + d.x * ((4.99f - o.z) / d.z);
     };
@@ -124,14 +126,21 @@ TEST(FillGaps, AThinLineBetweenTheCornersOfAnImagePixelIsFoundFromItsNeighbours)
   EXPECT_LT(gap_error(on.film, lattice, tonemap), missed / 3.0);
 }
 
+// With the stripes along the image's columns and across its rows: a gap is filled from
+// the neighbours on the left and right, or above and below, whichever tile holds them
+// (mutation testing: the row below a tile left out of what its pixels see around them
+// passed with the columns alone).
 TEST(FillGaps, DecidesTheSameWhateverTheTilesAndThreads) {
-  const StripeScene scene(true);
-  const StripeRender reference = render_stripes(scene, true);
-  for (int tile : {7, 16}) {
-    for (int threads : {1, 2}) {
-      const StripeRender other = render_stripes(scene, true, tile, threads);
-      EXPECT_EQ(other.stats.aa.gap_pixels, reference.stats.aa.gap_pixels) << tile << " " << threads;
-      EXPECT_EQ(other.film.radiance, reference.film.radiance) << tile << " " << threads;
+  for (const bool across : {false, true}) {
+    const StripeScene scene(true, across);
+    const StripeRender reference = render_stripes(scene, true);
+    EXPECT_GE(reference.stats.aa.gap_pixels, 15u * kSize) << across;
+    for (int tile : {7, 16}) {
+      for (int threads : {1, 2}) {
+        const StripeRender other = render_stripes(scene, true, tile, threads);
+        EXPECT_EQ(other.stats.aa.gap_pixels, reference.stats.aa.gap_pixels) << tile << " " << threads << " " << across;
+        EXPECT_EQ(other.film.radiance, reference.film.radiance) << tile << " " << threads << " " << across;
+      }
     }
   }
 }
