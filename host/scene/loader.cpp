@@ -284,7 +284,7 @@ json parse_rig_file(const fs::path& path) {
     throw_json_error(file, text, e.byte, e.what());
   } catch (const json::exception& e) {
     // "[json.exception.out_of_range.406] number overflow parsing '1e400'": no byte offset
-    // (review: reported at 1:1), so the position is the number's first occurrence.
+    // (review: reported at 1:1), so the position is where it first stands as a number.
     std::string what = e.what();
     if (const size_t bracket = what.find("] "); what.rfind("[json.", 0) == 0 && bracket != std::string::npos)
       what = what.substr(bracket + 2);
