@@ -62,10 +62,12 @@ def scene_info(zigzag: str, path: str, info_args: list[str] = (), timeout: float
     except (OSError, subprocess.TimeoutExpired) as e:
         raise SceneError(f"{path}: zigzag info failed: {e}") from None
     if p.returncode != 0:
-        # The message, without CLI11's "Run with --help" line that follows an option's error.
+        # The error lines (not the warnings before them), else what there is without CLI11's
+        # "Run with --help" line that follows an option's error.
         lines = [line for line in p.stderr.strip().splitlines()
                  if line.strip() and not line.startswith("Run with --help")]
-        msg = " ".join(lines) if lines else f"{path}: zigzag info exit code {p.returncode}"
+        errors = [line for line in lines if line.startswith("zigzag: error:")]
+        msg = " ".join(errors or lines) or f"{path}: zigzag info exit code {p.returncode}"
         # 100-127: the options were refused (CLI11's codes; zigzag's usage exit is 105), for
         # every scene alike: bad options, not a scene that fails to load.
         raise (InfoUsageError if 100 <= p.returncode <= 127 else SceneError)(msg)

@@ -167,6 +167,8 @@ def test_an_impossible_region_count_fails_at_once(capsys, workdir, scene, region
      InfoUsageError, "The following arguments were not expected: --bogus"),
     # a scene that does not load: that scene's failure
     (1, "zigzag: error: s.json: cannot read: no such file\n", SceneError, "zigzag: error: s.json: cannot read"),
+    (1, "warning: s.json: a light is black\nzigzag: error: s.json: no triangles\n", SceneError,
+     "zigzag: error: s.json: no triangles"),
 ])
 def test_info_errors_keep_the_renderers_message(tmp_path, code, stderr, kind, message):
     """The farm reported only stderr's last line, CLI11's "Run with --help for more
@@ -177,4 +179,4 @@ def test_info_errors_keep_the_renderers_message(tmp_path, code, stderr, kind, me
     with pytest.raises(SceneError) as e:
         scene_info(str(fake), "s.json")
     assert type(e.value) is kind
-    assert message in str(e.value) and "Run with --help" not in str(e.value)
+    assert message in str(e.value) and "Run with --help" not in str(e.value) and "warning" not in str(e.value)
