@@ -77,10 +77,10 @@ inline int4 canonical_corners(int4 physical, Orientation o) {
 
 // ---- level 2 (§5) -----------------------------------------------------------
 struct Level2 {
-  Orientation orientation;
+  Orientation orientation = Orientation::Horizontal;  // indexes tables: never left unset
   Rgb4 corners;  // linear, canonical lanes [A, B, C, D]
   Rgb4 efgh;     // linear, lanes [E, F, G, H]
-  int b, c0, c1; // the three masks
+  int b = 0, c0 = 0, c1 = 0;  // the three masks
   int4 corner_sig{0}, efgh_sig{0};  // signatures, canonical lanes [A, B, C, D] and [E, F, G, H]
 };
 

@@ -56,7 +56,7 @@ TEST(Interpolation, ExactForColourLinearInU) {
   auto f = [](float u, int c) { return 0.3f + (0.5f + 0.25f * c) * u; };
   // Interpolation runs on the canonical lattice (u along the zigzag): the orientation only
   // places the traced points, which `never` refuses, so one orientation covers both.
-  Level2 l2;
+  Level2 l2;  // horizontal (UBSan: an orientation left unset indexed the tables out of bounds)
   {
     // Canonical corners A (u=0), B (u=1), C (u=0), D (u=1); E, F, G, H at u .2 .6 .4 .8.
     l2.corners = {float4(f(0, 0), f(1, 0), f(0, 0), f(1, 0)), float4(f(0, 1), f(1, 1), f(0, 1), f(1, 1)),
