@@ -319,7 +319,8 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
       const SceneMap::Use use = job.map->get();
       setup.upload_s = use.upload_s;
       const auto t_prepare = std::chrono::steady_clock::now();
-      use.pass.prepare(settings.width, settings.height, map_settings, map_region);
+      use.pass.prepare(settings.width, settings.height, map_settings, map_region,
+                       scene.cameras[size_t(camera_index)].orthographic());
       setup.prepare_s = seconds_since(t_prepare);
       GeoMap made = use.pass.run(scene.cameras[size_t(camera_index)], settings.width, settings.height, map_settings,
                                  &edge_times, map_region);

@@ -298,14 +298,14 @@ void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
 }
 
 void VisibilityPass::prepare(int width, int height, const VisibilitySettings& settings,
-                             const std::optional<TileRect>& region) {
+                             const std::optional<TileRect>& region, bool orthographic) {
   if (width <= 0 || height <= 0 || settings.supersample < 1 || settings.supersample > ZZ_MAX_SUPERSAMPLE) return;
   const FlagArea flagged = flag_area(width, height, region);
   if (flagged.want.width() <= 0 || flagged.want.height() <= 0) return;
   const auto [tile_w, tile_h] = tile_size(width, height, settings);
   ensure_targets(target_width(tile_w, settings.supersample), uint32_t(tile_h * settings.supersample + 2));
   ensure_flags(flagged.bytes());
-  flag_pipeline(settings.supersample);
+  flag_pipeline(settings.supersample, orthographic);
 }
 
 void VisibilityPass::ensure_targets(uint32_t width, uint32_t height) {
@@ -482,7 +482,7 @@ GeoMap VisibilityPass::run(const Camera& camera, int width, int height, const Vi
   ensure_targets(f.image_w, f.image_h);
   frame_s_ = f.s;
   VkDevice d = context_.device();
-  const VkPipeline flags_pipeline = flag_pipeline(f.s);
+  const VkPipeline flags_pipeline = flag_pipeline(f.s, f.orthographic);
 
   ensure_flags(flagged.bytes());
   // The tiles' parts inside the area; tile edges are multiples of 4 pixels (but the last).

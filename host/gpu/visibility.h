@@ -103,7 +103,7 @@ class VisibilityPass {
   // ahead keeps that one-off work (allocation, first-touch page faults, pipeline creation)
   // out of run()'s time. Invalid settings are left for run() to report.
   void prepare(int width, int height, const VisibilitySettings& settings = {},
-               const std::optional<TileRect>& region = std::nullopt);
+               const std::optional<TileRect>& region = std::nullopt, bool orthographic = false);
 
   // The raw supersampled id image with its one-sample ring, (width*S + 2) x (height*S + 2)
   // row-major: entry [(gy + 1) * (width*S + 2) + gx + 1] is the triangle index + 1
@@ -167,7 +167,7 @@ class VisibilityPass {
   VkPipeline raster_clip_pipeline();  // visibility_pipelines.cpp
   void destroy_objects() noexcept;  // the pipelines, layouts, descriptors and queries made so far
   // The flag pipeline specialised for S, made on first use.
-  VkPipeline flag_pipeline(int s);  // visibility_pipelines.cpp
+  VkPipeline flag_pipeline(int s, bool orthographic);  // visibility_pipelines.cpp
   // Rasterises `tile` with its own projection; only `area` (pixels inside the tile) and
   // its one-sample ring are cleared and drawn (scissor), the viewport stays the tile's.
   void record_raster(VkCommandBuffer cmd, const Frame& frame, const Tile& tile, const Tile& area);
@@ -195,7 +195,7 @@ class VisibilityPass {
   VkDescriptorSetLayout flag_set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout flag_layout_ = VK_NULL_HANDLE;  // both compute passes
   VkPipeline plane_pipeline_ = VK_NULL_HANDLE;
-  std::map<int, VkPipeline> flag_pipelines_;  // by S
+  std::map<std::pair<int, bool>, VkPipeline> flag_pipelines_;  // by S and camera type
   VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
   VkDescriptorSet flag_set_ = VK_NULL_HANDLE;
   VkQueryPool queries_ = VK_NULL_HANDLE;

@@ -78,12 +78,12 @@ void VisibilityPass::create_pipelines() {
   vk_check(vkAllocateDescriptorSets(d, &alloc, &flag_set_), "vkAllocateDescriptorSets");
 }
 
-VkPipeline VisibilityPass::flag_pipeline(int s) {
-  auto found = flag_pipelines_.find(s);
+VkPipeline VisibilityPass::flag_pipeline(int s, bool orthographic) {
+  auto found = flag_pipelines_.find({s, orthographic});
   if (found != flag_pipelines_.end()) return found->second;
-  const int32_t constants[1] = {s};
-  const VkSpecializationMapEntry entries[1] = {{0, 0, sizeof(int32_t)}};
-  VkSpecializationInfo specialization{1, entries, sizeof(constants), constants};
+  const int32_t constants[2] = {s, orthographic ? 1 : 0};  // S, ORTHOGRAPHIC (a 32-bit bool)
+  const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(int32_t)}, {1, sizeof(int32_t), sizeof(int32_t)}};
+  VkSpecializationInfo specialization{2, entries, sizeof(constants), constants};
   VkComputePipelineCreateInfo compute{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
   compute.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO};
   compute.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
@@ -94,7 +94,7 @@ VkPipeline VisibilityPass::flag_pipeline(int s) {
   VkPipeline pipeline = VK_NULL_HANDLE;
   vk_check(vkCreateComputePipelines(context_.device(), VK_NULL_HANDLE, 1, &compute, nullptr, &pipeline),
            "vkCreateComputePipelines");
-  flag_pipelines_[s] = pipeline;
+  flag_pipelines_[{s, orthographic}] = pipeline;
   return pipeline;
 }
 
