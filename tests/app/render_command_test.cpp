@@ -238,10 +238,10 @@ TEST(RenderCommand, ClippingPlanesCutAwayWhatLiesOutsideThem) {
 }
 
 // A glTF orthographic camera through the real Vulkan path (validation on): a square shows
-// at the same size at any depth. Two emissive squares of side 0.5, one twice as far as the
-// other and turned 30 degrees in the image so that antialiasing matters: with ymag 1 at
-// 64 x 64 a pixel is 1/32 wide, so each covers 16 x 16 = 256 pixels' area, which the
-// adaptive image's summed radiance gives back (a pinhole would shrink the far one 4x).
+// at the same size at any depth. Two emissive squares of side 0.5, one three times as far
+// as the other, turned 30 degrees in the image so that antialiasing matters: with ymag 1
+// at 64 x 64 a pixel is 1/32 wide, so each covers 16 x 16 = 256 pixels' area, which the
+// adaptive image's summed radiance gives back (a pinhole would shrink the far one's 9x).
 TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
   const fs::path dir = temp_dir() / "ortho";
   fs::create_directories(dir);
@@ -258,8 +258,8 @@ TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
     }
     b.node({{"mesh", b.mesh("square", pos, {}, {0, 1, 2, 0, 2, 3}, 4, int(b.doc["materials"].size() - 1))}});
   };
-  square({1, 0, 0}, {-0.45f, 0.013f}, -2.0f);  // 2 in front of the camera... red
-  square({0, 1, 0}, {0.47f, -0.021f}, -6.0f);  // ...and green 6 in front
+  square({1, 0, 0}, {-0.45f, 0.013f}, -2.0f);  // red, 2 in front of the camera
+  square({0, 1, 0}, {0.47f, -0.021f}, -6.0f);  // green, 6 in front
   b.doc["cameras"] = {{{"type", "orthographic"}, {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.0}, {"zfar", 100.0}}}}};
   b.node({{"camera", 0}});
   b.write(dir, "ortho");
