@@ -157,7 +157,7 @@ TEST(OrbitCamera, AnOrthographicOrbitStandsOffBeyondTheScene) {
   EXPECT_NEAR(glm::dot(start.position - plan.position, plan.forward), -63.5f, 1e-3f) << "stood back along the view";
   EXPECT_NEAR(glm::length(glm::cross(start.position - plan.position, plan.forward)), 0.0f, 1e-4f);
   EXPECT_NEAR(start.znear, 65.5f, 1e-3f) << "the near plane stays where it was";
-  orbit.orbit(0.0f, 200.0f, 400);  // half a turn of pitch: towards a side view
+  orbit.orbit(0.0f, 200.0f, 400);  // a quarter turn of pitch: from the plan to a side view
   EXPECT_GE(glm::length(orbit.camera().position), 70.0f) << "the plane stays outside the scene";
   // A pinhole orbits about its focus as before.
   EXPECT_NEAR(orbit_for(Camera::look_at({0, 10, 0}, {0, 0, 0}, {0, 0, -1}, 0.8f), {0, 0, 0}, 70.0f).distance(), 10.0f,
