@@ -211,20 +211,16 @@ VisibilityPass::Frame VisibilityPass::plan(const Camera& camera, int width, int 
   // precision at every t, so znear only decides what is clipped. 1e-15 of the farthest
   // scene point keeps geometry at 1e-4 visible in a 1e7-sized scene, and znear / t stays
   // far above the denormal range.
+  // An orthographic depth is linear instead: from the camera's plane (what lies behind it
+  // is out of view, as for its rays) to beyond the farthest corner of the scene's bounds.
   double dmax = 0.0;
   for (int c = 0; c < 8; ++c) {
     glm::dvec3 corner((c & 1) ? bounds_max_.x : bounds_min_.x, (c & 2) ? bounds_max_.y : bounds_min_.y,
                       (c & 4) ? bounds_max_.z : bounds_min_.z);
     dmax = std::max(dmax, glm::length(corner - glm::dvec3(f.origin)));
-  }
-  f.znear = std::max(dmax * 1e-15, 1e-30);
-  // An orthographic depth is linear: from the camera's plane (what lies behind it is out
-  // of view, as for its rays) to beyond the farthest corner of the scene's bounds.
-  for (int c = 0; c < 8; ++c) {
-    glm::dvec3 corner((c & 1) ? bounds_max_.x : bounds_min_.x, (c & 2) ? bounds_max_.y : bounds_min_.y,
-                      (c & 4) ? bounds_max_.z : bounds_min_.z);
     f.zfar = std::max(f.zfar, 1.01 * (f.view_from_ray * (corner - glm::dvec3(f.origin))).z);
   }
+  f.znear = std::max(dmax * 1e-15, 1e-30);
   if (!(f.zfar > 0.0 && std::isfinite(f.zfar))) f.zfar = 1.0;  // all behind the camera: any range
   // The camera's own planes, only where they cut into the scene: the raster that clips is
   // another pipeline, and a scene between them keeps the plain one's bits.
