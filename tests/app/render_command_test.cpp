@@ -291,8 +291,10 @@ TEST(RenderCommand, AJobsRealCameraCannotMakeTwoOutputsOneFile) {
   b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
   b.doc["cameras"] = nlohmann::json::array();
   for (int i = 0; i < 12; ++i) {
+    std::string name = "c";  // appended: GCC 12 warns falsely (-Wrestrict, PR 105329) on "c" + string
+    name += std::to_string(i);
     b.doc["cameras"].push_back(
-        {{"type", "perspective"}, {"name", "c" + std::to_string(i)}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}});
+        {{"type", "perspective"}, {"name", name}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}});
     b.node({{"camera", i}, {"translation", {0.3 + 0.01 * i, 0.3, 3}}});
   }
   const std::string scene = b.write(dir, "twelve").string();
