@@ -11,6 +11,17 @@
 namespace zz {
 namespace {
 
+// How many of `rays` random rays from `start` into the hemisphere of `side` hit something.
+int hits_leaving(const Bvh& bvh, glm::vec3 start, glm::vec3 side, int rays, std::mt19937& rng) {
+  int hits = 0;
+  for (int k = 0; k < rays; ++k) {
+    glm::vec3 d = test::random_unit(rng);
+    if (glm::dot(d, side) < 0.0f) d = -d;
+    hits += bvh.intersect1(Ray{start, d}).hit();
+  }
+  return hits;
+}
+
 TEST(RayOffset, ErrorBoundScalesWithTheVertices) {
   // A hit at the centroid of a unit triangle placed at distance s from the origin: the
   // bound is ~gamma(8) * s, i.e. a few ULPs of s, whatever the triangle's own size.
@@ -59,12 +70,8 @@ TEST(RayOffset, AnErrorBoundInOneAxisAloneIsCleared) {
     const glm::vec3 side(0.0f, 0.0f, rng() % 2 ? 1.0f : -1.0f);
     const glm::vec3 start = offset_ray_origin(hit, side);
     ASSERT_GT(std::fabs(start.z - hit.p.z), hit.error.z) << z;
-    for (int k = 0; k < 8; ++k) {
-      glm::vec3 d = test::random_unit(rng);
-      if (glm::dot(d, side) < 0.0f) d = -d;
-      ++trials;
-      self_hits += bvh.intersect1(Ray{start, d}).hit();
-    }
+    self_hits += hits_leaving(bvh, start, side, 8, rng);
+    trials += 8;
   }
   EXPECT_EQ(trials, 40000);
   EXPECT_EQ(self_hits, 0);
@@ -102,12 +109,8 @@ TEST(RayOffset, SpawnedRaysNeverHitTheirOwnTriangle) {
     glm::vec3 side = glm::dot(o - hit.p, n) > 0.0f ? n : -n;
     if (rng() % 2) side = -side;
     glm::vec3 start = offset_ray_origin(hit, side);
-    for (int k = 0; k < 4; ++k) {
-      glm::vec3 d = test::random_unit(rng);
-      if (glm::dot(d, side) < 0.0f) d = -d;
-      ++trials;
-      self_hits += bvh.intersect1(Ray{start, d}).hit();
-    }
+    self_hits += hits_leaving(bvh, start, side, 4, rng);
+    trials += 4;
   }
   EXPECT_GT(trials, 60000);
   EXPECT_EQ(self_hits, 0);
