@@ -87,6 +87,29 @@ TEST_F(AtomicFile, NamesAtTheFileSystemsLimitAreWritten) {
   EXPECT_EQ(files(), 5u);
 }
 
+// The form of a cut temporary's name, which the farm's cleanup of killed renders matches
+// (farm/zigzag_farm/runner.py; tests/farm/test_runner.py mirrors this rule and this hash):
+// "." + the stem's first bytes + "~" + FNV-1a of the target's name + ".zz-PID-RANDOM16-N.EXT",
+// exactly NAME_MAX bytes.
+TEST_F(AtomicFile, ACutTemporaryNameEndsWithTheTargetsHash) {
+  const size_t limit = name_max(dir_);
+  ASSERT_EQ(limit, 255u);  // the hash below is of a 250-byte name
+  const std::string name = std::string(245, 'a') + ".json";
+  OutputSet set;  // its temporary lives until the commit
+  write_text_atomically(path(name), "text", &set);
+  std::string temporary;
+  for (const auto& entry : fs::directory_iterator(dir_)) temporary = entry.path().filename().string();
+  const size_t zz = temporary.find(".zz-" + std::to_string(::getpid()) + "-");
+  ASSERT_NE(zz, std::string::npos) << temporary;
+  EXPECT_EQ(temporary.size(), limit);
+  const size_t kept = temporary.size() - (temporary.size() - zz) - 1 - 9;
+  EXPECT_EQ(temporary.substr(0, 1 + kept), "." + std::string(kept, 'a'));
+  EXPECT_EQ(temporary.substr(1 + kept, 9), "~ba5594dc");
+  EXPECT_EQ(temporary.substr(temporary.size() - 5), ".json");
+  set.commit();
+  EXPECT_EQ(read(path(name)), "text");
+}
+
 TEST_F(AtomicFile, AFailedOutputLeavesEveryOutputOfItsSetAsItWas) {
   put(path("image.png"), "old image");
   {

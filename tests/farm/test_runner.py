@@ -31,6 +31,45 @@ def test_stale_temporaries_are_exactly_this_outputs(workdir):
     assert sorted(os.listdir(workdir)) == sorted(others)
 
 
+def zigzag_temporary(target: str, pid: int, token: str, serial: int, limit: int = 255) -> str:
+    """core/atomic_file.cpp's temporary_name, for a name within `limit` bytes: ".STEM" then
+    ".zz-PID-TOKEN-N.EXT", the stem cut and "~FNV1A32" put in its place when too long."""
+    stem, ext = os.path.splitext(target)
+    if target.startswith(".") and stem == "":
+        stem, ext = target, ""
+    suffix = f".zz-{pid}-{token}-{serial}{ext}"
+    if 1 + len(stem.encode()) + len(suffix) > limit:
+        h = 2166136261
+        for c in target.encode():
+            h = ((h ^ c) * 16777619) & 0xFFFFFFFF
+        stem = stem.encode()[:limit - 1 - len(suffix) - 9].decode() + f"~{h:08x}"
+    return "." + stem + suffix
+
+
+def test_stale_temporaries_of_long_names_shortened_by_zigzag_are_cleaned(workdir):
+    """An output name of 100-odd bytes gives job temporaries whose own temporaries zigzag cuts
+    to fit 255 bytes, putting a hash in the cut's place: those of a killed render stayed."""
+    # The mirror agrees with the renderer's own test of this rule (tests/core/atomic_file_test.cpp).
+    pinned = zigzag_temporary("a" * 245 + ".json", "99", "c36ddd58c2531d1b", 0)
+    assert len(pinned) == 255 and pinned[:-len(".zz-99-c36ddd58c2531d1b-0.json")].endswith("a~ba5594dc")
+    stem = "take_" + "x" * 145  # 154 bytes with ".png", within MAX_OUTPUT_NAME
+    out = os.path.join(workdir, stem + ".png")
+    tag = "h" * 64 + "-4242-0123abcd"  # a host name of 64 bytes, the most there is
+    zz = ("99", "c36ddd58c2531d1b")
+    theirs = f".{stem}.{tag}.tmp.png"
+    ours = [zigzag_temporary(theirs, *zz, 0), zigzag_temporary(theirs + ".stats.json", *zz, 1)]
+    assert all(len(n) <= 255 and "~" in n for n in ours)  # the rule above did cut them
+    other = f".{stem}.v2.{tag}.tmp.png"  # {stem}.v2.png's
+    others = [stem + ".png", zigzag_temporary(other, *zz, 2), zigzag_temporary(other + ".stats.json", *zz, 3)]
+    assert all("~" in n for n in others[1:])
+    for name in ours + others:
+        open(os.path.join(workdir, name), "w").close()
+    part = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None, output=out)
+    remove_stale_temporaries(FrameJob(key="f", output=out, stats=None, scene_name="s", frame=None, camera=0,
+                                      parts=(part,), merged=False))
+    assert sorted(os.listdir(workdir)) == sorted(others)
+
+
 def test_the_users_options_come_after_the_drivers():
     """A user's option left without its value at the end took the driver's --threads as its
     value (`-- --assets`: a folder named --threads, and 1 a second scene; review)."""
