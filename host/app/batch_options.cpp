@@ -104,8 +104,8 @@ std::vector<OutputKey> known_jobs(const BatchOptions& o) {
   for (const std::string& scene : o.scenes) {
     const std::string stem = std::filesystem::path(scene).stem().string();
     if (o.all_cameras()) {
-      jobs.push_back({stem, "0", 0});
-      jobs.push_back({stem, "1", 0});
+      jobs.push_back({stem, "0", 0, true});
+      jobs.push_back({stem, "1", 0, true});
     } else {
       jobs.push_back({stem, o.camera, 0});
     }

@@ -158,6 +158,9 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
       const Writer& first = it->second;
       if (first.pattern == &p) {
         const std::string missing = missing_placeholder(p.pattern, *first.job, job);
+        if (missing == "{camera}" && first.job->any_camera && job.any_camera)
+          throw Error(p.option + " " + p.pattern + ": with --camera all, every camera of " + job.scene +
+                      " would write " + path.string() + " (add {camera})");
         throw Error(p.option + " " + p.pattern + ": jobs " + job_name(*first.job, jobs) + " and " +
                     job_name(job, jobs) + " would both write " + path.string() +
                     (missing.empty() ? " (their scene files have the same name)" : " (add " + missing + ")"));

@@ -16,6 +16,9 @@ struct OutputKey {
   std::string scene;
   std::string camera;
   int frame = 0;
+  // One of two cameras that stand for a scene's cameras under --camera all, before the
+  // scene is read (the messages then speak of "every camera", not of cameras 0 and 1).
+  bool any_camera = false;
 };
 
 // Replaces the placeholders; throws zz::Error for an unknown or malformed one

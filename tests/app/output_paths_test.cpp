@@ -58,6 +58,14 @@ TEST(OutputCollisions, NameTheMissingPlaceholder) {
   EXPECT_NE(error_of({{"-o", "{scene}.png"}}, cameras).find("add {camera}"), std::string::npos);
   EXPECT_EQ(error_of({{"-o", "{scene}_{camera}.png"}}, cameras), "");
 
+  // --camera all before the scene is read: its two stand-ins are not cameras the user has.
+  const std::vector<OutputKey> any = {{"room", "0", 0, true}, {"room", "1", 0, true}};
+  EXPECT_EQ(error_of({{"-o", "x.png"}}, any), "-o x.png: with --camera all, every camera of room would write x.png "
+                                              "(add {camera})");
+  // Two scene files of one name under --camera all still say so.
+  const std::vector<OutputKey> twins = {{"room", "0", 0, true}, {"room", "1", 0, true}, {"room", "0", 0, true}};
+  EXPECT_NE(error_of({{"-o", "{camera}.png"}}, twins).find("same name"), std::string::npos);
+
   const std::vector<OutputKey> frames = {{"room", "0", 1}, {"room", "0", 2}};
   EXPECT_NE(error_of({{"-o", "{scene}.png"}}, frames).find("add {frame}"), std::string::npos);
   EXPECT_EQ(error_of({{"-o", "{scene}.{frame:04}.png"}}, frames), "");
