@@ -228,6 +228,9 @@ void VulkanContext::create_instance(const VulkanOptions& options) {
     auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
         vkGetInstanceProcAddr(instance_, "vkCreateDebugUtilsMessengerEXT"));
     if (!create) throw Error("Vulkan: vkCreateDebugUtilsMessengerEXT is unavailable");
+    // The validation features belong to the instance's chain only: this call takes none,
+    // and the layer's complaint about one came before any messenger could count it.
+    messenger.pNext = nullptr;
     vk_check(create(instance_, &messenger, nullptr, &messenger_), "vkCreateDebugUtilsMessengerEXT");
   }
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <string>
 #include <thread>
 #include <vector>
@@ -73,6 +74,24 @@ TEST_F(DeviceTest, BadDeviceIndexIsAUserError) {
   VulkanOptions options;
   options.device_index = 1000;
   EXPECT_THROW(VulkanContext::create(options), Error);
+}
+
+// The layer reports a bad call it sees before any messenger exists (creating the messenger
+// itself) on stdout, where no count sees it: --vk-validate exited 0 with such an error
+// (vkCreateDebugUtilsMessengerEXT got the instance's validation features in its chain).
+TEST_F(DeviceTest, ValidatedSetUpPrintsNothing) {
+  VulkanOptions options;
+  options.validate = true;
+  testing::internal::CaptureStdout();
+  testing::internal::CaptureStderr();
+  {
+    const std::unique_ptr<VulkanContext> validated = VulkanContext::create(options);
+    EXPECT_TRUE(validated->validation_enabled());
+    EXPECT_EQ(validated->validation_message_count(), 0);
+  }
+  const std::string out = testing::internal::GetCapturedStdout(), err = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(out, "");
+  EXPECT_EQ(err, "");
 }
 
 TEST_F(DeviceTest, FindsNoDeviceGracefully) {
