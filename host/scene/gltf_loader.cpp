@@ -673,8 +673,19 @@ struct Loader {
         return;
       }
     }
-    if (znear > 0.0 && std::isfinite(znear)) c.znear = float(znear) * unit;
-    if (zfar > znear && std::isfinite(zfar)) c.zfar = float(zfar) * unit;  // 0: infinite
+    // glTF: znear > 0 (perspective) or >= 0 (orthographic), zfar > znear; 0 is read as no
+    // plane. A negative znear used to set a far plane at 0, clipping the whole view: black.
+    if (!(znear >= 0.0 && std::isfinite(znear))) {
+      ignore_camera(c.name, "has znear " + std::to_string(znear) + " (not >= 0)");
+      return;
+    }
+    if (zfar != 0.0 && !(zfar > znear)) {
+      ignore_camera(c.name, "has zfar " + std::to_string(zfar) + " (not greater than znear " + std::to_string(znear) +
+                                ")");
+      return;
+    }
+    if (znear > 0.0) c.znear = float(znear) * unit;
+    if (zfar > 0.0 && std::isfinite(zfar)) c.zfar = float(zfar) * unit;  // none given: infinite
     scene.cameras.push_back(c);
   }
 

@@ -782,7 +782,7 @@ TEST(GltfLoader, OrthographicCamerasKeepTheirExtentsAndPlanes) {
   }
 }
 
-// A field of view or orthographic extents the renderer cannot use leave the camera out,
+// A field of view, orthographic extents or clipping planes the renderer cannot use leave the camera out,
 // with a warning; the automatic camera (a perspective one) takes its place.
 TEST(GltfLoader, ACameraWithAnImpossibleViewIsIgnored) {
   const std::vector<std::pair<const char*, nlohmann::json>> cameras = {
@@ -792,7 +792,12 @@ TEST(GltfLoader, ACameraWithAnImpossibleViewIsIgnored) {
       {"orthographic", {{"xmag", 1.0}, {"ymag", 0.0}, {"znear", 0.0}, {"zfar", 10}}},
       {"orthographic", {{"xmag", 1.0}, {"ymag", -1.0}, {"znear", 0.0}, {"zfar", 10}}},
       {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.0}, {"zfar", 10}}},
-      {"orthographic", {{"xmag", 1.0}, {"ymag", 1e300}, {"znear", 0.0}, {"zfar", 10}}}};
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1e300}, {"znear", 0.0}, {"zfar", 10}}},
+      // Clipping planes that clip everything (a negative znear rendered black) or nothing.
+      {"perspective", {{"yfov", 0.5}, {"znear", -0.001}}},
+      {"perspective", {{"yfov", 0.5}, {"znear", 2.0}, {"zfar", 1.0}}},
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", -1.0}, {"zfar", 10}}},
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 5.0}, {"zfar", 5.0}}}};
   for (const auto& [type, view] : cameras) {
     SCOPED_TRACE(view.dump());
     GltfBuilder b;
