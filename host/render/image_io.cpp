@@ -135,15 +135,25 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
 
 }  // namespace
 
-bool is_hdr_extension(const std::filesystem::path& path) {
-  const std::string ext = lowercase_extension(path);
-  return ext == ".exr" || ext == ".hdr" || ext == ".pfm";
+namespace {
+
+// The writer OpenImageIO picks for the path's extension ("" for none): by format, not by
+// extension, since the EXR writer also answers to .sxr and .mxr, which took the 8-bit
+// display image (stored as half floats, tagged linear) when only .exr was radiance.
+std::string writer_format(const std::filesystem::path& path) {
+  if (path.extension().empty()) return "";
+  const auto out = OIIO::ImageOutput::create(path.string());
+  return out ? out->format_name() : "";
 }
 
-bool holds_extra_channels(const std::filesystem::path& path) {
-  const std::string ext = lowercase_extension(path);
-  return ext == ".exr";
+}  // namespace
+
+bool is_hdr_extension(const std::filesystem::path& path) {
+  const std::string format = writer_format(path);
+  return format == "openexr" || format == "hdr";
 }
+
+bool holds_extra_channels(const std::filesystem::path& path) { return writer_format(path) == "openexr"; }
 
 bool can_write_image_format(const std::filesystem::path& path) {
   if (path.extension().empty()) return false;
@@ -270,6 +280,12 @@ std::unique_ptr<OIIO::ImageInput> open_film(const std::string& file, FilmFile* f
       spec.full_y != 0 || spec.x < 0 || spec.y < 0 || int64_t(spec.x) + spec.width > spec.full_width ||
       int64_t(spec.y) + spec.height > spec.full_height)
     throw Error(file + ": data window is not inside a display window starting at 0,0");
+  // Every channel as zigzag render writes it: a part converted to half (oiiotool -d half)
+  // merged without a word into a frame that no longer matched the render.
+  for (int c = 0; c < spec.nchannels; ++c)
+    if (spec.channelformat(c) != OIIO::TypeDesc::FLOAT)
+      throw Error(file + ": channel " + std::string(spec.channel_name(c)) + " is " + spec.channelformat(c).c_str() +
+                  ", not the float zigzag render writes (the parts would not merge into the render's values)");
   Film& film = f->film;
   film.width = spec.width;
   film.height = spec.height;

@@ -1,5 +1,6 @@
-// Writing images through OpenImageIO, chosen by extension: .exr/.hdr/.pfm keep linear
-// HDR radiance (float); .png/.jpg/.tif etc. get the tone-mapped display image (8-bit).
+// Writing images through OpenImageIO, by the writer it picks for the extension: OpenEXR's
+// (.exr, .sxr, .mxr) and Radiance's (.hdr, .rgbe) keep linear HDR radiance (float);
+// .png/.jpg/.tif etc. get the tone-mapped display image (8-bit).
 #pragma once
 
 #include <filesystem>
@@ -15,7 +16,7 @@ namespace zz {
 
 bool is_hdr_extension(const std::filesystem::path& path);
 
-// Whether the format holds a film's extra channels (the AOV layers): .exr only.
+// Whether the format holds a film's extra channels (the AOV layers): OpenEXR only.
 bool holds_extra_channels(const std::filesystem::path& path);
 
 // Whether OpenImageIO has a writer for the path's extension.

@@ -185,6 +185,50 @@ TEST_F(FilmMergeTest, PartsWithDifferentChannelsAreRefused) {
   }
 }
 
+// A part converted to half floats (oiiotool -d half) no longer holds the render's values:
+// refused by name before anything merges.
+TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
+  const fs::path p = dir / "p.exr";
+  write_film(p, frame_film({0, 0, 7, 5}), ToneMap{}, {{"camera", "0"}});
+  const FilmFile f = read_film(p);
+  OIIO::ImageSpec spec(7, 5, 5, OIIO::TypeDesc::HALF);
+  spec.channelnames = {"R", "G", "B", "rays", "depth"};
+  spec.attribute("zigzag:exposure", 1.0f);
+  std::vector<float> pixels(7 * 5 * 5, 0.5f);
+  const fs::path half = dir / "half.exr";
+  auto out = OIIO::ImageOutput::create(half.string());
+  ASSERT_TRUE(out && out->open(half.string(), spec));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+  out->close();
+  for (auto read : {&read_film, &read_film_header}) {
+    try {
+      (void)read(half);
+      ADD_FAILURE() << "a half part was read as a film";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("channel R is half, not the float"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_EQ(f.film.channels.size(), 2u);  // the float part reads
+}
+
+// The EXR writer's other names (.sxr, .mxr) get the radiance, as .exr does, and its layers;
+// Radiance's .rgbe gets radiance too. They took the 8-bit display image.
+TEST_F(FilmMergeTest, EveryNameOfAnHdrWriterGetsRadiance) {
+  EXPECT_TRUE(is_hdr_extension("a.sxr"));
+  EXPECT_TRUE(is_hdr_extension("a.MXR"));
+  EXPECT_TRUE(is_hdr_extension("a.rgbe"));
+  EXPECT_TRUE(holds_extra_channels("a.sxr"));
+  EXPECT_FALSE(holds_extra_channels("a.hdr"));
+  EXPECT_FALSE(is_hdr_extension("a.png"));
+  EXPECT_FALSE(is_hdr_extension("a.tif"));
+  EXPECT_FALSE(is_hdr_extension("a"));
+  const Film film = frame_film({0, 0, 7, 5});
+  write_film(dir / "f.sxr", film, ToneMap{});
+  const FilmFile back = read_film(dir / "f.sxr");
+  EXPECT_EQ(back.film.radiance[8], film.radiance[8]);  // 0.1, 0.01, 1/3: not display values
+  EXPECT_EQ(back.film.channels.size(), 2u);
+}
+
 TEST_F(FilmMergeTest, OnlyAnExrHoldsChannels) {
   EXPECT_THROW(write_film(dir / "f.png", frame_film({0, 0, 7, 5}), ToneMap{}), Error);
   EXPECT_THROW(write_film(dir / "f.hdr", frame_film({0, 0, 7, 5}), ToneMap{}), Error);
