@@ -92,18 +92,30 @@ int hex_digit(char c) {
   if (c >= '0' && c <= '9') return c - '0';
   if (c >= 'a' && c <= 'f') return c - 'a' + 10;
   if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-  return 0;  // as tinygltf: a bad digit counts as 0
+  return -1;
 }
 
-// `uri` percent-decoded (RFC 3986 §2.1). `plus_is_space` is tinygltf's reading, an HTML
-// form's: a '+' in a URI is itself ("C++.png"), so only tinygltf's key is made with it.
-std::string percent_decode(const std::string& uri, bool plus_is_space) {
+// How a URI's escapes are read: as tinygltf 2.7 reads them (the key its path callback is
+// called with: '+' as a space, an HTML form's reading, and a bad hex digit as 0), or as
+// the file the URI names (RFC 3986 §2.1: "C++.png" is itself, and a '%' not followed by
+// two hex digits, or one that would decode to a NUL byte, is itself: "grey_50%.png" named
+// "grey_50\0ng", which no file is and which cut the error message short).
+enum class UriReading { Tinygltf, File };
+
+std::string percent_decode(const std::string& uri, UriReading reading) {
+  const bool tinygltf = reading == UriReading::Tinygltf;
   std::string decoded;
   for (size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '+' && plus_is_space) {
+    if (uri[i] == '+' && tinygltf) {
       decoded += ' ';
     } else if (uri[i] == '%' && i + 2 < uri.size()) {
-      decoded += char(hex_digit(uri[i + 1]) << 4 | hex_digit(uri[i + 2]));
+      const int hi = hex_digit(uri[i + 1]), lo = hex_digit(uri[i + 2]);
+      const int byte = tinygltf ? std::max(hi, 0) << 4 | std::max(lo, 0) : hi < 0 || lo < 0 ? 0 : hi << 4 | lo;
+      if (!tinygltf && byte == 0) {
+        decoded += uri[i];
+        continue;
+      }
+      decoded += char(byte);
       i += 2;
     } else {
       decoded += uri[i];
@@ -147,7 +159,7 @@ class UriResolver {
     if (!it->second) throw Error(gltf_.string() + ": URIs '" + ambiguous_[it->first].first + "' and '" +
                                  ambiguous_[it->first].second + "' name different files that tinygltf 2.7 cannot tell apart ('+' and space); rename one");
     std::error_code ec;
-    if (!std::filesystem::exists(*it->second, ec)) missing_.push_back({percent_decode(first_uri_[it->first], true), *it->second});
+    if (!std::filesystem::exists(*it->second, ec)) missing_.push_back({percent_decode(first_uri_[it->first], UriReading::Tinygltf), *it->second});
     return *it->second;
   }
 
@@ -164,7 +176,7 @@ class UriResolver {
   // tinygltf's JoinPath(base_dir, decoded): the key its callback is called with.
   std::string tinygltf_key(const std::string& uri) const {
     const std::string base = gltf_.parent_path().string();
-    const std::string decoded = percent_decode(uri, true);
+    const std::string decoded = percent_decode(uri, UriReading::Tinygltf);
     if (base.empty()) return decoded;
     return base.back() == '/' ? base + decoded : base + "/" + decoded;
   }
@@ -199,7 +211,7 @@ std::string resolve_uri_path(const std::string& tinygltf_path, void* resolver) {
 
 std::optional<std::filesystem::path> external_file(const std::filesystem::path& gltf, const std::string& uri) {
   if (!names_a_file(uri)) return std::nullopt;
-  return gltf.parent_path() / percent_decode(uri, false);
+  return gltf.parent_path() / percent_decode(uri, UriReading::File);
 }
 
 std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf) {

@@ -588,6 +588,29 @@ TEST(GltfLoader, APlusInAUriIsAPlus) {
   expect_error([&] { load_scene(path, kQuiet); }, "C++.bin");
 }
 
+// A '%' that starts no escape is itself: "grey_50%.png" was read as "grey_50\0ng" (a bad
+// hex digit taken as 0), a file that is never there, whose NUL cut the error message short;
+// "t%3x5" read as "t05". An escape of a NUL byte stays as written too.
+TEST(GltfLoader, APercentThatStartsNoEscapeIsAPercent) {
+  EXPECT_EQ(gltf::external_file("a/s.gltf", "grey_50%.png"), std::filesystem::path("a/grey_50%.png"));
+  EXPECT_EQ(gltf::external_file("a/s.gltf", "t%3x5.png"), std::filesystem::path("a/t%3x5.png"));
+  EXPECT_EQ(gltf::external_file("a/s.gltf", "a%2.png"), std::filesystem::path("a/a%2.png"));
+  EXPECT_EQ(gltf::external_file("a/s.gltf", "n%00.png"), std::filesystem::path("a/n%00.png"));
+  EXPECT_EQ(gltf::external_file("a/s.gltf", "%41%2541.png"), std::filesystem::path("a/A%41.png"));
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos)}});
+  const auto dir = test::temp_dir("percent");
+  const auto path = b.write(dir, "buf_100%");
+  ASSERT_EQ(nlohmann::json::parse(test::read_text(path))["buffers"][0]["uri"], "buf_100%.bin");
+  const Scene s = load_scene(path, kQuiet);
+  EXPECT_EQ(s.triangle_count(), 1u);
+  ASSERT_EQ(s.source_files.size(), 2u);
+  EXPECT_EQ(s.source_files[1], (dir / "buf_100%.bin").string());
+  // Missing, it is named whole.
+  std::filesystem::remove(dir / "buf_100%.bin");
+  expect_error([&] { load_scene(path, kQuiet); }, "buf_100%.bin");
+}
+
 // Two URIs tinygltf would read as one name ("a+b" and "a%20b") cannot both be loaded
 // through it; the load says so rather than reading one file for both.
 TEST(GltfLoader, UrisTinygltfCannotTellApartAreAnError) {
