@@ -4,6 +4,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -41,9 +43,34 @@ uint64_t resident_bytes() {
   return resident * uint64_t(sysconf(_SC_PAGESIZE));
 }
 
-uint64_t available_bytes() {
-  uint64_t budget = 0;
-  auto tighten = [&](uint64_t b) { budget = budget == 0 ? b : std::min(budget, b); };
+uint64_t parse_memory_limit(const std::string& text) {
+  const auto bad = [&] {
+    return UsageError("ZIGZAG_MEMORY_LIMIT=" + text +
+                      ": not a memory size (bytes, or a whole number with K, M, G or T: powers of 1024, as 4G)");
+  };
+  uint64_t value = 0;
+  const char* const end = text.data() + text.size();
+  const auto [next, ec] = std::from_chars(text.data(), end, value);
+  if (ec != std::errc() || next == text.data() || value == 0) throw bad();
+  std::string unit(next, end);
+  if (unit.size() == 3 && unit.compare(1, 2, "iB") == 0) unit.resize(1);  // KiB, MiB, GiB, TiB
+  int shift = 0;
+  if (unit == "K") shift = 10;
+  else if (unit == "M") shift = 20;
+  else if (unit == "G") shift = 30;
+  else if (unit == "T") shift = 40;
+  else if (!unit.empty()) throw bad();
+  if (value > (UINT64_MAX >> shift)) throw bad();
+  return value << shift;
+}
+
+MemoryBudget memory_budget() {
+  MemoryBudget budget;
+  auto tighten = [&](uint64_t b, const std::string& by) {
+    if (budget.bytes != 0 && b >= budget.bytes) return;
+    budget.bytes = b;
+    budget.bound_by = by;
+  };
   std::ifstream meminfo("/proc/meminfo");
   std::string key;
   uint64_t value;
@@ -51,7 +78,7 @@ uint64_t available_bytes() {
   while (meminfo >> key >> value) {
     std::getline(meminfo, unit);
     if (key == "MemAvailable:") {
-      tighten(value * 1024);
+      tighten(value * 1024, "the memory the system has available");
       break;
     }
   }
@@ -61,23 +88,23 @@ uint64_t available_bytes() {
     uint64_t mapped = 0;
     std::ifstream statm("/proc/self/statm");
     if (statm >> mapped) mapped *= 4096;
-    tighten(uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 1);
+    tighten(uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 1,
+            "the address-space limit, ulimit -v, less what is mapped");
   }
-  if (const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT")) {
-    char* end = nullptr;
-    const unsigned long long b = std::strtoull(env, &end, 10);
-    if (end != env && b > 0) tighten(b);
-  }
+  if (const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT"))
+    tighten(parse_memory_limit(env), std::string("ZIGZAG_MEMORY_LIMIT=") + env);
   return budget;
 }
 
+uint64_t available_bytes() { return memory_budget().bytes; }
+
 void check_memory(uint64_t needed, const char* what) {
-  const uint64_t available = available_bytes();
-  if (available == 0 || needed <= available) return;
+  const MemoryBudget budget = memory_budget();
+  if (budget.bytes == 0 || needed <= budget.bytes) return;
   char msg[256];
   std::snprintf(msg, sizeof msg, "%s needs about %.2f GiB of memory but only %.2f GiB is available", what,
-                double(needed) / double(1ull << 30), double(available) / double(1ull << 30));
-  throw Error(msg);
+                double(needed) / double(1ull << 30), double(budget.bytes) / double(1ull << 30));
+  throw Error(std::string(msg) + " (" + budget.bound_by + ")");
 }
 
 }  // namespace zz

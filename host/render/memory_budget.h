@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 
 namespace zz {
 
@@ -22,11 +23,22 @@ uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, co
 // The process's resident memory now (/proc/self/statm); 0 if unknown.
 uint64_t resident_bytes();
 
-// Memory the process may still use: the smaller of MemAvailable (/proc/meminfo),
-// RLIMIT_AS headroom and $ZIGZAG_MEMORY_LIMIT (bytes), if set. 0 if unknown.
+// $ZIGZAG_MEMORY_LIMIT's value: bytes, or a whole number with K, M, G or T (KiB, MiB, GiB,
+// TiB also read: powers of 1024). Throws zz::UsageError naming the variable for anything
+// else ("4GB", "2e9", "-5", "0"), which strtoull had read as 4, 2, a huge number or no limit.
+uint64_t parse_memory_limit(const std::string& text);
+
+// Memory the process may still use: the smallest of MemAvailable (/proc/meminfo), RLIMIT_AS
+// headroom and $ZIGZAG_MEMORY_LIMIT, if set (bytes 0 if unknown), and which of them it is.
+struct MemoryBudget {
+  uint64_t bytes = 0;
+  std::string bound_by;
+};
+MemoryBudget memory_budget();
 uint64_t available_bytes();
 
-// Throws zz::Error naming the need and the budget when `needed` exceeds what is available.
+// Throws zz::Error naming the need, the budget and what sets it when `needed` exceeds what
+// is available.
 void check_memory(uint64_t needed, const char* what);
 
 }  // namespace zz

@@ -296,7 +296,13 @@ TEST_F(Cli, MemoryLimitFromTheEnvironmentIsHonoured) {
   robust::ChildOptions opt;
   opt.env = {{"ZIGZAG_MEMORY_LIMIT", std::to_string(64u << 20)}};
   const robust::ChildResult r = render({path("good.json").string(), "--width", "4096", "--height", "4096", "-q"}, opt);
-  expect_clean_failure(r, "good.png", "memory");
+  expect_clean_failure(r, "good.png", "(ZIGZAG_MEMORY_LIMIT=67108864)");
+  // A value that is no memory size is refused before anything loads, naming the variable
+  // (strtoull read "4GB" as 4 bytes: every render failed for want of memory).
+  opt.env = {{"ZIGZAG_MEMORY_LIMIT", "4GB"}};
+  const robust::ChildResult bad = render({path("good.json").string(), "--width", "64", "-q"}, opt);
+  expect_clean_failure(bad, "good.png", "ZIGZAG_MEMORY_LIMIT=4GB: not a memory size");
+  EXPECT_EQ(bad.exit_code, kUsageExit);
 }
 
 // A merge holds the frame and one part at a time: it read every part before merging, 3.3x

@@ -1,0 +1,64 @@
+// The memory budget a frame is checked against, and $ZIGZAG_MEMORY_LIMIT's reading.
+#include "render/memory_budget.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <string>
+
+#include "core/error.h"
+
+namespace zz {
+namespace {
+
+TEST(MemoryLimit, BytesOrAWholeNumberOfBinaryUnits) {
+  EXPECT_EQ(parse_memory_limit("1073741824"), 1ull << 30);
+  EXPECT_EQ(parse_memory_limit("64M"), 64ull << 20);
+  EXPECT_EQ(parse_memory_limit("4G"), 4ull << 30);
+  EXPECT_EQ(parse_memory_limit("4GiB"), 4ull << 30);
+  EXPECT_EQ(parse_memory_limit("512K"), 512ull << 10);
+  EXPECT_EQ(parse_memory_limit("2T"), 2ull << 40);
+  EXPECT_EQ(parse_memory_limit("18446744073709551615"), ~0ull);
+}
+
+// strtoull read "4G" as 4 bytes (every render then failed for want of memory), "2e9" as 2,
+// and took "abc", "-5" (a huge number) and "100000000x" without a word.
+TEST(MemoryLimit, AnythingElseIsRefusedNamingTheVariable) {
+  for (const char* bad : {"4GB", "8gb", "2e9", "1.5G", "abc", "-5", "+5", " 5", "5 ", "100000000x", "0", "0G", "", "G",
+                          "99999999999999999999", "17179869184G"}) {
+    SCOPED_TRACE(bad);
+    try {
+      (void)parse_memory_limit(bad);
+      ADD_FAILURE() << "accepted";
+    } catch (const UsageError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("ZIGZAG_MEMORY_LIMIT=") + bad + ": not a memory size"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+// The need is compared with the smallest bound, and the message says which one it is.
+TEST(MemoryLimit, TheRefusalSaysWhatSetsTheBudget) {
+  const char* saved = std::getenv("ZIGZAG_MEMORY_LIMIT");
+  const std::string keep = saved ? saved : "";
+  setenv("ZIGZAG_MEMORY_LIMIT", "1M", 1);
+  const MemoryBudget budget = memory_budget();
+  EXPECT_EQ(budget.bytes, 1u << 20);
+  EXPECT_EQ(budget.bound_by, "ZIGZAG_MEMORY_LIMIT=1M");
+  EXPECT_NO_THROW(check_memory(1u << 20, "a frame"));
+  try {
+    check_memory((1u << 20) + 1, "a frame");
+    ADD_FAILURE() << "a need over the budget passed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("(ZIGZAG_MEMORY_LIMIT=1M)"), std::string::npos) << e.what();
+  }
+  setenv("ZIGZAG_MEMORY_LIMIT", "4GB", 1);
+  EXPECT_THROW((void)memory_budget(), UsageError);
+  if (saved) setenv("ZIGZAG_MEMORY_LIMIT", keep.c_str(), 1);
+  else unsetenv("ZIGZAG_MEMORY_LIMIT");
+  if (!saved) EXPECT_EQ(memory_budget().bound_by.find("ZIGZAG"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace zz
