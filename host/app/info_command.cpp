@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "core/error.h"
 #include "app/option_checks.h"
 #include "app/commands.h"
 #include "scene/camera_select.h"
@@ -102,8 +103,9 @@ void add_info_command(CLI::App& app, int& exit_code) {
         all.push_back(scene_info(path, *o));
         if (!o->json) print_human(all.back());
       } catch (const std::exception& e) {
-        std::fprintf(stderr, "zigzag: error: %s\n", e.what());
-        all.push_back({{"path", path}, {"error", e.what()}});
+        const std::string what = error_text(e);
+        std::fprintf(stderr, "zigzag: error: %s\n", what.c_str());
+        all.push_back({{"path", path}, {"error", what}});
         ++failed;
       }
     }

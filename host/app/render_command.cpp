@@ -123,7 +123,7 @@ struct JobTally {
 
   // `where` names the job ("scene.json: camera 1") unless the message starts with it.
   void fail(const std::string& where, const std::exception& e) {
-    const std::string what = e.what();
+    const std::string what = error_text(e);
     const bool named = where.empty() || what.rfind(where, 0) == 0;
     std::fprintf(stderr, "zigzag: error: %s%s\n", named ? "" : (where + ": ").c_str(), what.c_str());
     ++failed;

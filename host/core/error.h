@@ -2,6 +2,7 @@
 // and the process exits non-zero. Programming errors stay asserts.
 #pragma once
 
+#include <new>
 #include <stdexcept>
 #include <string>
 
@@ -30,6 +31,15 @@ void as_usage_checks(F&& checks) {
   } catch (const Error& e) {
     throw UsageError(e.what());
   }
+}
+
+// What an error says to the user: an allocation that failed is said to be out of memory,
+// not "std::bad_alloc" (a scene or frame under ulimit -v).
+inline std::string error_text(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e))
+    return "out of memory (an allocation failed; the limits are the memory available, ulimit -v and "
+           "$ZIGZAG_MEMORY_LIMIT)";
+  return e.what();
 }
 
 }  // namespace zz

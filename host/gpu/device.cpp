@@ -1,5 +1,7 @@
 #include "gpu/device.h"
 
+#include <sys/resource.h>
+
 #include <cstdio>
 #include <cstring>
 #include <mutex>
@@ -16,9 +18,21 @@ std::string or_without_vulkan(const VulkanOptions& o) {
   return o.without_vulkan.empty() ? "" : " or " + o.without_vulkan;
 }
 
+// "ulimit -v N" when the process has an address-space limit, else "": lavapipe that cannot
+// map its memory under one lists no device or fails to create it (VK_ERROR_UNKNOWN), and
+// the install hint alone sent users with the driver installed to reinstall it.
+std::string address_space_limit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return "";
+  return "ulimit -v " + std::to_string(limit.rlim_cur / 1024);
+}
+
 std::string no_device(const VulkanOptions& o) {
-  return "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` (lavapipe, CPU)" +
-         or_without_vulkan(o);
+  std::string why = "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` (lavapipe, CPU)" +
+                    or_without_vulkan(o);
+  if (const std::string limit = address_space_limit(); !limit.empty())
+    why += "; with the driver installed, the address-space limit (" + limit + ") may be too small for it";
+  return why;
 }
 
 std::string no_loader(const VulkanOptions& o) {
@@ -126,9 +140,16 @@ const char* vk_result_name(VkResult r) {
 }
 
 void vk_check(VkResult result, const char* what) {
-  if (result != VK_SUCCESS)
-    throw Error(std::string("Vulkan: ") + what + " failed (" + vk_result_name(result) + " " +
-                std::to_string(int(result)) + ")");
+  if (result == VK_SUCCESS) return;
+  std::string why = std::string("Vulkan: ") + what + " failed (" + vk_result_name(result) + " " +
+                    std::to_string(int(result)) + ")";
+  const bool memory = result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  if (const std::string limit = address_space_limit();
+      !limit.empty() && (memory || result == VK_ERROR_UNKNOWN || result == VK_ERROR_INITIALIZATION_FAILED))
+    why += "; the address-space limit (" + limit + ") may be too small for the Vulkan driver";
+  else if (memory)
+    why += ": out of memory";
+  throw Error(why);
 }
 
 std::unique_ptr<VulkanContext> VulkanContext::create(const VulkanOptions& options) {

@@ -91,14 +91,18 @@ std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, 
   };
   tinygltf::Image img;
   if (encoded.as_is) {
-    if (const std::optional<EncodedSize> size = encoded_size(encoded.image);
-        size && too_big(size->width, size->height, size->bits))
-      return std::nullopt;
+    const std::optional<EncodedSize> size = encoded_size(encoded.image);
+    if (size && too_big(size->width, size->height, size->bits)) return std::nullopt;
     std::string err, warning;
     if (encoded.image.empty() || encoded.image.size() > size_t(INT32_MAX) ||
         !tinygltf::LoadImageData(&img, source, &err, &warning, 0, 0, encoded.image.data(),
                                  int(encoded.image.size()), nullptr)) {
       *why = label + " could not be decoded";
+      // A header that reads is a PNG or JPEG whose data is damaged, or whose decode found no
+      // memory (under ulimit -v a sound image failed here, said to be undecodable).
+      if (size)
+        *why += ": a " + std::to_string(size->width) + "x" + std::to_string(size->height) +
+                " image whose data is damaged, or memory ran out decoding it";
       return std::nullopt;
     }
   } else {

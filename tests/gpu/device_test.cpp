@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <memory>
 #include <string>
@@ -105,6 +106,25 @@ TEST_F(DeviceTest, FindsNoDeviceGracefully) {
     ADD_FAILURE() << "expected zz::Error";
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("mesa-vulkan-drivers"), std::string::npos) << e.what();
+    rlimit limit{};
+    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur == RLIM_INFINITY)
+      EXPECT_EQ(std::string(e.what()).find("ulimit"), std::string::npos) << e.what();
+  }
+  // Under an address-space limit (here one too large to bind) a driver may fail to start:
+  // the message says so beside the install hint, which alone sent users with lavapipe
+  // installed to install it again.
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &old), 0);
+  rlimit finite = old;
+  finite.rlim_cur = old.rlim_max == RLIM_INFINITY ? RLIM_INFINITY - 1 : old.rlim_max;
+  if (finite.rlim_cur != RLIM_INFINITY && setrlimit(RLIMIT_AS, &finite) == 0) {
+    try {
+      VulkanContext::create({});
+      ADD_FAILURE() << "expected zz::Error";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("the address-space limit (ulimit -v "), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(setrlimit(RLIMIT_AS, &old), 0);
   }
   if (saved) setenv("VK_DRIVER_FILES", keep.c_str(), 1);
   else unsetenv("VK_DRIVER_FILES");

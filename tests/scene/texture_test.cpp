@@ -347,6 +347,33 @@ TEST(Texture, LargeTexturesLoadAndHeadersBeyondTheLimitAreRefusedBeforeDecoding)
             std::string::npos);
 }
 
+// An image that does not decode says what it is where its header reads: a sound PNG whose
+// decode ran out of memory (under ulimit -v) was called undecodable, nothing more.
+TEST(Texture, AnImageThatDoesNotDecodeSaysWhatItsHeaderClaims) {
+  auto dir = test::temp_dir("damaged");
+  std::vector<unsigned char> grey(size_t(64) * 48, 90);
+  auto out = OIIO::ImageOutput::create((dir / "whole.png").string());
+  ASSERT_TRUE(out && out->open((dir / "whole.png").string(), OIIO::ImageSpec(64, 48, 1, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, grey.data()));
+  out->close();
+  const std::string png = test::read_text(dir / "whole.png");
+  test::write_text(dir / "cut.png", png.substr(0, 40));  // the header and a little of the data
+  test::write_text(dir / "noise.png", "not an image at all");
+  auto error_of = [&](const char* uri) {
+    try {
+      load_emissive_textured(dir, uri);
+      return std::string("no error");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+  };
+  const std::string cut = error_of("cut.png"), noise = error_of("noise.png");
+  EXPECT_NE(cut.find("'cut.png' could not be decoded: a 64x48 image whose data is damaged, or memory ran out"),
+            std::string::npos) << cut;
+  EXPECT_NE(noise.find("'noise.png' could not be decoded (--allow-missing-textures"), std::string::npos) << noise;
+  EXPECT_EQ(load_emissive_textured(dir, "whole.png").textures.size(), 1u);
+}
+
 // A texture the file names but the loader cannot use (its image missing, or the texture
 // or its source out of range) is an error naming it, as a missing file is; allowed
 // (--allow-missing-textures), the material is rendered without it.
