@@ -18,6 +18,8 @@
 #include <limits>
 #include <vector>
 #include <optional>
+#include <set>
+#include <string>
 #include <utility>
 
 #include "core/error.h"
@@ -271,6 +273,60 @@ size_t find_json_number(const std::string& text, const std::string& number) {
 
 constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
 
+// Refuses a key given twice in one object, naming where ("lights[2]"): nlohmann keeps the
+// last, so a repeated "exposure" or "lights" silently replaced the first, against the rule
+// that a rig never falls back without a word (its unknown keys are refused too).
+class UniqueKeys {
+ public:
+  explicit UniqueKeys(std::string file) : file_(std::move(file)) {}
+  bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+      case json::parse_event_t::array_start:
+        frames_.push_back({event == json::parse_event_t::object_start, {}, {}, 0, child_label()});
+        break;
+      case json::parse_event_t::key: {
+        Frame& object = frames_.back();
+        object.last_key = parsed.get<std::string>();
+        if (!object.keys.insert(object.last_key).second)
+          throw Error(file_ + ": " + (path().empty() ? "" : path() + ": ") + "key \"" + object.last_key +
+                      "\" given twice (one value per key)");
+        break;
+      }
+      case json::parse_event_t::value:
+        if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+        break;
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        frames_.pop_back();
+        if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool object;
+    std::set<std::string> keys;
+    std::string last_key;
+    size_t index;
+    std::string label;  // how its parent reaches it: "lights" or "[2]"
+  };
+  std::string child_label() const {
+    if (frames_.empty()) return "";
+    const Frame& parent = frames_.back();
+    return parent.object ? parent.last_key : "[" + std::to_string(parent.index) + "]";
+  }
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : frames_) p += f.label.empty() || f.label[0] == '[' || p.empty() ? f.label : "." + f.label;
+    return p;
+  }
+  std::string file_;
+  std::vector<Frame> frames_;
+};
+
 json parse_rig_file(const fs::path& path) {
   const std::string file = path.string();
   // Not a device or a pipe (a rig linked to /dev/zero read until memory ran out).
@@ -279,7 +335,7 @@ json parse_rig_file(const fs::path& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(file + ":1:1: invalid JSON: the file is empty");
   try {
-    return json::parse(text);
+    return json::parse(text, UniqueKeys(file));
   } catch (const json::parse_error& e) {
     throw_json_error(file, text, e.byte, e.what());
   } catch (const json::exception& e) {

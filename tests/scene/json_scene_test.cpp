@@ -181,6 +181,26 @@ TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
   EXPECT_NE(r.error(R"({"model": "model.gltf", "materials_override": {"nosuch": {}}})").find("nosuch"), std::string::npos);
 }
 
+// nlohmann keeps a repeated key's last value: a second "exposure" replaced the first and a
+// second "lights": [] dropped every light, without a word.
+TEST(JsonScene, AKeyGivenTwiceIsAnErrorNamingWhere) {
+  Rig r("twice");
+  const std::string rig = (r.dir / "rig.json").string();
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "exposure": 2, "exposure": 3})"),
+            rig + ": key \"exposure\" given twice (one value per key)");
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0]}], "lights": []})"),
+            rig + ": key \"lights\" given twice (one value per key)");
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0]},
+                       {"position": [0,2,0], "intensity": 1, "intensity": 2}]})"),
+            rig + ": lights[1]: key \"intensity\" given twice (one value per key)");
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"metallic": 1, "metallic": 0}}})"),
+            rig + ": materials_override.paint: key \"metallic\" given twice (one value per key)");
+  // The same key in sibling objects, or as a string value, is no repeat.
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0], "intensity": 1},
+                       {"position": [0,2,0], "intensity": 2}], "name": "intensity"})"),
+            "");
+}
+
 TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
   Rig r("bad");
   for (const char* json : {R"({"model": "model.gltf", "max_depth": 17})", R"({"model": "model.gltf", "exposure": "x"})",
