@@ -65,7 +65,8 @@ void add_batch_options(CLI::App* cmd, BatchOptions& o) {
   add_render_options(cmd, o.render);
   cmd->add_option("--region", o.region,
                   "Render only pixels X0,Y0,X1,Y1 (half-open): an EXR keeps the frame as display window, a PNG "
-                  "is region-sized; parts merge with `zigzag merge`");
+                  "is region-sized; parts merge with `zigzag merge`")
+      ->check(non_empty("--region"));  // an empty value rendered the whole frame
   cmd->add_flag("-q,--quiet", o.quiet, "No progress or summary on stderr");
 }
 

@@ -191,8 +191,13 @@ struct Loader {
     SamplerState sampler;
     if (g.sampler >= 0 && size_t(g.sampler) < model.samplers.size()) {
       const tinygltf::Sampler& gs = model.samplers[size_t(g.sampler)];
-      sampler = {wrap_of(gs.wrapS), wrap_of(gs.wrapT),
+      const std::string where = "sampler " + std::to_string(g.sampler);
+      sampler = {wrap_of(gs.wrapS, where + " wrapS"), wrap_of(gs.wrapT, where + " wrapT"),
                  gs.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? TextureFilter::Nearest : TextureFilter::Linear};
+    } else if (g.sampler >= 0) {
+      warn_unsupported("sampler " + std::to_string(g.sampler), "texture " + std::to_string(index) + ": sampler " +
+                                                                   std::to_string(g.sampler) +
+                                                                   " out of range, the default used (repeat, linear)");
     }
     auto key = std::make_tuple(source, srgb, sampler.wrap_s, sampler.wrap_t, sampler.filter);
     if (auto it = texture_of_image.find(key); it != texture_of_image.end()) return it->second;
@@ -212,9 +217,11 @@ struct Loader {
     TextureWrap wrap_s = TextureWrap::Repeat, wrap_t = TextureWrap::Repeat;
     TextureFilter filter = TextureFilter::Linear;
   };
-  static TextureWrap wrap_of(int gl) {
+  TextureWrap wrap_of(int gl, const std::string& where) {
     if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return TextureWrap::ClampToEdge;
     if (gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return TextureWrap::MirroredRepeat;
+    if (gl != TINYGLTF_TEXTURE_WRAP_REPEAT)
+      warn_unsupported(where, where + " " + std::to_string(gl) + " is no glTF wrap mode (33071, 33648, 10497), repeat used");
     return TextureWrap::Repeat;
   }
 
@@ -308,6 +315,8 @@ struct Loader {
       m.normal_scale = float(g.normalTexture.scale);
       if (g.alphaMode == "MASK") m.alpha_mode = AlphaMode::Mask;
       else if (g.alphaMode == "BLEND") m.alpha_mode = AlphaMode::Blend;
+      else if (g.alphaMode != "OPAQUE" && !g.alphaMode.empty())
+        warn("material '" + g.name + "': alphaMode '" + g.alphaMode + "' is none of OPAQUE, MASK, BLEND; read as OPAQUE");
       m.alpha_cutoff = float(g.alphaCutoff);
       m.emissive = vec3_of(g.emissiveFactor, glm::vec3(0.0f));
       if (const auto* e = extension(g.extensions, "KHR_materials_emissive_strength"))
@@ -364,7 +373,7 @@ struct Loader {
       if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
           mode != TINYGLTF_MODE_TRIANGLE_FAN) {
         warn(mesh_name + " primitive " + std::to_string(p) + ": mode " + std::to_string(mode) +
-             " (points/lines) skipped");
+             (mode >= 0 && mode <= 3 ? " (points/lines) skipped" : " (no glTF mode: 0-6) skipped"));
         continue;
       }
       auto attr = [&](const char* name) {
@@ -403,6 +412,18 @@ struct Loader {
       const std::vector<float> nrm = optional_attribute("NORMAL", 3);
       const std::vector<float> uv = optional_attribute("TEXCOORD_0", 2);
       const std::vector<float> uv1 = uses_texcoord1 ? optional_attribute("TEXCOORD_1", 2) : std::vector<float>{};
+      {
+        // A texture read through a set the primitive lacks shows its texel at (0, 0) all over.
+        const Material& m = scene.materials[material];
+        for (const TextureRef* ref : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture,
+                                      &m.normal_texture, &m.transmission_texture})
+          if (ref->used() && (ref->texcoord == 1 ? uv1 : uv).empty()) {
+            warn_unsupported(mesh_name + " TEXCOORD_" + std::to_string(ref->texcoord),
+                             mesh_name + " primitive " + std::to_string(p) + ": material '" + m.name + "' reads TEXCOORD_" +
+                                 std::to_string(ref->texcoord) + ", which the primitive lacks: its textures are read at (0, 0)");
+            break;
+          }
+      }
       // Without NORMAL the file's tangents MUST be ignored (glTF 3.7.2.1): flat normals, and
       // tangents from the UV gradients.
       const std::vector<float> tangent =

@@ -157,6 +157,12 @@ TEST_F(RegionTest, BadRegionsAreOneLineErrors) {
     EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
     EXPECT_FALSE(fs::exists(dir / "x.exr"));
   }
+  // An empty value rendered the whole frame as if no --region were given.
+  const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
+                                   kFrame + "--edges off -q --region '' -o " + (dir / "x.exr").string());
+  EXPECT_EQ(r.exit_code, kUsageExit) << r.output;
+  EXPECT_NE(r.output.find("--region must not be empty"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "x.exr"));
 }
 
 TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {

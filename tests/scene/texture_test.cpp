@@ -374,6 +374,51 @@ TEST(Texture, AnImageThatDoesNotDecodeSaysWhatItsHeaderClaims) {
   EXPECT_EQ(load_emissive_textured(dir, "whole.png").textures.size(), 1u);
 }
 
+// What a file asks of textures that the loader reads otherwise is said, not silently
+// replaced: a sampler index out of range, a wrap mode that is none of glTF's, an alphaMode
+// that is none of the three, a TEXCOORD set the primitive lacks (every point then reads
+// the texel at (0, 0)); and a primitive mode beyond glTF's 0-6 is not "points/lines".
+TEST(Texture, WhatTheLoaderReadsOtherwiseIsSaid) {
+  auto dir = test::temp_dir("said");
+  const unsigned char pixel[] = {90, 255};
+  ASSERT_NO_FATAL_FAILURE(write_grey_alpha_png(dir / "t.png", 1, OIIO::TypeDesc::UINT8, pixel));
+  auto warnings = [&](const nlohmann::json& texture, const nlohmann::json& material, bool with_uv, int mode = 4) {
+    test::GltfBuilder b;
+    b.doc["images"] = {{{"uri", "t.png"}}};
+    b.doc["samplers"] = {{{"wrapS", 1234}, {"wrapT", 10497}}};
+    b.doc["textures"] = {texture};
+    b.doc["materials"] = {material};
+    b.node({{"mesh", b.mesh("tri", test::kTriPos, {}, {}, 4, 0, with_uv ? std::vector<float>{0, 0, 1, 0, 0, 1}
+                                                                          : std::vector<float>{})}});
+    if (mode != 4) b.node({{"mesh", b.mesh("odd", test::kTriPos, {}, {}, mode)}});
+    testing::internal::CaptureStderr();
+    load_scene(b.write(dir), LoadOptions{{}, false});
+    return testing::internal::GetCapturedStderr();
+  };
+  const nlohmann::json plain = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}};
+  const std::string none = warnings({{"source", 0}}, plain, true);
+  EXPECT_EQ(none.find("sampler"), std::string::npos) << none;
+  EXPECT_EQ(none.find("TEXCOORD"), std::string::npos) << none;
+  EXPECT_NE(warnings({{"source", 0}, {"sampler", 5}}, plain, true)
+                .find("texture 0: sampler 5 out of range, the default used (repeat, linear)"),
+            std::string::npos);
+  EXPECT_NE(warnings({{"source", 0}, {"sampler", 0}}, plain, true)
+                .find("sampler 0 wrapS 1234 is no glTF wrap mode (33071, 33648, 10497), repeat used"),
+            std::string::npos);
+  nlohmann::json odd = plain;
+  odd["alphaMode"] = "FOO";
+  odd["name"] = "odd";
+  EXPECT_NE(warnings({{"source", 0}}, odd, true).find("material 'odd': alphaMode 'FOO' is none of OPAQUE, MASK, BLEND"),
+            std::string::npos);
+  EXPECT_NE(warnings({{"source", 0}}, plain, false).find("reads TEXCOORD_0, which the primitive lacks"),
+            std::string::npos);
+  nlohmann::json second = {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"texCoord", 1}}}}}};
+  EXPECT_NE(warnings({{"source", 0}}, second, true).find("reads TEXCOORD_1, which the primitive lacks"),
+            std::string::npos);
+  EXPECT_NE(warnings({{"source", 0}}, plain, true, 7).find("mode 7 (no glTF mode: 0-6) skipped"), std::string::npos);
+  EXPECT_NE(warnings({{"source", 0}}, plain, true, 1).find("mode 1 (points/lines) skipped"), std::string::npos);
+}
+
 // A texture the file names but the loader cannot use (its image missing, or the texture
 // or its source out of range) is an error naming it, as a missing file is; allowed
 // (--allow-missing-textures), the material is rendered without it.
