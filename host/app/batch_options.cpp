@@ -123,7 +123,7 @@ void validate(const BatchOptions& o) {
       throw Error("--aov " + a.name + " without a file adds channels to the -o image, which must be an .exr (-o " +
                   o.output_pattern() + ")" +
                   (has_heatmap(a.aov) ? "; or give a file: --aov " + a.name + " FILE.png" : std::string()));
-    if (!a.layers() && has_heatmap(a.aov) && is_hdr_extension(a.file))
+    if (!a.layers() && has_heatmap(a.aov) && writes_radiance(a.file))
       throw Error("--aov " + a.name + " " + a.file + ": the heatmap is a display image (8-bit colours), not "
                   "radiance; write it as .png, or give --aov " + a.name + " without a file for the raw channel in "
                   "an -o .exr");

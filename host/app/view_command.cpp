@@ -46,7 +46,7 @@ struct ViewOptions {
 void check_screenshot(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
   preflight_output(option, path, true);
   check_not_an_input(option, path, inputs, "a file of the scene,");
-  if (is_hdr_extension(path))
+  if (writes_radiance(path))
     throw Error(option + " " + path + ": a screenshot is the 8-bit display image (.png, .jpg, .tif, ...); for "
                 "linear radiance use `zigzag render -o FILE" + lowercase_extension(path) + "`");
 }

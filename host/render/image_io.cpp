@@ -148,7 +148,7 @@ std::string writer_format(const std::filesystem::path& path) {
 
 }  // namespace
 
-bool is_hdr_extension(const std::filesystem::path& path) {
+bool writes_radiance(const std::filesystem::path& path) {
   const std::string format = writer_format(path);
   return format == "openexr" || format == "hdr";
 }
@@ -211,7 +211,7 @@ void write_rgb8(const std::filesystem::path& path, int width, int height, const 
 
 void write_film(const std::filesystem::path& path, const Film& film, const ToneMap& tonemap,
                 const FilmAttributes& attributes, OutputSet* set) {
-  if (is_hdr_extension(path)) {
+  if (writes_radiance(path)) {
     OIIO::ImageSpec spec(film.width, film.height, 3, OIIO::TypeDesc::FLOAT);
     spec.x = film.x0;
     spec.y = film.y0;

@@ -14,7 +14,8 @@
 
 namespace zz {
 
-bool is_hdr_extension(const std::filesystem::path& path);
+// Whether the path's writer takes linear radiance (float): OpenEXR's and Radiance's.
+bool writes_radiance(const std::filesystem::path& path);
 
 // Whether the format holds a film's extra channels (the AOV layers): OpenEXR only.
 bool holds_extra_channels(const std::filesystem::path& path);

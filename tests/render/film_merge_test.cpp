@@ -214,14 +214,14 @@ TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
 // The EXR writer's other names (.sxr, .mxr) get the radiance, as .exr does, and its layers;
 // Radiance's .rgbe gets radiance too. They took the 8-bit display image.
 TEST_F(FilmMergeTest, EveryNameOfAnHdrWriterGetsRadiance) {
-  EXPECT_TRUE(is_hdr_extension("a.sxr"));
-  EXPECT_TRUE(is_hdr_extension("a.MXR"));
-  EXPECT_TRUE(is_hdr_extension("a.rgbe"));
+  EXPECT_TRUE(writes_radiance("a.sxr"));
+  EXPECT_TRUE(writes_radiance("a.MXR"));
+  EXPECT_TRUE(writes_radiance("a.rgbe"));
   EXPECT_TRUE(holds_extra_channels("a.sxr"));
   EXPECT_FALSE(holds_extra_channels("a.hdr"));
-  EXPECT_FALSE(is_hdr_extension("a.png"));
-  EXPECT_FALSE(is_hdr_extension("a.tif"));
-  EXPECT_FALSE(is_hdr_extension("a"));
+  EXPECT_FALSE(writes_radiance("a.png"));
+  EXPECT_FALSE(writes_radiance("a.tif"));
+  EXPECT_FALSE(writes_radiance("a"));
   const Film film = frame_film({0, 0, 7, 5});
   write_film(dir / "f.sxr", film, ToneMap{});
   const FilmFile back = read_film(dir / "f.sxr");
