@@ -123,6 +123,70 @@ TEST(TextureDetail, NoEstimateAcrossMaterialsOrSeams) {
   EXPECT_EQ(hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f)), glm::vec3(0.0f));
 }
 
+// Between two levels' sizes the box mean blends them (trilinear, as a GPU's lookup): it
+// moves with the footprint's size rather than jumping at the powers of two.
+TEST(TextureDetail, ABoxBetweenTwoLevelsSizesBlendsThem) {
+  const Texture checker = grey_texture(8, 8, [](int x, int y) { return float((x + y) % 2); });
+  const TexturePyramid p(checker);
+  // Centred on texel (0, 1) (1 at level 0, 0.5 at level 1), sqrt(2) texels wide: level 0.5.
+  const glm::vec2 centre(0.5f / 8, 1.5f / 8), half(std::sqrt(2.0f) / 16);
+  EXPECT_NEAR(p.box_mean(checker, centre - half, centre + half).r, 0.75f, 1e-5f);
+}
+
+// A dark stroke on white hides as much as a bright one on black: the estimate is
+// |box - corners| (the flag judges it downward too: MissedDetail::darker).
+TEST(TextureDetail, ADarkStrokeBetweenTheCornersIsFoundToo) {
+  const StrokeScene bright, dark([](int x, int) { return x == 32 ? 0.0f : 1.0f; });
+  SurfaceProbe c[4];
+  bright.corners(28.0f / 64, 37.0f / 64, c);
+  const float on_black = hidden_texture_detail(bright.scene, bright.pyramids, c, glm::vec3(0.0f)).r;
+  ASSERT_GT(on_black, 0.05f);
+  EXPECT_NEAR(hidden_texture_detail(dark.scene, dark.pyramids, c, glm::vec3(1.0f)).r, on_black, 1e-5f);
+}
+
+// A base-colour texture's detail is lit as its corners are: their radiance per unit albedo
+// (corner mean / (factor x their texel)) times the albedo the corners miss (factor x
+// |box - corners|), channel by channel.
+TEST(TextureDetail, ABaseColourStrokeIsLitAsItsCorners) {
+  StrokeScene s([](int x, int) { return x == 32 ? 0.0f : 1.0f; });
+  Material& m = s.scene.materials[0];
+  m.emissive = glm::vec3(0.0f);
+  m.emissive_texture = TextureRef{};
+  m.base_color = glm::vec3(0.25f, 0.5f, 1.0f);
+  m.base_color_texture.index = 0;
+  s.scene.finalize_materials();
+  s.pyramids = texture_pyramids(s.scene);
+  SurfaceProbe c[4];
+  s.corners(28.0f / 64, 37.0f / 64, c);  // on white texels; the stroke a ninth of the box
+  const float light = 2.0f;               // the corners' radiance per unit albedo
+  const glm::vec3 hidden = hidden_texture_detail(s.scene, s.pyramids, c, light * m.base_color);
+  const float box = s.pyramids[0].box_mean(s.scene.textures[0], {28.0f / 64, 0.4f}, {37.0f / 64, 0.45f}).r;
+  ASSERT_LT(box, 0.95f);
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(hidden[ch], light * m.base_color[ch] * (1.0f - box), 1e-5f) << ch;
+}
+
+// Another material at any one corner is an edge, not detail (not only at the last corner).
+TEST(TextureDetail, NoEstimateWhereAnyCornerIsOnAnotherMaterial) {
+  const StrokeScene s;
+  SurfaceProbe c[4];
+  for (int k = 0; k < 4; ++k) {
+    s.corners(28.0f / 64, 37.0f / 64, c);
+    c[k].material = 1;
+    EXPECT_EQ(hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f)), glm::vec3(0.0f)) << k;
+  }
+}
+
+// A seam along v is a seam as one along u is: half the texture or more between the
+// corners in either direction is no detail.
+TEST(TextureDetail, NoEstimateAcrossASeamAlongV) {
+  const StrokeScene s;
+  SurfaceProbe c[4];
+  s.corners(28.0f / 64, 37.0f / 64, c);
+  c[0].uv0.y = c[1].uv0.y = 0.05f;
+  c[2].uv0.y = c[3].uv0.y = 0.95f;
+  EXPECT_EQ(hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f)), glm::vec3(0.0f));
+}
+
 // The footprint correction's probes for StrokeScene's pixel: one triangle (prim 0), no light.
 struct FootprintCorners {
   SurfaceProbe c[4];
