@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -313,8 +314,10 @@ struct FoldScene {
     const float along = std::sqrt(1.0f + kSlope * kSlope);  // surface length per unit x on the right
     return {0.5f + kScale * (p.x > 0.0f ? p.x * along : p.x), 0.5f + kScale * p.y};
   }
-  // Where the ray through image point (x, y) meets the surface, and on which triangle.
-  static glm::vec3 hit(float x, float y) {
+  // Where the ray through image point (x, y) meets the surface, and on which triangle
+  // (orthographic: the ray from (x, y, 0) down -z).
+  static glm::vec3 hit(float x, float y, bool orthographic = false) {
+    if (orthographic) return {x, y, x < 0.0f ? -1.0f : -1.0f - kSlope * x};
     const float t = x < 0.0f ? 1.0f : 1.0f / (1.0f - kSlope * x);
     return {x * t, y * t, -t};
   }
@@ -336,39 +339,40 @@ struct FoldScene {
   // The lattice's mean of f over the pixel (its corner point as the corners' mean) minus
   // the corners' mean, as texture_footprint_delta returns it.
   template <class F>
-  static float lattice_delta(F f) {
+  static float lattice_delta(F f, bool orthographic = false) {
     double inner = 0.0, corners = 0.0;
     for (int i = 0; i < 4; ++i) {
       const glm::vec2 q = image(float(i % 2), float(i / 2));
-      corners += 0.25 * f(hit(q.x, q.y));
+      corners += 0.25 * f(hit(q.x, q.y, orthographic));
     }
     for (int p = 1; p < kLatticePoints; ++p) {
       const glm::vec2 q = image(kLattice[size_t(p)].u, kLattice[size_t(p)].v);
-      inner += f(hit(q.x, q.y)) / double(kLatticePoints - 1);
+      inner += f(hit(q.x, q.y, orthographic)) / double(kLatticePoints - 1);
     }
     return float((inner - corners) * (kLatticePoints - 1) / kLatticePoints);
   }
-  void corners(FootprintCorners& k) const {
+  void corners(FootprintCorners& k, bool orthographic = false) const {
     for (int i = 0; i < 4; ++i) {
       const glm::vec2 q = image(float(i % 2), float(i / 2));
       k.c[i] = SurfaceProbe{};
       k.c[i].material = 0;
-      k.c[i].position = hit(q.x, q.y);
+      k.c[i].position = hit(q.x, q.y, orthographic);
       k.c[i].uv0 = uv_at(k.c[i].position);
       k.c[i].normal = normal(k.c[i].position);
-      k.c[i].view = -glm::normalize(k.c[i].position);
+      k.c[i].view = orthographic ? glm::vec3(0.0f, 0.0f, 1.0f) : -glm::normalize(k.c[i].position);
       const glm::vec2 b = barycentrics(prim(q.x), k.c[i].position);
       k.f[i] = FootprintProbe{glm::vec3(0.0f), prim(q.x), b.x, b.y, 1.0f};
     }
   }
   static constexpr FootprintView kView{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f)};
+  static constexpr FootprintView kOrthoView{glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f), true};
   // The fold's triangles into `textured` (a scene with the material and texture), and the
   // pixel's corners.
-  void onto(Scene& textured, FootprintCorners& k) const {
+  void onto(Scene& textured, FootprintCorners& k, bool orthographic = false) const {
     textured.positions = scene.positions;
     textured.uvs = scene.uvs;
     textured.material_of = scene.material_of;
-    corners(k);
+    corners(k, orthographic);
   }
 };
 
@@ -441,6 +445,38 @@ TEST(TextureFootprint, SamplesAreLitAtTheirOwnTrianglesNormalAcrossAFold) {
   EXPECT_GT(std::abs(interpolated.delta.r - expected), 0.1f * std::abs(expected));
   std::printf("lit delta: lattice %.6f, own triangles %.6f, interpolated %.6f\n", expected, exact.delta.r,
               interpolated.delta.r);
+}
+
+// The same fold under an orthographic camera on the plane z = 0 (its rays run down -z
+// from the image points): each sample's ray starts at its own point of the plane.
+TEST(TextureFootprint, SamplesTakeTheirOwnTriangleUnderAnOrthographicCamera) {
+  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });
+  FootprintCorners k;
+  FoldScene().onto(s.scene, k, /*orthographic=*/true);
+  const float expected =
+      FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; }, /*orthographic=*/true);
+  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kOrthoView);
+  ASSERT_TRUE(exact.applies);
+  ASSERT_GT(std::abs(expected), 1e-3f);
+  EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
+}
+
+// Which of the corners' triangles a sample falls in does not depend on the order of their
+// vertices: with the receding triangle's shared edge its second and third vertices, the
+// samples left of the fold meet its plane nearer than their own triangle, beyond that
+// edge (u + v > 1), and must not take it.
+TEST(TextureFootprint, SamplesTakeTheirOwnTriangleWhateverItsVertexOrder) {
+  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });
+  FoldScene fold;
+  std::rotate(fold.scene.positions.begin() + 3, fold.scene.positions.begin() + 5, fold.scene.positions.end());
+  std::rotate(fold.scene.normals.begin() + 3, fold.scene.normals.begin() + 5, fold.scene.normals.end());
+  std::rotate(fold.scene.uvs.begin() + 3, fold.scene.uvs.begin() + 5, fold.scene.uvs.end());
+  FootprintCorners k;
+  fold.onto(s.scene, k);
+  const float expected = FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; });
+  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
+  ASSERT_TRUE(exact.applies);
+  EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
 }
 
 TEST(TextureFootprint, NotAcrossMaterialsSeamsAtlasJumpsOrMisses) {
