@@ -571,5 +571,143 @@ TEST(TextureFootprint, ANormalMapBumpBetweenTheCornersIsLitAtItsNormal) {
   EXPECT_NEAR(shadowed.delta.r, 0.0f, 1e-6f);
 }
 
+// Away from the bump, on a shiny surface, the samples' model is the corners' own, the
+// highlight included: a flat stretch of the map adds exactly nothing.
+TEST(TextureFootprint, AFlatStretchOfAShinyNormalMapAddsNothing) {
+  const BumpScene s;
+  FootprintCorners k;
+  s.corners(2.0f / 64, 5.0f / 64, k);
+  for (SurfaceProbe& c : k.c) c.specular = glm::vec3(0.5f), c.shininess = 8.0f;
+  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(d.applies);
+  EXPECT_NEAR(d.delta.r, 0.0f, 1e-6f);
+}
+
+// Seen from behind the triangle (side -1), the map applies in the frame turned over, as
+// the shader's: the mirror image of the front's case, lit from the mirrored side, gets
+// the front's delta.
+TEST(TextureFootprint, ANormalMapSeenFromBehindIsInTheTurnedFrame) {
+  const BumpScene front;
+  FootprintCorners k;
+  front.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta d = texture_footprint_delta(front.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_GT(d.delta.r, 0.02f);
+  BumpScene back;
+  // The bump's normal (its frame's t + n) turned over: towards -x, -z.
+  back.scene.lights[0].direction = glm::normalize(glm::vec3(1.0f, 0.0f, 1.0f));
+  for (int i = 0; i < 4; ++i) {
+    k.c[i].normal = k.c[i].view = glm::vec3(0.0f, 0.0f, -1.0f);
+    k.f[i].side = -1.0f;
+  }
+  const FootprintDelta behind = texture_footprint_delta(back.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(behind.applies);
+  EXPECT_NEAR(behind.delta.r, d.delta.r, 1e-5f);
+}
+
+// A light in shadow at all four corners (its bit in `blocked`, not in their irradiance)
+// is left out; the others are still lit light by light.
+TEST(TextureFootprint, ALightShadowedAtEveryCornerIsLeftOut) {
+  BumpScene s;
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta one = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_GT(one.delta.r, 0.02f);
+  Light shadowed = s.scene.lights[0];
+  shadowed.direction = glm::normalize(glm::vec3(1.0f, 0.0f, -1.0f));  // from -x, above the plane
+  s.scene.lights.push_back(shadowed);
+  for (SurfaceProbe& c : k.c) c.blocked = 1u << 1;
+  const FootprintDelta two = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(two.applies);
+  EXPECT_NEAR(two.delta.r, one.delta.r, 1e-6f);
+}
+
+// A corner a little short of its light (a partial shadow: 5 %, past the 2 % the float
+// sums may miss by) is not lit light by light either; one within 1 % still is.
+TEST(TextureFootprint, ACornerShortOfItsLightIsNotLitLightByLight) {
+  const BumpScene s;
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta lit = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_GT(lit.delta.r, 0.02f);
+  const glm::vec3 irradiance = k.f[1].irradiance;
+  k.f[1].irradiance = 0.99f * irradiance;
+  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, lit.delta.r, 1e-6f);
+  k.f[1].irradiance = 0.95f * irradiance;
+  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, 0.0f, 1e-6f);
+}
+
+// Up to kFootprintLights lights are lit one by one: the bump's light split in that many
+// gives its delta; one more light, and only the albedo varies (not at all here).
+TEST(TextureFootprint, UpToKFootprintLightsAreLitOneByOne) {
+  BumpScene s;
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta one = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_GT(one.delta.r, 0.02f);
+  Light part = s.scene.lights[0];
+  part.intensity /= float(kFootprintLights);
+  s.scene.lights.assign(size_t(kFootprintLights), part);
+  const FootprintDelta split = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  EXPECT_NEAR(split.delta.r, one.delta.r, 1e-4f * one.delta.r);
+  part.intensity = glm::vec3(0.0f);
+  s.scene.lights.push_back(part);  // one more, dark: the irradiance is the same
+  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, 0.0f, 1e-6f);
+}
+
+// A corner whose shading normal is not its map's (the shader fell back to the geometric
+// normal where the map's faced away) is not lit light by light: only the albedo varies,
+// and it does not here.
+TEST(TextureFootprint, ACornerShadedAtAnotherNormalThanItsMapsIsNotLitLightByLight) {
+  const BumpScene s;
+  FootprintCorners k;
+  s.corners(2.0f / 64, 5.0f / 64, k);  // the flat map: +z
+  const glm::vec3 other = glm::normalize(glm::vec3(0.2f, 0.0f, 1.0f));
+  for (int i = 0; i < 4; ++i) {
+    k.c[i].normal = other;
+    k.f[i].irradiance = glm::vec3(s.lambert(other));
+  }
+  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(d.applies);
+  EXPECT_NEAR(d.delta.r, 0.0f, 1e-6f);
+}
+
+// A sample whose normal faces away from a light gets none of it (not negative light):
+// the bump turned away from the light darkens the pixel by what the brute-force mean of
+// Lambert's max(cos, 0) says.
+TEST(TextureFootprint, ABumpFacingAwayFromTheLightGetsNoneOfIt) {
+  BumpScene s;
+  const glm::vec3 away = glm::normalize(glm::vec3(-1.0f, 0.0f, 0.1f));
+  Texture& map = s.scene.textures[0];
+  for (int y = 0; y < 64; ++y) map.texels[size_t(y) * 64 + 32] = glm::vec4(away * 0.5f + 0.5f, 1.0f);
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k);
+  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  ASSERT_TRUE(d.applies);
+  double mean = 0.0;
+  for (int i = 0; i < 64; ++i) {
+    const float u = (30.5f + 3.0f * (float(i) + 0.5f) / 64.0f) / 64.0f;
+    const glm::vec3 n = glm::normalize(glm::vec3(map.sample({u, 0.42f})) * 2.0f - 1.0f);
+    mean += s.lambert(n) / 64.0;
+  }
+  const float expected = float(mean) - s.lambert(glm::vec3(0.0f, 0.0f, 1.0f));
+  ASSERT_LT(expected, -0.02f);
+  EXPECT_NEAR(d.delta.r, expected, 0.1f * std::abs(expected));
+}
+
+// A twist of the corners' coordinates up to half the longer edge is still one patch; more
+// is not (a 2-texel twist on edges of 3 and 3.2 texels).
+TEST(TextureFootprint, ATwistOfMoreThanHalfAnEdgeIsNotOnePatch) {
+  StrokeScene s;
+  with_triangle(s.scene);
+  FootprintCorners k;
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  k.c[3].uv0 += glm::vec2(1.0f / 64, 0.0f);
+  EXPECT_TRUE(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies);
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  k.c[3].uv0 += glm::vec2(2.0f / 64, 0.0f);
+  EXPECT_FALSE(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies);
+}
+
 }  // namespace
 }  // namespace zz
