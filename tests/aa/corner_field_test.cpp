@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstring>
 #include <map>
 
@@ -78,6 +79,49 @@ TEST(HiddenDetail, DetailThatMayDarkenIsJudgedDownwardToo) {
   EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), 0u);  // a highlight's, only upward
   source.two_sided = true;
   EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), kHiddenFlag | kAllLatticePoints);
+}
+
+// A move of the display by exactly eps is no discontinuity (as every comparison, §2): the
+// flag takes more than eps.
+TEST(HiddenDetail, DetailMovingTheDisplayByExactlyEpsDoesNotFlag) {
+  const ToneMap tonemap;
+  const float4 mean(0.02f, 0.02f, 0.02f, 0.0f);
+  const float up = (tonemap.apply4(mean + float4(0.01f, 0.01f, 0.01f, 0.0f)) - tonemap.apply4(mean))[0];
+  TextureDetailSource source;  // brighter only
+  TextureDetailSource::Probe probes[16];
+  EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, float4(up)), 0u);
+  EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, float4(std::nextafter(up, 0.0f))),
+            kHiddenFlag | kAllLatticePoints);
+}
+
+// A source that records the `visible` it is asked with and finds nothing.
+struct VisibleRecorder : PositionProbes<VisibleRecorder> {
+  mutable float4 visible{0.0f};
+  Rgb4 colour(float4, float4) const { return {float4(0.2f), float4(0.2f), float4(0.2f)}; }
+  bool specular_corners(const Probe*, ptrdiff_t) const { return false; }
+  MissedDetail hidden_radiance(const Probe*, ptrdiff_t, float4, float4 v) const {
+    visible = v;
+    return {};
+  }
+};
+static_assert(HiddenDetailSource<VisibleRecorder>);
+
+// What a source may skip as invisible (`visible`) could not show: added to the corners'
+// mean, it moves no channel's display by more than eps, dark or bright.
+TEST(HiddenDetail, WhatASourceMaySkipCouldNotShow) {
+  const ToneMap tonemap;
+  const float4 eps(0.02f, 0.05f, 0.1f, 0.05f);
+  for (const float m : {0.001f, 0.02f, 0.2f, 1.0f, 8.0f}) {
+    const float4 mean(m, 2.0f * m, 0.5f * m, 0.0f);
+    VisibleRecorder source;
+    VisibleRecorder::Probe probes[16];
+    EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), 0u);
+    const float4 shown = tonemap.apply4(mean + source.visible) - tonemap.apply4(mean);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_GT(source.visible[c], 0.0f) << m << " " << c;
+      EXPECT_LE(shown[c], eps[c]) << m << " " << c;
+    }
+  }
 }
 
 bool same(const Film& a, const Film& b) {
