@@ -8,8 +8,11 @@
 #include <cmath>
 #include <cstdio>
 
+#include "accel/bvh.h"
 #include "aa/lattice.h"
 #include "render/normal_map.h"
+#include "render/scene_source.h"
+#include "render/shader.h"
 #include "scene/scene.h"
 
 namespace zz {
@@ -707,6 +710,92 @@ TEST(TextureFootprint, ATwistOfMoreThanHalfAnEdgeIsNotOnePatch) {
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   k.c[3].uv0 += glm::vec2(2.0f / 64, 0.0f);
   EXPECT_FALSE(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies);
+}
+
+// The footprint of what a mirror shows, through SceneSource (render/scene_source.h): the
+// corners' probes put at node 1 of the path tree (the camera ray's reflection), its path
+// weighed by weight[i] at corner i; the camera at the origin looking down -z. `k`: the
+// corners as texture_footprint_delta takes them.
+float4 reflected_footprint(Scene& scene, const FootprintCorners& k, const glm::vec3 weight[4], float4 mean) {
+  scene.cameras.assign(1, Camera{});
+  scene.cameras[0].position = glm::vec3(0.0f);
+  const Bvh bvh = Bvh::build(scene.positions);
+  const Shader shader(scene, bvh);
+  const CameraRays camera(scene.cameras[0], 40, 40);
+  HiddenDetail detail;
+  detail.footprint = true;
+  const SceneSource source(shader, camera, kSignatureNone, &detail);
+  SceneSource::Probe grid[16];  // a 4 x 4 stencil, the pixel's corners at 5, 6, 9, 10
+  const int at[4] = {5, 6, 9, 10};
+  SceneSource::FootprintCorner prepared[4];
+  for (int i = 0; i < 4; ++i) {
+    SceneSource::Probe& p = grid[at[i]];
+    p.node[probe_slot(kFootprintNode[1])] = k.c[i];
+    p.footprint[1] = k.f[i];
+    p.footprint[1].weight = weight[i];
+    prepared[i] = source.footprint_corner(p);
+  }
+  const SceneSource::FootprintCorner* const four[4] = {&prepared[0], &prepared[1], &prepared[2], &prepared[3]};
+  return source.footprint_delta(grid + 5, 4, four, mean);
+}
+
+// What a mirror of reflectance w shows adds w times its own delta, the display step it
+// is settled at divided by w (a step at the camera is 1/w of one at the mirror's image):
+// at a tiny w the 2 x 2 first estimate settles it, at w = 1/2 it is refined.
+TEST(TextureFootprint, AMirrorsImageAddsItsDeltaTimesTheMirrorsWeight) {
+  StrokeScene s;
+  with_triangle(s.scene);
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  const float4 mean(0.5f, 0.5f, 0.5f, 0.0f);
+  const float settled = (float4(kFootprintSettledSteps / 255.0f) / ToneMap{}.slope4(mean))[0];
+  for (const float w : {0.5f, 1e-3f}) {
+    const glm::vec3 weight[4] = {glm::vec3(w), glm::vec3(w), glm::vec3(w), glm::vec3(w)};
+    const float4 d = reflected_footprint(s.scene, k, weight, mean);
+    const float own = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled / w)).delta.r;
+    EXPECT_EQ(d[3], 1.0f) << w;
+    EXPECT_NEAR(d[0], w * own, 1e-6f * w) << w;
+  }
+  // The case: at the tiny weight, the step at the camera and at the mirror's image settle
+  // the pixel differently.
+  EXPECT_GT(std::abs(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled / 1e-3f)).delta.r -
+                     texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled)).delta.r),
+            0.01f);
+}
+
+// A mirror whose weight differs across the corners by more than a quarter (a pixel over
+// the edge of a tinted stripe) is no even weight over the pixel: no delta; within a
+// quarter it applies.
+TEST(TextureFootprint, AMirrorsImageOnlyUnderAnEvenWeight) {
+  StrokeScene s;
+  with_triangle(s.scene);
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0;
+  const float4 mean(0.5f, 0.5f, 0.5f, 0.0f);
+  glm::vec3 weight[4] = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(0.8f)};
+  EXPECT_EQ(reflected_footprint(s.scene, k, weight, mean)[3], 1.0f);
+  weight[3] = glm::vec3(1.0f, 1.0f, 0.5f);  // uneven in blue alone
+  const float4 uneven = reflected_footprint(s.scene, k, weight, mean);
+  EXPECT_EQ(uneven[3], 0.0f);
+  EXPECT_EQ(uneven[0], 0.0f);
+}
+
+// The camera's rays reach only the primary hit: what a mirror shows across FoldScene's
+// fold keeps the corners' interpolation (the camera at the fold's would cast rays that
+// meet the fold itself, not its image, and find their own triangles).
+TEST(TextureFootprint, AMirrorsImageIsNotRecastFromTheCamera) {
+  StrokeScene s([](int x, int) { return (float(x) + 0.5f) / 64.0f; });
+  FootprintCorners k;
+  FoldScene().onto(s.scene, k);
+  const glm::vec3 weight[4] = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f)};
+  const float4 d = reflected_footprint(s.scene, k, weight, float4(0.5f, 0.5f, 0.5f, 0.0f));
+  const float interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f)).delta.r;
+  const float recast = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView).delta.r;
+  ASSERT_GT(std::abs(recast - interpolated), 5e-3f);
+  EXPECT_EQ(d[3], 1.0f);
+  EXPECT_NEAR(d[0], interpolated, 1e-6f);
 }
 
 }  // namespace
