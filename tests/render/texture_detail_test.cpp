@@ -798,5 +798,26 @@ TEST(TextureFootprint, AMirrorsImageIsNotRecastFromTheCamera) {
   EXPECT_NEAR(d[0], interpolated, 1e-6f);
 }
 
+// glTF's tangent w of -1 (a mirrored UV layout) turns the normal map's bitangent over.
+TEST(NormalMap, ANegativeHandednessTurnsTheBitangentOver) {
+  Scene scene;
+  with_triangle(scene);
+  scene.normals.assign(3, glm::vec3(0.0f, 0.0f, 1.0f));
+  glm::vec3 frame[3];
+  for (const float w : {1.0f, -1.0f}) {
+    scene.tangents.assign(3, glm::vec4(1.0f, 0.0f, 0.0f, w));
+    ASSERT_TRUE(normal_map_frame(scene, 0, 0.2f, 0.3f, glm::vec3(0.0f, 0.0f, 1.0f), frame));
+    EXPECT_LT(glm::distance(frame[0], glm::vec3(1.0f, 0.0f, 0.0f)), 1e-6f) << w;
+    EXPECT_LT(glm::distance(frame[1], glm::vec3(0.0f, w, 0.0f)), 1e-6f) << w;
+  }
+}
+
+// normalTexture.scale scales the texel's x and y, not z (glTF).
+TEST(NormalMap, TheScaleScalesXAndYOnly) {
+  const glm::vec3 frame[3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  const glm::vec3 n = mapped_in_frame(frame, glm::vec3(0.8f, 0.5f, 0.9f), 0.5f, frame[2]);  // texel (0.6, 0, 0.8)
+  EXPECT_LT(glm::distance(n, glm::normalize(glm::vec3(0.3f, 0.0f, 0.8f))), 1e-6f);
+}
+
 }  // namespace
 }  // namespace zz
