@@ -565,17 +565,24 @@ TEST(GltfLoader, ExternalFilesAreNamedAsTheirUrisSay) {
   EXPECT_EQ(s.source_files[1], (dir / "my model.bin").string());
 }
 
-// tinygltf 2.7 reads "C++.bin" as "C  .bin": a file whose name holds a '+' was not found.
-TEST(GltfLoader, APlusInAUriIsAPlus) {
+// A one-triangle glTF in `dir` whose buffer is `stem`.bin, named by that very URI; loads it
+// and checks the buffer is the file read.
+std::filesystem::path load_buffer_named(const std::filesystem::path& dir, const std::string& stem) {
   GltfBuilder b;
   b.node({{"mesh", b.mesh("tri", kTriPos)}});
-  const auto dir = test::temp_dir("plus");
-  const auto path = b.write(dir, "C++");
-  ASSERT_EQ(nlohmann::json::parse(test::read_text(path))["buffers"][0]["uri"], "C++.bin");
+  const auto path = b.write(dir, stem);
+  EXPECT_EQ(nlohmann::json::parse(test::read_text(path))["buffers"][0]["uri"], stem + ".bin");
   const Scene s = load_scene(path, kQuiet);
   EXPECT_EQ(s.triangle_count(), 1u);
-  ASSERT_EQ(s.source_files.size(), 2u);
-  EXPECT_EQ(s.source_files[1], (dir / "C++.bin").string());
+  EXPECT_EQ(s.source_files.size(), 2u);
+  if (s.source_files.size() == 2) EXPECT_EQ(s.source_files[1], (dir / (stem + ".bin")).string());
+  return path;
+}
+
+// tinygltf 2.7 reads "C++.bin" as "C  .bin": a file whose name holds a '+' was not found.
+TEST(GltfLoader, APlusInAUriIsAPlus) {
+  const auto dir = test::temp_dir("plus");
+  const auto path = load_buffer_named(dir, "C++");
   // "C%2B%2B.bin" names the same file; "C  .bin" would be another, and is not there.
   auto doc = nlohmann::json::parse(test::read_text(path));
   doc["buffers"][0]["uri"] = "C%2B%2B.bin";
@@ -597,15 +604,8 @@ TEST(GltfLoader, APercentThatStartsNoEscapeIsAPercent) {
   EXPECT_EQ(gltf::external_file("a/s.gltf", "a%2.png"), std::filesystem::path("a/a%2.png"));
   EXPECT_EQ(gltf::external_file("a/s.gltf", "n%00.png"), std::filesystem::path("a/n%00.png"));
   EXPECT_EQ(gltf::external_file("a/s.gltf", "%41%2541.png"), std::filesystem::path("a/A%41.png"));
-  GltfBuilder b;
-  b.node({{"mesh", b.mesh("tri", kTriPos)}});
   const auto dir = test::temp_dir("percent");
-  const auto path = b.write(dir, "buf_100%");
-  ASSERT_EQ(nlohmann::json::parse(test::read_text(path))["buffers"][0]["uri"], "buf_100%.bin");
-  const Scene s = load_scene(path, kQuiet);
-  EXPECT_EQ(s.triangle_count(), 1u);
-  ASSERT_EQ(s.source_files.size(), 2u);
-  EXPECT_EQ(s.source_files[1], (dir / "buf_100%.bin").string());
+  const auto path = load_buffer_named(dir, "buf_100%");
   // Missing, it is named whole.
   std::filesystem::remove(dir / "buf_100%.bin");
   expect_error([&] { load_scene(path, kQuiet); }, "buf_100%.bin");
