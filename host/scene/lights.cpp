@@ -21,6 +21,9 @@ std::optional<glm::vec3> unit_direction(glm::vec3 v) {
 std::string light_problem(const Light& light) {
   if (light.intensity.x < 0.0f || light.intensity.y < 0.0f || light.intensity.z < 0.0f)
     return "negative colour or intensity (KHR_lights_punctual: colour in [0, 1], intensity >= 0)";
+  // A rig's numbers stop at 1e30 too: beyond, a light's sums overflow float near it.
+  if (std::max({light.intensity.x, light.intensity.y, light.intensity.z}) > 1e30f)
+    return "colour times intensity above 1e30";
   if (light.range < 0.0f) return "negative range (> 0, or 0 for none)";
   if (light.type == Light::Type::Spot && !(light.outer_cone > 0.0f))
     return "spot cone closed (KHR_lights_punctual: outer cone angle > 0)";

@@ -32,6 +32,10 @@ TEST(Lights, ProblemsAreWhatKhrLightsPunctualForbids) {
   EXPECT_EQ(light_problem(l), "");
   l.intensity = glm::vec3(1.0f, -0.5f, 1.0f);
   EXPECT_NE(light_problem(l).find("negative colour or intensity"), std::string::npos);
+  l.intensity = glm::vec3(1e30f);  // a rig's largest number
+  EXPECT_EQ(light_problem(l), "");
+  l.intensity = glm::vec3(1.0f, 3e38f, 1.0f);  // a glTF's intensity may reach float's range
+  EXPECT_NE(light_problem(l).find("above 1e30"), std::string::npos);
   l.intensity = glm::vec3(0.0f);  // black is allowed: it lights nothing (can_light)
   EXPECT_EQ(light_problem(l), "");
   l.range = -1.0f;
