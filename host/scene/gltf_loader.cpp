@@ -695,15 +695,19 @@ struct Loader {
       }
     }
     // glTF: znear > 0 (perspective) or >= 0 (orthographic), zfar > znear; 0 is read as no
-    // plane. A negative znear used to set a far plane at 0, clipping the whole view: black.
+    // plane. A plane that breaks the rule is left out with a warning, the camera kept (so
+    // the cameras after it keep their indices): a negative znear used to set a far plane at
+    // 0, clipping the whole view (black), and a zfar <= znear was dropped without a word.
+    char why[160];
     if (!(znear >= 0.0 && std::isfinite(znear))) {
-      ignore_camera(c.name, "has znear " + std::to_string(znear) + " (not >= 0)");
-      return;
+      std::snprintf(why, sizeof why, "has znear %g (not >= 0): no near plane", znear);
+      warn("camera '" + c.name + "' " + why);
+      znear = 0.0;
     }
     if (zfar != 0.0 && !(zfar > znear)) {
-      ignore_camera(c.name, "has zfar " + std::to_string(zfar) + " (not greater than znear " + std::to_string(znear) +
-                                ")");
-      return;
+      std::snprintf(why, sizeof why, "has zfar %g (not greater than znear %g): no far plane", zfar, znear);
+      warn("camera '" + c.name + "' " + why);
+      zfar = 0.0;
     }
     if (znear > 0.0) c.znear = float(znear) * unit;
     if (zfar > 0.0 && std::isfinite(zfar)) c.zfar = float(zfar) * unit;  // none given: infinite

@@ -805,7 +805,7 @@ TEST(GltfLoader, OrthographicCamerasKeepTheirExtentsAndPlanes) {
   }
 }
 
-// A field of view, orthographic extents or clipping planes the renderer cannot use leave the camera out,
+// A field of view or orthographic extents the renderer cannot use leave the camera out,
 // with a warning; the automatic camera (a perspective one) takes its place.
 TEST(GltfLoader, ACameraWithAnImpossibleViewIsIgnored) {
   const std::vector<std::pair<const char*, nlohmann::json>> cameras = {
@@ -815,12 +815,7 @@ TEST(GltfLoader, ACameraWithAnImpossibleViewIsIgnored) {
       {"orthographic", {{"xmag", 1.0}, {"ymag", 0.0}, {"znear", 0.0}, {"zfar", 10}}},
       {"orthographic", {{"xmag", 1.0}, {"ymag", -1.0}, {"znear", 0.0}, {"zfar", 10}}},
       {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.0}, {"zfar", 10}}},
-      {"orthographic", {{"xmag", 1.0}, {"ymag", 1e300}, {"znear", 0.0}, {"zfar", 10}}},
-      // Clipping planes that clip everything (a negative znear rendered black) or nothing.
-      {"perspective", {{"yfov", 0.5}, {"znear", -0.001}}},
-      {"perspective", {{"yfov", 0.5}, {"znear", 2.0}, {"zfar", 1.0}}},
-      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", -1.0}, {"zfar", 10}}},
-      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 5.0}, {"zfar", 5.0}}}};
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1e300}, {"znear", 0.0}, {"zfar", 10}}}};
   for (const auto& [type, view] : cameras) {
     SCOPED_TRACE(view.dump());
     GltfBuilder b;
@@ -831,6 +826,44 @@ TEST(GltfLoader, ACameraWithAnImpossibleViewIsIgnored) {
     ASSERT_EQ(s.cameras.size(), 1u);
     EXPECT_NE(s.cameras[0].name, "bad");
     EXPECT_FALSE(s.cameras[0].orthographic());
+  }
+}
+
+// A clipping plane against the rules is left out with a warning, the camera kept (its
+// index too): a negative znear without a zfar rendered black (the absent zfar became a far
+// plane at 0), and a zfar <= znear was dropped without a word.
+TEST(GltfLoader, AClippingPlaneAgainstTheRulesIsLeftOut) {
+  struct Case {
+    const char* type;
+    nlohmann::json view;
+    float znear, zfar;  // what the camera keeps
+    const char* said;
+  };
+  constexpr float kNone = std::numeric_limits<float>::infinity();  // no far plane
+  const std::vector<Case> cases = {
+      {"perspective", {{"yfov", 0.5}, {"znear", -0.001}}, 0.0f, kNone, "has znear -0.001 (not >= 0): no near plane"},
+      {"perspective", {{"yfov", 0.5}, {"znear", -1e-9}, {"zfar", 100}}, 0.0f, 100.0f, "has znear -1e-09 (not >= 0)"},
+      {"perspective", {{"yfov", 0.5}, {"znear", 2.0}, {"zfar", 1.0}}, 2.0f, kNone,
+       "has zfar 1 (not greater than znear 2): no far plane"},
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", -1.0}, {"zfar", 10}}, 0.0f, 10.0f, "has znear -1"},
+      {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 5.0}, {"zfar", 5.0}}, 5.0f, kNone, "has zfar 5"}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.view.dump());
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}});
+    b.doc["cameras"] = {{{"type", c.type}, {"name", "odd"}, {c.type, c.view}},
+                        {{"type", "perspective"}, {"name", "next"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    b.node({{"camera", 0}, {"translation", {0, 0, 5}}});
+    b.node({{"camera", 1}, {"translation", {0, 0, 6}}});
+    testing::internal::CaptureStderr();
+    const Scene s = load_scene(b.write(test::temp_dir("planes")), LoadOptions{{}, false});
+    const std::string warned = testing::internal::GetCapturedStderr();
+    EXPECT_NE(warned.find(std::string("camera 'odd' ") + c.said), std::string::npos) << warned;
+    ASSERT_EQ(s.cameras.size(), 2u);
+    EXPECT_EQ(s.cameras[0].name, "odd");
+    EXPECT_EQ(s.cameras[1].name, "next");
+    EXPECT_FLOAT_EQ(s.cameras[0].znear, c.znear);
+    EXPECT_FLOAT_EQ(s.cameras[0].zfar, c.zfar);
   }
 }
 
