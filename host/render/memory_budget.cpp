@@ -51,7 +51,7 @@ uint64_t parse_memory_limit(const std::string& text) {
   uint64_t value = 0;
   const char* const end = text.data() + text.size();
   const auto [next, ec] = std::from_chars(text.data(), end, value);
-  if (ec != std::errc() || next == text.data() || value == 0) throw bad();
+  if (ec != std::errc() || next == text.data()) throw bad();
   std::string unit(next, end);
   if (unit.size() == 3 && unit.compare(1, 2, "iB") == 0) unit.resize(1);  // KiB, MiB, GiB, TiB
   int shift = 0;
@@ -91,8 +91,9 @@ MemoryBudget memory_budget() {
     tighten(uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 1,
             "the address-space limit, ulimit -v, less what is mapped");
   }
-  if (const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT"))
-    tighten(parse_memory_limit(env), std::string("ZIGZAG_MEMORY_LIMIT=") + env);
+  // Empty or 0: no limit (VAR= is how many tools unset a variable; 0 meant none before).
+  if (const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT"); env && *env)
+    if (const uint64_t limit = parse_memory_limit(env); limit > 0) tighten(limit, std::string("ZIGZAG_MEMORY_LIMIT=") + env);
   return budget;
 }
 

@@ -24,12 +24,13 @@ uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, co
 uint64_t resident_bytes();
 
 // $ZIGZAG_MEMORY_LIMIT's value: bytes, or a whole number with K, M, G or T (KiB, MiB, GiB,
-// TiB also read: powers of 1024). Throws zz::UsageError naming the variable for anything
-// else ("4GB", "2e9", "-5", "0"), which strtoull had read as 4, 2, a huge number or no limit.
+// TiB also read: powers of 1024); 0 is no limit. Throws zz::UsageError naming the variable
+// for anything else ("4GB", "2e9", "-5"), which strtoull had read as 4, 2 or a huge number.
 uint64_t parse_memory_limit(const std::string& text);
 
 // Memory the process may still use: the smallest of MemAvailable (/proc/meminfo), RLIMIT_AS
-// headroom and $ZIGZAG_MEMORY_LIMIT, if set (bytes 0 if unknown), and which of them it is.
+// headroom and $ZIGZAG_MEMORY_LIMIT, if set and not empty or 0 (bytes 0 if unknown), and
+// which of them it is.
 struct MemoryBudget {
   uint64_t bytes = 0;
   std::string bound_by;

@@ -19,12 +19,14 @@ TEST(MemoryLimit, BytesOrAWholeNumberOfBinaryUnits) {
   EXPECT_EQ(parse_memory_limit("512K"), 512ull << 10);
   EXPECT_EQ(parse_memory_limit("2T"), 2ull << 40);
   EXPECT_EQ(parse_memory_limit("18446744073709551615"), ~0ull);
+  EXPECT_EQ(parse_memory_limit("0"), 0u);  // no limit, as it always was
+  EXPECT_EQ(parse_memory_limit("0G"), 0u);
 }
 
 // strtoull read "4G" as 4 bytes (every render then failed for want of memory), "2e9" as 2,
 // and took "abc", "-5" (a huge number) and "100000000x" without a word.
 TEST(MemoryLimit, AnythingElseIsRefusedNamingTheVariable) {
-  for (const char* bad : {"4GB", "8gb", "2e9", "1.5G", "abc", "-5", "+5", " 5", "5 ", "100000000x", "0", "0G", "", "G",
+  for (const char* bad : {"4GB", "8gb", "2e9", "1.5G", "abc", "-5", "+5", " 5", "5 ", "100000000x", "", "G",
                           "99999999999999999999", "17179869184G"}) {
     SCOPED_TRACE(bad);
     try {
@@ -55,6 +57,11 @@ TEST(MemoryLimit, TheRefusalSaysWhatSetsTheBudget) {
   }
   setenv("ZIGZAG_MEMORY_LIMIT", "4GB", 1);
   EXPECT_THROW((void)memory_budget(), UsageError);
+  // Set empty (VAR=, as docker -e and Kubernetes leave it) or 0: no limit of its own.
+  for (const char* none : {"", "0"}) {
+    setenv("ZIGZAG_MEMORY_LIMIT", none, 1);
+    EXPECT_EQ(memory_budget().bound_by.find("ZIGZAG"), std::string::npos) << none;
+  }
   if (saved) setenv("ZIGZAG_MEMORY_LIMIT", keep.c_str(), 1);
   else unsetenv("ZIGZAG_MEMORY_LIMIT");
   if (!saved) EXPECT_EQ(memory_budget().bound_by.find("ZIGZAG"), std::string::npos);
