@@ -99,10 +99,21 @@ def temporary_name(final: str) -> str:
     return os.path.join(folder, f".{stem}.{temporary_tag()}.tmp{ext}")
 
 
+# The longest host part of a tag: a longer host name keeps its first bytes and a hash of
+# the whole. With it a job temporary of the longest output name (plan.MAX_OUTPUT_NAME), and
+# its stats, stay short enough that zigzag never cuts their own temporaries' names to fit
+# 255 bytes: a cut loses the extension, and the cut stats temporary of shot.png could not be
+# told from shot.exr's (both end ".json") when the two batches share a folder.
+MAX_TAG_HOST = 20
+
+
 def temporary_tag() -> str:
     """HOST-PID-UUID8 with no dot in it (a host name's dots become _), so that a temporary's
     name tells exactly which output it belongs to (runner.remove_stale_temporaries)."""
-    host = socket.gethostname().replace(".", "_") or "host"
+    host = socket.gethostname().replace(".", "_").replace("/", "_") or "host"
+    if len(host.encode()) > MAX_TAG_HOST:
+        digest = hashlib.sha256(host.encode()).hexdigest()[:8]
+        host = host.encode()[:MAX_TAG_HOST - 9].decode(errors="ignore") + "_" + digest
     return f"{host}-{os.getpid()}-{uuid.uuid4().hex[:8]}"
 
 

@@ -135,9 +135,11 @@ class Plan:
         self.claims[path] = what
 
 
-# The longest output file name: a job writes ".NAME.HOST-PID-UUID8.tmp.EXT" (and its stats,
-# ".stats.json" more); host names run to 64 bytes, so 100 bytes of 255 are kept for them.
-# zigzag's temporary of that (".", ".zz-PID-RANDOM16-N") is shortened by a hash if need be.
+# The longest output file name: a job writes ".NAME.HOST-PID-UUID8.tmp.EXT" (HOST at most
+# job.MAX_TAG_HOST bytes) and its stats, ".stats.json" more, and zigzag's temporary of that
+# adds "." and ".zz-PID-RANDOM16-N": 87 bytes beside NAME with 7-digit PIDs and a 3-digit N,
+# 242 in all, so zigzag never cuts the name (a cut loses the extension the farm's cleanup
+# tells outputs apart by; tests/farm/test_runner.py).
 MAX_OUTPUT_NAME = 155
 
 

@@ -90,32 +90,19 @@ def merge_spec(f: FrameJob, s: RunSettings) -> dict:
             "timeout": s.timeout}
 
 
-def _any_prefix(literal: str) -> str:
-    """A pattern for every prefix of `literal`, the empty one included."""
-    pattern = ""
-    for c in reversed(literal):
-        pattern = f"(?:{re.escape(c)}{pattern})?"
-    return pattern
-
-
 def _temporaries_of(path: str) -> re.Pattern:
     """The names of exactly this output's temporaries (never another output's: `shot.png`
     must not match `.shot.v2.*.tmp.png`, the temporary of shot.v2.png):
     - the job's own, job.temporary_name: ".STEM.TAG.tmp.EXT" (TAG = HOST-PID-UUID8, no dots),
       and its stats ".STEM.TAG.tmp.EXT.stats.json";
     - zigzag's temporaries of those (core/atomic_file: "." + stem + ".zz-PID-RANDOM16-N" + ext):
-      "..STEM.TAG.tmp.zz-PID-RANDOM16-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-RANDOM16-N.json";
-    - the same where zigzag shortened them to fit the file system's 255 bytes (a job
-      temporary of an output name of 100-odd bytes): its stem cut, then "~" and a hash of 8
-      hex digits. MAX_OUTPUT_NAME leaves 200-odd bytes of the stem, so the cut falls after
-      "..STEM." (inside TAG or after it), which keeps other outputs' apart here too."""
+      "..STEM.TAG.tmp.zz-PID-RANDOM16-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-RANDOM16-N.json".
+    zigzag cuts a temporary's name that would pass 255 bytes; plan.MAX_OUTPUT_NAME and
+    job.MAX_TAG_HOST keep these short of that, so every one has this form."""
     stem, ext = os.path.splitext(os.path.basename(path))
-    tag = r"[^./]+-\d+-[0-9a-f]{8}"
-    ours = rf"{re.escape(stem)}\.{tag}\.tmp"
-    zz, ext_ = r"\.zz-\d+-[0-9a-f]{16}-\d+", re.escape(ext)
-    cut = rf"\.\.{re.escape(stem)}\.(?:[^./]*|{tag}(?:{_any_prefix('.tmp')}|\.tmp{_any_prefix(ext + '.stats')}))"
-    return re.compile(rf"\.{ours}{ext_}(\.stats\.json)?|\.\.{ours}({zz}{ext_}|{ext_}\.stats{zz}\.json)"
-                      rf"|{cut}~[0-9a-f]{{8}}{zz}(?:{ext_}|\.json)")
+    ours = rf"{re.escape(stem)}\.[^./]+-\d+-[0-9a-f]{{8}}\.tmp"
+    zz, ext = r"\.zz-\d+-[0-9a-f]{16}-\d+", re.escape(ext)
+    return re.compile(rf"\.{ours}{ext}(\.stats\.json)?|\.\.{ours}({zz}{ext}|{ext}\.stats{zz}\.json)")
 
 
 def remove_stale_temporaries(f: FrameJob) -> None:

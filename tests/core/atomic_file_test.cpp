@@ -93,7 +93,7 @@ TEST_F(AtomicFile, NamesAtTheFileSystemsLimitAreWritten) {
 // exactly NAME_MAX bytes.
 TEST_F(AtomicFile, ACutTemporaryNameEndsWithTheTargetsHash) {
   const size_t limit = name_max(dir_);
-  ASSERT_EQ(limit, 255u);  // the hash below is of a 250-byte name
+  if (limit != 255u) GTEST_SKIP() << "the pinned name is for NAME_MAX 255, this file system has " << limit;
   const std::string name = std::string(245, 'a') + ".json";
   OutputSet set;  // its temporary lives until the commit
   write_text_atomically(path(name), "text", &set);

@@ -3,7 +3,8 @@ import os
 
 from zigzag_farm import job
 from zigzag_farm.plan import FrameJob, RenderJob
-from zigzag_farm.runner import Runner, RunSettings, remove_stale_temporaries, render_spec
+from zigzag_farm.plan import MAX_OUTPUT_NAME
+from zigzag_farm.runner import Runner, RunSettings, _temporaries_of, remove_stale_temporaries, render_spec
 
 
 def frame_job(folder):
@@ -46,28 +47,29 @@ def zigzag_temporary(target: str, pid: int, token: str, serial: int, limit: int 
     return "." + stem + suffix
 
 
-def test_stale_temporaries_of_long_names_shortened_by_zigzag_are_cleaned(workdir):
-    """An output name of 100-odd bytes gives job temporaries whose own temporaries zigzag cuts
-    to fit 255 bytes, putting a hash in the cut's place: those of a killed render stayed."""
-    # The mirror agrees with the renderer's own test of this rule (tests/core/atomic_file_test.cpp).
+def test_zigzag_never_cuts_the_temporaries_of_the_longest_names(workdir, monkeypatch):
+    """zigzag cuts a temporary's name past 255 bytes, and the cut loses the extension: the
+    cut stats temporaries of shot.png and shot.exr both end '.json', and one batch's cleanup
+    deleted the other's live file (a review). The longest output name and the longest host
+    name leave zigzag's temporaries whole, and the cleanup takes exactly those."""
+    # The mirror agrees with the renderer's own test of its rule (tests/core/atomic_file_test.cpp).
     pinned = zigzag_temporary("a" * 245 + ".json", "99", "c36ddd58c2531d1b", 0)
     assert len(pinned) == 255 and pinned[:-len(".zz-99-c36ddd58c2531d1b-0.json")].endswith("a~ba5594dc")
-    stem = "take_" + "x" * 145  # 154 bytes with ".png", within MAX_OUTPUT_NAME
-    out = os.path.join(workdir, stem + ".png")
-    tag = "h" * 64 + "-4242-0123abcd"  # a host name of 64 bytes, the most there is
-    zz = ("99", "c36ddd58c2531d1b")
-    theirs = f".{stem}.{tag}.tmp.png"
-    ours = [zigzag_temporary(theirs, *zz, 0), zigzag_temporary(theirs + ".stats.json", *zz, 1)]
-    assert all(len(n) <= 255 and "~" in n for n in ours)  # the rule above did cut them
-    other = f".{stem}.v2.{tag}.tmp.png"  # {stem}.v2.png's
-    others = [stem + ".png", zigzag_temporary(other, *zz, 2), zigzag_temporary(other + ".stats.json", *zz, 3)]
-    assert all("~" in n for n in others[1:])
-    for name in ours + others:
-        open(os.path.join(workdir, name), "w").close()
-    part = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None, output=out)
-    remove_stale_temporaries(FrameJob(key="f", output=out, stats=None, scene_name="s", frame=None, camera=0,
-                                      parts=(part,), merged=False))
-    assert sorted(os.listdir(workdir)) == sorted(others)
+    monkeypatch.setattr(job.socket, "gethostname", lambda: "node-" + "h" * 59)  # 64 bytes, the most there is
+    monkeypatch.setattr(job.os, "getpid", lambda: 4194304)                      # Linux's largest PID
+    for ext in (".png", ".exr", ".tiff"):
+        stem = "x" * (MAX_OUTPUT_NAME - len(ext))
+        out = os.path.join(workdir, stem + ext)
+        theirs = os.path.basename(job.temporary_name(out))
+        assert len(theirs) < 255
+        ours = [theirs, theirs + ".stats.json",
+                zigzag_temporary(theirs, "4194304", "c36ddd58c2531d1b", 999),
+                zigzag_temporary(theirs + ".stats.json", "4194304", "c36ddd58c2531d1b", 999)]
+        assert not any("~" in n for n in ours[2:]), ours  # not cut
+        pattern = _temporaries_of(out)
+        assert all(pattern.fullmatch(n) for n in ours), ours
+        other = _temporaries_of(os.path.join(workdir, stem + (".jpg" if ext != ".jpg" else ".bmp")))
+        assert not any(other.fullmatch(n) for n in ours), ours
 
 
 def test_the_users_options_come_after_the_drivers():
