@@ -54,10 +54,11 @@ int main(int argc, char** argv) {
   } catch (const zz::Error& e) {
     std::fprintf(stderr, "zigzag: error: %s\n", e.what());
     return 1;
-  } catch (const std::bad_alloc& e) {
-    std::fprintf(stderr, "zigzag: error: %s\n", zz::error_text(e).c_str());
-    return 1;
   } catch (const std::exception& e) {
+    if (zz::out_of_resources(e)) {
+      std::fprintf(stderr, "zigzag: error: %s\n", zz::error_text(e).c_str());
+      return 1;
+    }
     std::fprintf(stderr, "zigzag: internal error: %s\n", e.what());
     return 2;
   }

@@ -5,6 +5,7 @@
 #include <new>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 
 namespace zz {
 
@@ -33,12 +34,21 @@ void as_usage_checks(F&& checks) {
   }
 }
 
-// What an error says to the user: an allocation that failed is said to be out of memory,
-// not "std::bad_alloc" (a scene or frame under ulimit -v).
+// The machine ran out of what the process may use (memory, or a thread it could not start:
+// std::async under ulimit -v threw "Resource temporarily unavailable"): not a bug of ours.
+inline bool out_of_resources(const std::exception& e) {
+  if (dynamic_cast<const std::bad_alloc*>(&e)) return true;
+  const auto* system = dynamic_cast<const std::system_error*>(&e);
+  return system && system->code() == std::errc::resource_unavailable_try_again;
+}
+
+// What an error says to the user: out of resources in so many words, not "std::bad_alloc"
+// (a scene or frame under ulimit -v).
 inline std::string error_text(const std::exception& e) {
   if (dynamic_cast<const std::bad_alloc*>(&e))
-    return "out of memory (an allocation failed; the limits are the memory available, ulimit -v and "
-           "$ZIGZAG_MEMORY_LIMIT)";
+    return "out of memory (an allocation failed; see ulimit -v and the memory available)";
+  if (out_of_resources(e))
+    return std::string("out of resources: ") + e.what() + " (a thread could not start; see ulimit -v and ulimit -u)";
   return e.what();
 }
 

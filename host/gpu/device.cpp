@@ -143,12 +143,12 @@ void vk_check(VkResult result, const char* what) {
   if (result == VK_SUCCESS) return;
   std::string why = std::string("Vulkan: ") + what + " failed (" + vk_result_name(result) + " " +
                     std::to_string(int(result)) + ")";
-  const bool memory = result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  if (result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY) why += ": out of memory";
+  // A GPU's own memory is no address space of ours: the hint is for the driver's host side.
   if (const std::string limit = address_space_limit();
-      !limit.empty() && (memory || result == VK_ERROR_UNKNOWN || result == VK_ERROR_INITIALIZATION_FAILED))
+      !limit.empty() && (result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_UNKNOWN ||
+                         result == VK_ERROR_INITIALIZATION_FAILED))
     why += "; the address-space limit (" + limit + ") may be too small for the Vulkan driver";
-  else if (memory)
-    why += ": out of memory";
   throw Error(why);
 }
 

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <cmath>
 
+#include "core/error.h"
+
 namespace zz {
 
 int next_preview_scale(int scale, double seconds, int smallest) {
@@ -82,7 +84,7 @@ void ProgressiveRenderer::run() {
     } catch (const std::exception& e) {
       // Reported through status(): the UI thread decides how to fail, this thread lives on.
       std::lock_guard<std::mutex> lock(mutex_);
-      status_.error = e.what();
+      status_.error = error_text(e);
     }
     changed_.notify_all();
   }

@@ -71,6 +71,35 @@ TEST(VkCheck, NamesTheCallAndTheResult) {
   EXPECT_STREQ(vk_result_name(VK_TIMEOUT), "VK_TIMEOUT");
 }
 
+// Out of memory says so; under an address-space limit (here one too large to bind) a
+// host-side failure also names the limit, a GPU's own memory never does.
+TEST(VkCheck, OutOfMemorySaysSoAndOnlyTheHostSideNamesUlimit) {
+  auto what = [](VkResult r) {
+    try {
+      vk_check(r, "vkAllocateMemory");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(what(VK_ERROR_OUT_OF_DEVICE_MEMORY).find("(VK_ERROR_OUT_OF_DEVICE_MEMORY -2): out of memory"),
+            std::string::npos);
+  EXPECT_NE(what(VK_ERROR_OUT_OF_HOST_MEMORY).find(": out of memory"), std::string::npos);
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &old), 0);
+  rlimit finite = old;
+  finite.rlim_cur = old.rlim_max == RLIM_INFINITY ? RLIM_INFINITY - 1 : old.rlim_max;
+  if (finite.rlim_cur == RLIM_INFINITY || setrlimit(RLIMIT_AS, &finite) != 0) GTEST_SKIP() << "no finite limit to set";
+  const std::string device = what(VK_ERROR_OUT_OF_DEVICE_MEMORY), host = what(VK_ERROR_OUT_OF_HOST_MEMORY),
+                    unknown = what(VK_ERROR_UNKNOWN), lost = what(VK_ERROR_DEVICE_LOST);
+  ASSERT_EQ(setrlimit(RLIMIT_AS, &old), 0);
+  EXPECT_NE(device.find(": out of memory"), std::string::npos) << device;
+  EXPECT_EQ(device.find("ulimit"), std::string::npos) << device;
+  EXPECT_NE(host.find(": out of memory; the address-space limit (ulimit -v "), std::string::npos) << host;
+  EXPECT_NE(unknown.find("the address-space limit (ulimit -v "), std::string::npos) << unknown;
+  EXPECT_EQ(lost.find("ulimit"), std::string::npos) << lost;
+}
+
 TEST_F(DeviceTest, BadDeviceIndexIsAUserError) {
   VulkanOptions options;
   options.device_index = 1000;
