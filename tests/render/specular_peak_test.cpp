@@ -46,6 +46,8 @@ TEST(SpecularPeak, DistanceFromTheOriginToTheHullOfFourPoints) {
   EXPECT_NEAR(origin_distance_to_hull(point), 2.0f, 1e-6f);
   const glm::vec2 line[4] = {{-1, 0}, {1, 0}, {-1, 0}, {1, 0}};  // degenerate through the origin
   EXPECT_EQ(origin_distance_to_hull(line), 0.0f);
+  const glm::vec2 last[4] = {{2, 2}, {2, 1}, {1, 2}, {1, 1}};  // the nearest point is every segment's far end
+  EXPECT_NEAR(origin_distance_to_hull(last), std::sqrt(2.0f), 1e-6f);
   const glm::vec2 bad[4] = {{std::numeric_limits<float>::quiet_NaN(), 0}, {1, 0}, {0, 1}, {1, 1}};
   EXPECT_TRUE(std::isinf(origin_distance_to_hull(bad)));
 }
