@@ -190,6 +190,25 @@ TEST(SpecularPeak, APinpointHighlightNamesTheLatticePointsAroundItsPeak) {
   EXPECT_EQ(far_points, 0u);
 }
 
+// A lobe narrower than the lattice's spacing may reach visible x 25 / 4 at none of the 25
+// points: then the one point nearest its peak is named, and only it. The peak (0, 0) sits
+// at (0.31, 0.73) of the pixel, 0.09 from P_6 and 0.11 from P_10, the other points
+// 0.22 or more away; with a lower `visible` both P_6 and P_10 reach the zone's threshold.
+TEST(SpecularPeak, ALobeBetweenLatticePointsNamesOnlyTheNearest) {
+  const GlossyFloor f;
+  const float w = 0.12f;
+  SurfaceProbe c[4];
+  f.corners(-0.31f * w, 0.69f * w, -0.73f * w, 0.27f * w, c);
+  uint32_t points = 0;
+  const glm::vec3 hidden = hidden_highlight(f.scene, c, glm::vec3(2.2f), nullptr,
+                                            std::numeric_limits<float>::infinity(), nullptr, &points);
+  ASSERT_GT(hidden.r, 0.0f);
+  EXPECT_EQ(points, 1u << 6);
+  points = 0;
+  hidden_highlight(f.scene, c, glm::vec3(0.4f), nullptr, std::numeric_limits<float>::infinity(), nullptr, &points);
+  EXPECT_EQ(points, (1u << 6) | (1u << 10));
+}
+
 // A corner whose half vector is 45 degrees or more off its normal sits where the lobe's
 // cosine is clamped to pi / 2, and cosf(pi / 2) is a hair below 0: raised to a
 // non-integer exponent (a mean of several materials' exponents is one) it was NaN, and a
