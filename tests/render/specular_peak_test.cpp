@@ -80,13 +80,14 @@ TEST(SpecularPeak, BilinearQuadArea) {
 struct GlossyFloor {
   Scene scene;
   glm::vec3 eye{-1.0f, 0.0f, 1.0f};
+  float shininess = 10000.0f;
   GlossyFloor() {
     Light light;
     light.position = {1.0f, 0.0f, 1.0f};
     scene.lights.push_back(light);
   }
   SurfaceProbe probe(glm::vec3 p) const {
-    return {p, {0, 0, 1}, glm::normalize(eye - p), glm::vec3(0.04f), 10000.0f, 0u};
+    return {p, {0, 0, 1}, glm::normalize(eye - p), glm::vec3(0.04f), shininess, 0u};
   }
   // The pixel whose corners are (x0..x1) x (y0..y1) on the floor.
   void corners(float x0, float x1, float y0, float y1, SurfaceProbe out[4]) const {
@@ -154,6 +155,70 @@ TEST(SpecularPeak, ASpotWhoseConeIsTheWholeSphereFlagsAsThePointLight) {
       nonzero += a.r > 0.0f;
     }
   EXPECT_GT(nonzero, 0);
+}
+
+// Just outside the pixel the peak still spills into it: the lobe's integral beyond the
+// hull's distance is a Gaussian tail, half of erfc (one side of the edge), not all of it.
+TEST(SpecularPeak, APeakJustOutsideThePixelIsEstimatedByTheGaussianTail) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(0.004f, 0.049f, -0.03f, 0.02f, c);  // the peak 0.004 left of the pixel's left edge
+  const double corners = 0.25 * (f.highlight(c[0].position) + f.highlight(c[1].position) +
+                                 f.highlight(c[2].position) + f.highlight(c[3].position));
+  const double truth = f.true_mean(0.004f, 0.049f, -0.03f, 0.02f);
+  ASSERT_LT(corners, 0.1 * truth);  // the corners see little of it
+  EXPECT_NEAR(hidden_highlight(f.scene, c, glm::vec3(1e-3f)).r, truth - corners, 0.3 * truth);
+}
+
+// A wide lobe (exponent 100) peaking mid-pixel: its corners' mean misses a good part of it,
+// more than `visible`, so the light is examined (the cull's bound on the corners' error is
+// s span^2 / 2 of the amplitude) and the miss estimated.
+TEST(SpecularPeak, AWideLobeMissedByTheCornersIsEstimated) {
+  GlossyFloor f;
+  f.shininess = 100.0f;
+  SurfaceProbe c[4];
+  f.corners(-0.08f, 0.08f, -0.08f, 0.08f, c);
+  const double corners = 0.25 * (f.highlight(c[0].position) + f.highlight(c[1].position) +
+                                 f.highlight(c[2].position) + f.highlight(c[3].position));
+  const double truth = f.true_mean(-0.08f, 0.08f, -0.08f, 0.08f);
+  ASSERT_GT(truth - corners, 0.2 * truth);
+  const glm::vec3 visible(float(0.5 * (truth - corners)));
+  EXPECT_NEAR(hidden_highlight(f.scene, c, visible).r, truth - corners, 0.3 * (truth - corners));
+}
+
+// Each light's miss is weighted by the corners' mean incident light: a range window that
+// leaves the left corners unlit (same half vectors, so the same lobe) lowers the estimate by
+// the ratio of the corners' summed incident light, not by that of the brightest corner's.
+TEST(SpecularPeak, AHighlightIsWeightedByTheCornersMeanIncidentLight) {
+  GlossyFloor point, ranged;
+  ranged.scene.lights[0].range = 1.42f;  // the left corners 1.428 from the light, the right 1.397
+  SurfaceProbe c[4];
+  point.corners(-0.02f, 0.025f, -0.03f, 0.02f, c);
+  double incident_point = 0.0, incident_ranged = 0.0;
+  for (const SurfaceProbe& p : c) {
+    glm::vec3 wi, scale;
+    float distance;
+    light_towards(point.scene.lights[0], p.position, wi, distance, scale);
+    incident_point += scale.r * glm::dot(p.normal, wi);
+    if (light_towards(ranged.scene.lights[0], p.position, wi, distance, scale))
+      incident_ranged += scale.r * glm::dot(p.normal, wi);
+  }
+  ASSERT_GT(incident_ranged, 0.0);
+  const glm::vec3 all = hidden_highlight(point.scene, c, glm::vec3(1e-4f));
+  const glm::vec3 windowed = hidden_highlight(ranged.scene, c, glm::vec3(1e-4f));
+  ASSERT_GT(all.r, 0.0f);
+  EXPECT_NEAR(windowed.r / all.r, incident_ranged / incident_point, 0.01 * incident_ranged / incident_point);
+}
+
+// A corner the light does not reach (beyond its range) saw none of its highlight, even at
+// the peak: the pixel's lit part may hold it. The peak at corner 0, which lies beyond the
+// range, and the right corners within it.
+TEST(SpecularPeak, AnUnlitCornerAtThePeakSawNoneOfIt) {
+  GlossyFloor f;
+  f.scene.lights[0].range = 1.40f;  // corner 0 1.414 from the light, the right corners 1.38
+  SurfaceProbe c[4];
+  f.corners(0.0f, 0.05f, 0.0f, 0.05f, c);
+  EXPECT_GT(hidden_highlight(f.scene, c, glm::vec3(1e-6f)).r, 0.0f);
 }
 
 // Where it may show: the peak at (0, 0) lies a quarter of the way across the pixel from
