@@ -186,6 +186,27 @@ TEST(SpecularPeak, AWideLobeMissedByTheCornersIsEstimated) {
   EXPECT_NEAR(hidden_highlight(f.scene, c, visible).r, truth - corners, 0.3 * (truth - corners));
 }
 
+// Shadow at some corners only (a shadow's edge across the pixel) leaves the light examined:
+// only a light blocked at all four corners is skipped.
+TEST(SpecularPeak, ALightBlockedAtSomeCornersIsStillExamined) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(-0.02f, 0.025f, -0.03f, 0.02f, c);
+  const glm::vec3 open = hidden_highlight(f.scene, c, glm::vec3(1e-3f));
+  ASSERT_GT(open.r, 0.0f);
+  c[0].blocked = c[3].blocked = 1u;
+  EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-3f)), open);
+}
+
+// A light within the pixel's own reach (nearer corner 0 than the farthest corner is) has no
+// inverse-square bound there: it is examined, however large the pixel.
+TEST(SpecularPeak, ALightWithinThePixelsReachIsNotCulledByItsDistance) {
+  const GlossyFloor f;
+  SurfaceProbe c[4];
+  f.corners(-0.5f, 10.0f, -0.5f, 10.0f, c);  // the peak inside; the light 1.9 from corner 0, the pixel 14.8 across
+  EXPECT_GT(hidden_highlight(f.scene, c, glm::vec3(0.5f)).r, 0.0f);
+}
+
 // Each light's miss is weighted by the corners' mean incident light: a range window that
 // leaves the left corners unlit (same half vectors, so the same lobe) lowers the estimate by
 // the ratio of the corners' summed incident light, not by that of the brightest corner's.
