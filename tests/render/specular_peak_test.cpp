@@ -351,12 +351,12 @@ struct Ridge {
   ProbeStencil view() const { return {&stencil[5], sizeof(SurfaceProbe), 4 * sizeof(SurfaceProbe)}; }
   void corners(SurfaceProbe out[4]) const { out[0] = stencil[5], out[1] = stencil[6], out[2] = stencil[9], out[3] = stencil[10]; }
   // The true mean over the pixel of the highlight (GlossyFloor::highlight with the ridge's normal).
-  double true_mean() const {
+  double true_mean(float pixel = kPixel) const {
     const int n = 400;
     double sum = 0;
     for (int k = 0; k < n; ++k) {
       const float u = -0.5f + (float(k) + 0.5f) / float(n);
-      SurfaceProbe s = floor.probe({u * kPixel, 0.0f, 0.0f});
+      SurfaceProbe s = floor.probe({u * pixel, 0.0f, 0.0f});
       s.normal = normal(u);
       glm::vec3 wi, scale;
       float distance;
@@ -420,6 +420,18 @@ TEST(SpecularPeak, ANormalStepBetweenTheCornersBoundsByHalfTheStep) {
   EXPECT_NEAR(normal_interpolation_error(outside.view()), size / 8.0f, 1e-5f);
 }
 
+// Second differences at an edge's two ends at right angles (the normals bend one way past
+// one end and another way past the other) are no step: only nearly opposite ones
+// (cosine below -kStepCosine) are. The smooth bound alone, (|n_xx| + |n_yy|) / 8.
+TEST(SpecularPeak, SecondDifferencesAtRightAnglesAreNoStep) {
+  Ridge bent;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)  // the ring's first column tilted about x, its last about y
+      bent.stencil[j * 4 + i].normal = glm::normalize(glm::vec3(i == 3 ? 0.1f : 0.0f, i == 0 ? 0.1f : 0.0f, 1.0f));
+  const float along_x = glm::length(bent.stencil[4].normal - 2.0f * bent.stencil[5].normal + bent.stencil[6].normal);
+  EXPECT_NEAR(normal_interpolation_error(bent.view()), along_x / 8.0f, 1e-6f);
+}
+
 TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   const Ridge ridge;
   SurfaceProbe c[4];
@@ -432,6 +444,28 @@ TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   const ProbeStencil view = ridge.view();
   const glm::vec3 found = hidden_highlight(ridge.floor.scene, c, visible, &view);
   EXPECT_GE(found.r, 0.5 * truth);
+}
+
+// The same ridge on pixels six times as wide: the corners' half vectors spread so far that
+// the lobe is narrow against the pixel, and the hull of their d misses the peak by less
+// than the normals' interpolation bound; widened by it, the hull's distance is 0. (The
+// narrow model spreads a point's integral over the pixel, so it finds the streak, a line,
+// at under half its brightness.)
+TEST(SpecularPeak, AStreakOnARidgeAcrossAWidePixelIsFound) {
+  Ridge ridge;
+  const float pixel = 6.0f * Ridge::kPixel;
+  for (SurfaceProbe& p : ridge.stencil) {
+    const glm::vec3 n = p.normal;
+    p = ridge.floor.probe(6.0f * p.position);
+    p.normal = n;
+  }
+  SurfaceProbe c[4];
+  ridge.corners(c);
+  const double truth = ridge.true_mean(pixel);
+  const glm::vec3 visible(0.05f * float(truth));
+  EXPECT_EQ(hidden_highlight(ridge.floor.scene, c, visible), glm::vec3(0.0f));
+  const ProbeStencil view = ridge.view();
+  EXPECT_GE(hidden_highlight(ridge.floor.scene, c, visible, &view).r, 0.25 * truth);
 }
 
 // Pixel (20, 20)'s red radiance in a size x size frame, adaptive with the highlight flag
