@@ -124,6 +124,19 @@ TEST(WhittedFromGltf, ShininessFollowsGgxAlpha) {
   EXPECT_FLOAT_EQ(whitted_from_gltf(make(kRed, 0.0f, 0.0f)).shininess, 10000.0f);  // clamped
 }
 
+// An attenuation colour with a black channel absorbs that channel strongly, but finitely:
+// the colour is clamped to 1e-6 before its logarithm (an infinite sigma_a would be NaN
+// through 0 x inf at a zero path length).
+TEST(WhittedFromGltf, ABlackAttenuationChannelAbsorbsFinitely) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.thickness = 1.0f;
+  m.attenuation_color = glm::vec3(0.0f, 0.5f, 1.0f);
+  m.attenuation_distance = 2.0f;
+  const WhittedMaterial w = whitted_from_gltf(m);
+  EXPECT_NEAR(w.absorption.x, -std::log(1e-6f) / 2.0f, 1e-4f);
+  EXPECT_NEAR(w.absorption.y, std::log(2.0f) / 2.0f, 1e-6f);
+}
+
 TEST(WhittedFromGltf, EmissionIsNonNegativeAndOutOfRangeInputsClamp) {
   Material m = make(glm::vec3(2.0f, -1.0f, 0.5f), 3.0f, -1.0f);
   m.emissive = glm::vec3(1.0f, -2.0f, 0.0f);
@@ -154,6 +167,23 @@ TEST(OutOfRangeFactors, NameEachFactorGltfForbids) {
   std::vector<std::string> got;
   for (const FactorProblem& f : out_of_range_factors(m)) got.push_back(f.text());
   EXPECT_EQ(got, want);
+}
+
+// Each colour is checked at both ends, and a NaN ior or attenuation distance (which
+// whitted_from_gltf replaces too) is named like one out of range.
+TEST(OutOfRangeFactors, NameNegativeColoursAndNaNs) {
+  Material m;
+  m.base_color = glm::vec3(0.5f, -0.1f, 0.5f);
+  m.attenuation_color = glm::vec3(-1.0f, 0.5f, 0.5f);
+  m.ior = std::nanf("");
+  m.attenuation_distance = std::nanf("");
+  std::vector<std::string> got;
+  for (const FactorProblem& f : out_of_range_factors(m)) got.push_back(f.what);
+  ASSERT_EQ(got.size(), 4u);
+  EXPECT_EQ(got[0].rfind("base colour (0.5, -0.1, 0.5)", 0), 0u) << got[0];
+  EXPECT_EQ(got[1].rfind("attenuation colour (-1, 0.5, 0.5)", 0), 0u) << got[1];
+  EXPECT_EQ(got[2].rfind("ior ", 0), 0u) << got[2];
+  EXPECT_EQ(got[3].rfind("attenuation distance ", 0), 0u) << got[3];
 }
 
 }  // namespace
