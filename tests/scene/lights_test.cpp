@@ -52,6 +52,15 @@ TEST(Lights, ProblemsAreWhatKhrLightsPunctualForbids) {
   EXPECT_EQ(light_problem(l), "");
 }
 
+// A NaN cone angle is no open cone: refused, as can_light would find it dark.
+TEST(Lights, ASpotWithANaNConeIsRefused) {
+  Light l;
+  l.type = Light::Type::Spot;
+  l.outer_cone = std::nanf("");
+  EXPECT_FALSE(can_light(l));
+  EXPECT_NE(light_problem(l).find("spot cone closed"), std::string::npos);
+}
+
 TEST(Lights, CanLightNeedsIntensityAndAnOpenCone) {
   Light l;
   EXPECT_TRUE(can_light(l));
