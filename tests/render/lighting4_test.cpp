@@ -97,6 +97,19 @@ TEST(LightTowards, TheRangeWindowIsTheSpecs) {
   }
 }
 
+// The window holds for any range > 0, a short one (a desk lamp's 0.5 m) too.
+TEST(LightTowards, AShortRangeWindowsToo) {
+  Light l;
+  l.range = 0.5f;
+  for (const float d : {0.25f, 0.45f, 0.5f, 0.8f}) {
+    glm::vec3 to_light, scale;
+    float tmax = 0.0f;
+    const bool lit = light_towards(l, {d, 0.0f, 0.0f}, to_light, tmax, scale);
+    const float r = d / 0.5f, expected = std::max(0.0f, 1.0f - r * r * r * r) / (d * d);
+    EXPECT_NEAR(lit ? scale.x : 0.0f, expected, 1e-6f * expected + 1e-9f) << d;
+  }
+}
+
 TEST(LightTowards, OnlyNarrowSpotsLeaveTheSpecsFloor) {
   const float c10 = std::cos(glm::radians(10.0f)), c1 = std::cos(glm::radians(1.0f));
   EXPECT_FLOAT_EQ(spot_scale(c10, c10), 1000.0f);
