@@ -41,6 +41,7 @@ std::string job_name(const OutputKey& k, const std::vector<OutputKey>& jobs) {
     cameras |= j.camera != jobs.front().camera;
     frames |= j.frame != jobs.front().frame;
   }
+  cameras &= !k.any_camera;  // a stand-in for --camera all is no camera of the user's
   std::string name = scenes || !(cameras || frames) ? k.scene : "";
   auto add = [&](const std::string& s) { name += (name.empty() ? "" : " ") + s; };
   if (cameras) add("camera " + k.camera);

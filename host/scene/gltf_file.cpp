@@ -157,7 +157,7 @@ class UriResolver {
     const auto it = map_->find(tinygltf_path);
     if (it == map_->end()) return {};  // the working directory's copy: not found
     if (!it->second) throw Error(gltf_.string() + ": URIs '" + ambiguous_[it->first].first + "' and '" +
-                                 ambiguous_[it->first].second + "' name different files that tinygltf 2.7 cannot tell apart ('+' and space); rename one");
+                                 ambiguous_[it->first].second + "' name different files that tinygltf 2.7 cannot tell apart (it reads '+' as a space and a '%' escape's bad digits as 0); rename one");
     std::error_code ec;
     if (!std::filesystem::exists(*it->second, ec)) missing_.push_back({percent_decode(first_uri_[it->first], UriReading::Tinygltf), *it->second});
     return *it->second;

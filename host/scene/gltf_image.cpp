@@ -21,6 +21,9 @@ float srgb_to_linear(float c) {
 struct EncodedSize {
   uint32_t width = 0, height = 0;
   int bits = 8;
+  // What stb_image, tinygltf's decoder, reads: any PNG; a JPEG only baseline or progressive
+  // (SOF0-2) at 8 bits, not 12-bit, lossless or arithmetic-coded ones.
+  bool decoder_reads = true;
 };
 
 std::optional<EncodedSize> encoded_size(const std::vector<unsigned char>& b) {
@@ -37,7 +40,8 @@ std::optional<EncodedSize> encoded_size(const std::vector<unsigned char>& b) {
       continue;
     }
     if (marker >= 0xC0 && marker <= 0xCF && marker != 0xC4 && marker != 0xC8 && marker != 0xCC)
-      return EncodedSize{be16(i + 7), be16(i + 5), b[i + 4]};  // SOFn: precision, height, width
+      return EncodedSize{be16(i + 7), be16(i + 5), b[i + 4],  // SOFn: precision, height, width
+                         marker <= 0xC2 && b[i + 4] == 8};
     if (marker == 0x01 || (marker >= 0xD0 && marker <= 0xD8)) i += 2;  // no length
     else i += 2 + be16(i + 2);
   }
@@ -99,10 +103,14 @@ std::optional<Texture> decode_image(const tinygltf::Image& encoded, int source, 
                                  int(encoded.image.size()), nullptr)) {
       *why = label + " could not be decoded";
       // A header that reads is a PNG or JPEG whose data is damaged, or whose decode found no
-      // memory (under ulimit -v a sound image failed here, said to be undecodable).
-      if (size)
-        *why += ": a " + std::to_string(size->width) + "x" + std::to_string(size->height) +
-                " image whose data is damaged, or memory ran out decoding it";
+      // memory (under ulimit -v a sound image failed here, said to be undecodable), unless
+      // it is a JPEG the decoder does not read.
+      const std::string dims = size ? std::to_string(size->width) + "x" + std::to_string(size->height) : "";
+      if (size && size->decoder_reads)
+        *why += ": a " + dims + " image whose data is damaged, or memory ran out decoding it";
+      else if (size)
+        *why += ": a " + dims + " JPEG of a kind its decoder (stb_image) does not read (12-bit, lossless or "
+                "arithmetic-coded); save it as a baseline JPEG or a PNG";
       return std::nullopt;
     }
   } else {

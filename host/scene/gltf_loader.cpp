@@ -161,10 +161,16 @@ struct Loader {
     return std::any_of(weights.begin(), weights.end(), [](double w) { return w != 0.0; });
   }
 
-  void warn_out_of_range(const Material& m) const {
+  // "material 'name'", or "material 3" (the file's index) for one without a name.
+  std::string material_label(uint32_t scene_index) const {
+    const std::string& name = scene.materials[scene_index].name;
+    return name.empty() ? "material " + std::to_string(scene_index - material_base) : "material '" + name + "'";
+  }
+
+  void warn_out_of_range(uint32_t scene_index) const {
     std::string all;
-    for (const FactorProblem& f : out_of_range_factors(m)) all += (all.empty() ? "" : "; ") + f.text();
-    if (!all.empty()) warn("material '" + m.name + "': " + all);
+    for (const FactorProblem& f : out_of_range_factors(scene.materials[scene_index])) all += (all.empty() ? "" : "; ") + f.text();
+    if (!all.empty()) warn(material_label(scene_index) + ": " + all);
   }
 
   // A texture the file names but the loader cannot use: an error, unless the options allow
@@ -315,8 +321,8 @@ struct Loader {
       m.normal_scale = float(g.normalTexture.scale);
       if (g.alphaMode == "MASK") m.alpha_mode = AlphaMode::Mask;
       else if (g.alphaMode == "BLEND") m.alpha_mode = AlphaMode::Blend;
-      else if (g.alphaMode != "OPAQUE" && !g.alphaMode.empty())
-        warn("material '" + g.name + "': alphaMode '" + g.alphaMode + "' is none of OPAQUE, MASK, BLEND; read as OPAQUE");
+      const bool odd_alpha_mode = g.alphaMode != "OPAQUE" && g.alphaMode != "MASK" && g.alphaMode != "BLEND" &&
+                                  !g.alphaMode.empty();
       m.alpha_cutoff = float(g.alphaCutoff);
       m.emissive = vec3_of(g.emissiveFactor, glm::vec3(0.0f));
       if (const auto* e = extension(g.extensions, "KHR_materials_emissive_strength"))
@@ -339,8 +345,11 @@ struct Loader {
           !std::isfinite(m.roughness) || !std::isfinite(m.transmission) || !std::isfinite(m.base_alpha) ||
           !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale))
         throw Error(file + ": material '" + g.name + "' has non-finite parameters");
-      warn_out_of_range(m);
       scene.materials.push_back(std::move(m));
+      const uint32_t index = uint32_t(scene.materials.size() - 1);
+      if (odd_alpha_mode)
+        warn(material_label(index) + ": alphaMode '" + g.alphaMode + "' is none of OPAQUE, MASK, BLEND; read as OPAQUE");
+      warn_out_of_range(index);
     }
   }
 
@@ -419,8 +428,9 @@ struct Loader {
                                       &m.normal_texture, &m.transmission_texture})
           if (ref->used() && (ref->texcoord == 1 ? uv1 : uv).empty()) {
             warn_unsupported(mesh_name + " TEXCOORD_" + std::to_string(ref->texcoord),
-                             mesh_name + " primitive " + std::to_string(p) + ": material '" + m.name + "' reads TEXCOORD_" +
-                                 std::to_string(ref->texcoord) + ", which the primitive lacks: its textures are read at (0, 0)");
+                             mesh_name + " primitive " + std::to_string(p) + ": " + material_label(material) + " reads TEXCOORD_" +
+                                 std::to_string(ref->texcoord) +
+                                 ", which the primitive lacks: each of its textures shows one texel all over");
             break;
           }
       }

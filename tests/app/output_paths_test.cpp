@@ -64,7 +64,8 @@ TEST(OutputCollisions, NameTheMissingPlaceholder) {
                                               "(add {camera})");
   // Two scene files of one name under --camera all still say so.
   const std::vector<OutputKey> twins = {{"room", "0", 0, true}, {"room", "1", 0, true}, {"room", "0", 0, true}};
-  EXPECT_NE(error_of({{"-o", "{camera}.png"}}, twins).find("same name"), std::string::npos);
+  const std::string same = error_of({{"-o", "{camera}.png"}}, twins);
+  EXPECT_EQ(same, "-o {camera}.png: jobs room and room would both write 0.png (their scene files have the same name)");
 
   const std::vector<OutputKey> frames = {{"room", "0", 1}, {"room", "0", 2}};
   EXPECT_NE(error_of({{"-o", "{scene}.png"}}, frames).find("add {frame}"), std::string::npos);

@@ -367,6 +367,14 @@ TEST(Texture, AnImageThatDoesNotDecodeSaysWhatItsHeaderClaims) {
       return std::string(e.what());
     }
   };
+  // A lossless JPEG's frame header (SOF3, 8-bit, 16 x 16): sound, but not what the decoder reads.
+  test::write_text(dir / "lossless.jpg", std::string("\xFF\xD8\xFF\xC3\x00\x0B\x08\x00\x10\x00\x10\x01\x01\x11\x00"
+                                                     "\xFF\xD9", 17));
+  const std::string lossless = error_of("lossless.jpg");
+  EXPECT_NE(lossless.find("'lossless.jpg' could not be decoded: a 16x16 JPEG of a kind its decoder (stb_image) does not "
+                          "read"),
+            std::string::npos)
+      << lossless;
   const std::string cut = error_of("cut.png"), noise = error_of("noise.png");
   EXPECT_NE(cut.find("'cut.png' could not be decoded: a 64x48 image whose data is damaged, or memory ran out"),
             std::string::npos) << cut;
