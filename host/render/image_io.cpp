@@ -3,7 +3,6 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -133,16 +132,17 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
   }, set);
 }
 
-}  // namespace
+// The writer OpenImageIO picks for the path's extension (null for none).
+std::unique_ptr<OIIO::ImageOutput> writer_for(const std::filesystem::path& path) {
+  if (path.extension().empty()) return nullptr;
+  return OIIO::ImageOutput::create(path.string());
+}
 
-namespace {
-
-// The writer OpenImageIO picks for the path's extension ("" for none): by format, not by
-// extension, since the EXR writer also answers to .sxr and .mxr, which took the 8-bit
-// display image (stored as half floats, tagged linear) when only .exr was radiance.
+// Its format ("" for none): what decides radiance and layers, not the extension, since the
+// EXR writer also answers to .sxr and .mxr, which took the 8-bit display image (stored as
+// half floats, tagged linear) when only .exr was radiance.
 std::string writer_format(const std::filesystem::path& path) {
-  if (path.extension().empty()) return "";
-  const auto out = OIIO::ImageOutput::create(path.string());
+  const auto out = writer_for(path);
   return out ? out->format_name() : "";
 }
 
@@ -156,8 +156,7 @@ bool writes_radiance(const std::filesystem::path& path) {
 bool holds_extra_channels(const std::filesystem::path& path) { return writer_format(path) == "openexr"; }
 
 bool can_write_image_format(const std::filesystem::path& path) {
-  if (path.extension().empty()) return false;
-  const auto out = OIIO::ImageOutput::create(path.string());
+  const auto out = writer_for(path);
   if (!out || !out->supports("ioproxy")) return false;  // see OpenOutput
   // Writers that take the proxy but do not give the image back, found only after the
   // render by the read-back; by the format OpenImageIO picks, not the extension (the TIFF
@@ -166,8 +165,7 @@ bool can_write_image_format(const std::filesystem::path& path) {
   // its TIFF writer a texture's directory without the image's length; "null" writes nothing.
   const std::string format = out->format_name();
   if (format == "gif" || format == "jpeg2000" || format == "null") return false;
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  const std::string ext = lowercase_extension(path);
   return format != "tiff" || ext == ".tif" || ext == ".tiff";
 }
 
