@@ -51,7 +51,7 @@ void add_merge_command(CLI::App& app) {
       ->check(non_empty("-o"));
   cmd->callback([o] {
     as_usage_checks([&] {  // before the parts are read: a bad invocation costs nothing
-      (void)memory_budget();  // a malformed $ZIGZAG_MEMORY_LIMIT
+      (void)environment_memory_limit();  // a malformed $ZIGZAG_MEMORY_LIMIT
       preflight_output("-o", o->output, true);
       check_not_an_input("-o", o->output, o->parts, "one of the parts,");
     });

@@ -178,7 +178,7 @@ LoadOptions load_options(const RenderOptions& o, bool quiet) {
 }
 
 void validate(const RenderOptions& o) {
-  (void)memory_budget();  // a malformed $ZIGZAG_MEMORY_LIMIT is refused before anything loads
+  (void)environment_memory_limit();  // a malformed $ZIGZAG_MEMORY_LIMIT is refused before anything loads
   if (o.aa != AaMode::Uniform) return;
   if (o.pattern == UniformPattern::Lattice) {
     if (o.spp != 25) throw Error("--pattern lattice needs --spp 25 (the 25-point lattice)");

@@ -64,6 +64,12 @@ uint64_t parse_memory_limit(const std::string& text) {
   return value << shift;
 }
 
+uint64_t environment_memory_limit() {
+  // Empty or 0: no limit (VAR= is how many tools unset a variable; 0 meant none before).
+  const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT");
+  return env && *env ? parse_memory_limit(env) : 0;
+}
+
 MemoryBudget memory_budget() {
   MemoryBudget budget;
   auto tighten = [&](uint64_t b, const std::string& by) {
@@ -91,13 +97,10 @@ MemoryBudget memory_budget() {
     tighten(uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 1,
             "the address-space limit, ulimit -v, less what is mapped");
   }
-  // Empty or 0: no limit (VAR= is how many tools unset a variable; 0 meant none before).
-  if (const char* env = std::getenv("ZIGZAG_MEMORY_LIMIT"); env && *env)
-    if (const uint64_t limit = parse_memory_limit(env); limit > 0) tighten(limit, std::string("ZIGZAG_MEMORY_LIMIT=") + env);
+  if (const uint64_t limit = environment_memory_limit(); limit > 0)
+    tighten(limit, std::string("ZIGZAG_MEMORY_LIMIT=") + std::getenv("ZIGZAG_MEMORY_LIMIT"));
   return budget;
 }
-
-uint64_t available_bytes() { return memory_budget().bytes; }
 
 void check_memory(uint64_t needed, const char* what) {
   const MemoryBudget budget = memory_budget();

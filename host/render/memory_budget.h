@@ -28,6 +28,10 @@ uint64_t resident_bytes();
 // for anything else ("4GB", "2e9", "-5"), which strtoull had read as 4, 2 or a huge number.
 uint64_t parse_memory_limit(const std::string& text);
 
+// $ZIGZAG_MEMORY_LIMIT read by parse_memory_limit; 0 when unset or empty. Commands call it
+// before anything loads, so a malformed value is refused first.
+uint64_t environment_memory_limit();
+
 // Memory the process may still use: the smallest of MemAvailable (/proc/meminfo), RLIMIT_AS
 // headroom and $ZIGZAG_MEMORY_LIMIT, if set and not empty or 0 (bytes 0 if unknown), and
 // which of them it is.
@@ -36,7 +40,6 @@ struct MemoryBudget {
   std::string bound_by;
 };
 MemoryBudget memory_budget();
-uint64_t available_bytes();
 
 // Throws zz::Error naming the need, the budget and what sets it when `needed` exceeds what
 // is available.
