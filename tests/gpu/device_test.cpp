@@ -136,8 +136,9 @@ TEST_F(DeviceTest, FindsNoDeviceGracefully) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("mesa-vulkan-drivers"), std::string::npos) << e.what();
     rlimit limit{};
-    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur == RLIM_INFINITY)
+    if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur == RLIM_INFINITY) {
       EXPECT_EQ(std::string(e.what()).find("ulimit"), std::string::npos) << e.what();
+    }
   }
   // Under an address-space limit (here one too large to bind) a driver may fail to start:
   // the message says so beside the install hint, which alone sent users with lavapipe

@@ -64,7 +64,9 @@ TEST(MemoryLimit, TheRefusalSaysWhatSetsTheBudget) {
   }
   if (saved) setenv("ZIGZAG_MEMORY_LIMIT", keep.c_str(), 1);
   else unsetenv("ZIGZAG_MEMORY_LIMIT");
-  if (!saved) EXPECT_EQ(memory_budget().bound_by.find("ZIGZAG"), std::string::npos);
+  if (!saved) {
+    EXPECT_EQ(memory_budget().bound_by.find("ZIGZAG"), std::string::npos);
+  }
 }
 
 }  // namespace

@@ -575,7 +575,9 @@ std::filesystem::path load_buffer_named(const std::filesystem::path& dir, const 
   const Scene s = load_scene(path, kQuiet);
   EXPECT_EQ(s.triangle_count(), 1u);
   EXPECT_EQ(s.source_files.size(), 2u);
-  if (s.source_files.size() == 2) EXPECT_EQ(s.source_files[1], (dir / (stem + ".bin")).string());
+  if (s.source_files.size() == 2) {
+    EXPECT_EQ(s.source_files[1], (dir / (stem + ".bin")).string());
+  }
   return path;
 }
 
