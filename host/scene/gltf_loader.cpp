@@ -319,10 +319,10 @@ struct Loader {
                       pbr.metallicRoughnessTexture.extensions, false);
       m.normal_texture = texture_ref(g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.extensions, false);
       m.normal_scale = float(g.normalTexture.scale);
+      bool odd_alpha_mode = false;  // said once the material has its label
       if (g.alphaMode == "MASK") m.alpha_mode = AlphaMode::Mask;
       else if (g.alphaMode == "BLEND") m.alpha_mode = AlphaMode::Blend;
-      const bool odd_alpha_mode = g.alphaMode != "OPAQUE" && g.alphaMode != "MASK" && g.alphaMode != "BLEND" &&
-                                  !g.alphaMode.empty();
+      else odd_alpha_mode = g.alphaMode != "OPAQUE" && !g.alphaMode.empty();
       m.alpha_cutoff = float(g.alphaCutoff);
       m.emissive = vec3_of(g.emissiveFactor, glm::vec3(0.0f));
       if (const auto* e = extension(g.extensions, "KHR_materials_emissive_strength"))
