@@ -483,9 +483,7 @@ FootprintDelta texture_footprint_delta(const Scene& scene, const SurfaceProbe c[
   // The corners' texture coordinates must span the pixel as one smooth patch does: close
   // to a parallelogram, and over few texels (a UV seam or an atlas jump between corners
   // fails one or the other; so does a texture minified beyond what the samples resolve).
-  const TextureRef* refs[5] = {&material.base_color_texture, &material.metallic_roughness_texture,
-                               &material.transmission_texture, &material.emissive_texture, &material.normal_texture};
-  for (const TextureRef* ref : refs) {
+  for (const TextureRef* ref : material.texture_slots()) {
     if (!valid_ref(scene, *ref)) continue;
     glm::vec2 st[4];
     for (int i = 0; i < 4; ++i) st[i] = ref->at(c[i].uv0, c[i].uv1);

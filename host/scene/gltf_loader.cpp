@@ -424,8 +424,7 @@ struct Loader {
       {
         // A texture read through a set the primitive lacks shows its texel at (0, 0) all over.
         const Material& m = scene.materials[material];
-        for (const TextureRef* ref : {&m.base_color_texture, &m.metallic_roughness_texture, &m.emissive_texture,
-                                      &m.normal_texture, &m.transmission_texture})
+        for (const TextureRef* ref : m.texture_slots())
           if (ref->used() && (ref->texcoord == 1 ? uv1 : uv).empty()) {
             warn_unsupported(mesh_name + " TEXCOORD_" + std::to_string(ref->texcoord),
                              mesh_name + " primitive " + std::to_string(p) + ": " + material_label(material) + " reads TEXCOORD_" +

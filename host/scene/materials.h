@@ -6,6 +6,7 @@
 #include <glm/glm.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -63,6 +64,11 @@ struct Material {
            (base_color_texture.used() && (metallic > 0.0f || transmission > 0.0f));
   }
   bool see_through() const { return alpha_mode != AlphaMode::Opaque; }
+  // Every texture slot, used or not.
+  std::array<const TextureRef*, 5> texture_slots() const {
+    return {&base_color_texture, &metallic_roughness_texture, &transmission_texture, &emissive_texture,
+            &normal_texture};
+  }
 };
 
 // What the Whitted shader uses. All colours linear RGB.
