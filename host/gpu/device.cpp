@@ -1,11 +1,10 @@
 #include "gpu/device.h"
 
-#include <sys/resource.h>
-
 #include <cstdio>
 #include <cstring>
 #include <mutex>
 
+#include "core/address_space.h"
 #include "core/error.h"
 
 namespace zz {
@@ -21,16 +20,15 @@ std::string or_without_vulkan(const VulkanOptions& o) {
 // "ulimit -v N" when the process has an address-space limit, else "": lavapipe that cannot
 // map its memory under one lists no device or fails to create it (VK_ERROR_UNKNOWN), and
 // the install hint alone sent users with the driver installed to reinstall it.
-std::string address_space_limit() {
-  rlimit limit{};
-  if (getrlimit(RLIMIT_AS, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return "";
-  return "ulimit -v " + std::to_string(limit.rlim_cur / 1024);
+std::string ulimit_v() {
+  const uint64_t limit = address_space_limit();
+  return limit == 0 ? "" : "ulimit -v " + std::to_string(limit / 1024);
 }
 
 std::string no_device(const VulkanOptions& o) {
   std::string why = "no Vulkan device found; install one with `apt-get install mesa-vulkan-drivers` (lavapipe, CPU)" +
                     or_without_vulkan(o);
-  if (const std::string limit = address_space_limit(); !limit.empty())
+  if (const std::string limit = ulimit_v(); !limit.empty())
     why += "; with the driver installed, the address-space limit (" + limit + ") may be too small for it";
   return why;
 }
@@ -145,7 +143,7 @@ void vk_check(VkResult result, const char* what) {
                     std::to_string(int(result)) + ")";
   if (result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_OUT_OF_DEVICE_MEMORY) why += ": out of memory";
   // A GPU's own memory is no address space of ours: the hint is for the driver's host side.
-  if (const std::string limit = address_space_limit();
+  if (const std::string limit = ulimit_v();
       !limit.empty() && (result == VK_ERROR_OUT_OF_HOST_MEMORY || result == VK_ERROR_UNKNOWN ||
                          result == VK_ERROR_INITIALIZATION_FAILED))
     why += "; the address-space limit (" + limit + ") may be too small for the Vulkan driver";

@@ -1,6 +1,5 @@
 #include "render/memory_budget.h"
 
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -12,6 +11,7 @@
 #include <string>
 #include <thread>
 
+#include "core/address_space.h"
 #include "core/error.h"
 #include "render/renderer.h"
 #include "render/texture_detail.h"
@@ -88,14 +88,12 @@ MemoryBudget memory_budget() {
       break;
     }
   }
-  rlimit limit{};
-  if (getrlimit(RLIMIT_AS, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY) {
+  if (const uint64_t limit = address_space_limit(); limit > 0) {
     // Address space already mapped counts against the limit.
     uint64_t mapped = 0;
     std::ifstream statm("/proc/self/statm");
-    if (statm >> mapped) mapped *= 4096;
-    tighten(uint64_t(limit.rlim_cur) > mapped ? uint64_t(limit.rlim_cur) - mapped : 1,
-            "the address-space limit, ulimit -v, less what is mapped");
+    if (statm >> mapped) mapped *= uint64_t(sysconf(_SC_PAGESIZE));
+    tighten(limit > mapped ? limit - mapped : 1, "the address-space limit, ulimit -v, less what is mapped");
   }
   if (const uint64_t limit = environment_memory_limit(); limit > 0)
     tighten(limit, std::string("ZIGZAG_MEMORY_LIMIT=") + std::getenv("ZIGZAG_MEMORY_LIMIT"));
