@@ -196,6 +196,11 @@ struct FootprintCorners {
   SurfaceProbe c[4];
   FootprintProbe f[4];
   const FootprintProbe* p[4] = {&f[0], &f[1], &f[2], &f[3]};
+  // The correction for these corners; by default a change under 1e-3 settles the 2 x 2 samples.
+  FootprintDelta delta(const Scene& scene, glm::vec3 settled = glm::vec3(1e-3f),
+                       const FootprintView* view = nullptr) const {
+    return texture_footprint_delta(scene, c, p, settled, view);
+  }
 };
 
 Scene& with_triangle(Scene& scene) {
@@ -211,11 +216,11 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   // texture's mean over the footprint is 1/3 (its hat, 2 texels wide, inside the 3).
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   for (FootprintProbe& f : k.f) f.prim = 0;
-  const FootprintDelta fine = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta fine = k.delta(s.scene);
   ASSERT_TRUE(fine.applies);
   EXPECT_NEAR(fine.delta.r, 1.0f / 3.0f, 0.02f);
   // Where the first 2 x 2 estimate could not show, it stays.
-  const FootprintDelta coarse = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1.0f));
+  const FootprintDelta coarse = k.delta(s.scene, glm::vec3(1.0f));
   EXPECT_NEAR(coarse.delta.r, 0.375f, 1e-5f);
   // A first estimate that could not show is still refined where two of its four samples
   // differ by `settled` or more. Corners one texel further right: one on the stroke's flank
@@ -223,12 +228,12 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   // first estimate adds 0.125 < settled, but its spread is 0.75 >= settled.
   // The texture's mean over the footprint is 0.875 / 3: the delta is 0.042.
   s.corners(32.0f / 64, 35.0f / 64, k.c);
-  const FootprintDelta disagreeing = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.2f));
+  const FootprintDelta disagreeing = k.delta(s.scene, glm::vec3(0.2f));
   EXPECT_NEAR(disagreeing.delta.r, 0.875f / 3.0f - 0.25f, 0.025f);
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   // Far from the stroke: nothing to add, but the correction applies (no curvature term).
   s.corners(2.0f / 64, 5.0f / 64, k.c);
-  const FootprintDelta black = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta black = k.delta(s.scene);
   EXPECT_TRUE(black.applies);
   EXPECT_EQ(black.delta, glm::vec3(0.0f));
 }
@@ -260,7 +265,7 @@ TEST(TextureFootprint, AMetallicOrTransmissionStrokeBetweenTheCornersDarkensTheD
     FootprintCorners k;
     s.corners(30.5f / 64, 33.5f / 64, k.c);
     for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
-    const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+    const FootprintDelta d = k.delta(s.scene);
     ASSERT_TRUE(d.applies) << transmission;
     // The corners see no stroke: albedo = base; the pixel a third less of it.
     EXPECT_NEAR(d.delta.r, -0.8f / 3.0f, 0.02f) << transmission;
@@ -268,7 +273,7 @@ TEST(TextureFootprint, AMetallicOrTransmissionStrokeBetweenTheCornersDarkensTheD
     EXPECT_NEAR(d.delta.b, -0.4f / 3.0f, 0.02f) << transmission;
     // Far from the stroke the lanes' albedo is the corners' own: exactly nothing to add.
     s.corners(2.0f / 64, 5.0f / 64, k.c);
-    const FootprintDelta flat = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+    const FootprintDelta flat = k.delta(s.scene);
     EXPECT_TRUE(flat.applies);
     EXPECT_EQ(flat.delta, glm::vec3(0.0f)) << transmission;
   }
@@ -284,7 +289,7 @@ TEST(TextureFootprint, StripesAlongThePixelsAxisDoNotAlias) {
   FootprintCorners k;
   s.corners(0.5f / 64, 8.5f / 64, k.c);  // black texel centres 0 and 8: the corners see 0
   for (FootprintProbe& f : k.f) f.prim = 0;
-  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
+  const FootprintDelta d = k.delta(s.scene, glm::vec3(0.0f));
   ASSERT_TRUE(d.applies);
   // The bilinear stripes' mean over whole periods is 1/2 (the lattice's 25 points: 0.48).
   EXPECT_NEAR(d.delta.r, 0.5f, 0.03f);
@@ -385,8 +390,8 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTriangleAcrossAFold) {
   FootprintCorners k;
   FoldScene().onto(s.scene, k);
   const float expected = FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; });
-  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
-  const FootprintDelta interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f));
+  const FootprintDelta exact = k.delta(s.scene, glm::vec3(0.0f), &FoldScene::kView);
+  const FootprintDelta interpolated = k.delta(s.scene, glm::vec3(0.0f));
   ASSERT_TRUE(exact.applies);
   ASSERT_TRUE(interpolated.applies);
   EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
@@ -406,7 +411,7 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTrianglesBothCoordinatesAcrossAFold) {
     const glm::vec2 uv = FoldScene::uv_at(p);
     return uv.x + 3.0f * uv.y;
   });
-  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
+  const FootprintDelta exact = k.delta(s.scene, glm::vec3(0.0f), &FoldScene::kView);
   ASSERT_TRUE(exact.applies);
   EXPECT_NEAR(exact.delta.r, expected, 4e-6f);
 }
@@ -440,8 +445,8 @@ TEST(TextureFootprint, SamplesAreLitAtTheirOwnTrianglesNormalAcrossAFold) {
   fold.corners(k);
   for (int i = 0; i < 4; ++i) k.f[i].irradiance = glm::vec3(lambert(k.c[i].position) / albedo);
   const float expected = FoldScene::lattice_delta(lambert);
-  const FootprintDelta exact = texture_footprint_delta(scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
-  const FootprintDelta interpolated = texture_footprint_delta(scene, k.c, k.p, glm::vec3(0.0f));
+  const FootprintDelta exact = k.delta(scene, glm::vec3(0.0f), &FoldScene::kView);
+  const FootprintDelta interpolated = k.delta(scene, glm::vec3(0.0f));
   ASSERT_TRUE(exact.applies);
   ASSERT_GT(std::abs(expected), 1e-3f);
   EXPECT_NEAR(exact.delta.r, expected, 1e-3f * std::abs(expected));
@@ -458,7 +463,7 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTriangleUnderAnOrthographicCamera) {
   FoldScene().onto(s.scene, k, /*orthographic=*/true);
   const float expected =
       FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; }, /*orthographic=*/true);
-  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kOrthoView);
+  const FootprintDelta exact = k.delta(s.scene, glm::vec3(0.0f), &FoldScene::kOrthoView);
   ASSERT_TRUE(exact.applies);
   ASSERT_GT(std::abs(expected), 1e-3f);
   EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
@@ -477,7 +482,7 @@ TEST(TextureFootprint, SamplesTakeTheirOwnTriangleWhateverItsVertexOrder) {
   FootprintCorners k;
   fold.onto(s.scene, k);
   const float expected = FoldScene::lattice_delta([](glm::vec3 p) { return FoldScene::uv_at(p).x; });
-  const FootprintDelta exact = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView);
+  const FootprintDelta exact = k.delta(s.scene, glm::vec3(0.0f), &FoldScene::kView);
   ASSERT_TRUE(exact.applies);
   EXPECT_NEAR(exact.delta.r, expected, 2e-6f);
 }
@@ -486,7 +491,7 @@ TEST(TextureFootprint, NotAcrossMaterialsSeamsAtlasJumpsOrMisses) {
   StrokeScene s;
   with_triangle(s.scene);
   FootprintCorners k;
-  auto applies = [&] { return texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies; };
+  auto applies = [&] { return k.delta(s.scene).applies; };
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   for (FootprintProbe& f : k.f) f.prim = 0;
   ASSERT_TRUE(applies());
@@ -553,7 +558,7 @@ TEST(TextureFootprint, ANormalMapBumpBetweenTheCornersIsLitAtItsNormal) {
   const BumpScene s;
   FootprintCorners k;
   s.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta d = k.delta(s.scene);
   ASSERT_TRUE(d.applies);
   // The same mean by brute force: the bilinear normal map at 64 x 64 points of the footprint.
   double mean = 0.0;
@@ -569,7 +574,7 @@ TEST(TextureFootprint, ANormalMapBumpBetweenTheCornersIsLitAtItsNormal) {
   // A corner lit more than its recorded light says (a partial shadow): only the albedo
   // varies, and it does not here.
   k.f[1].irradiance *= 0.5f;
-  const FootprintDelta shadowed = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta shadowed = k.delta(s.scene);
   EXPECT_TRUE(shadowed.applies);
   EXPECT_NEAR(shadowed.delta.r, 0.0f, 1e-6f);
 }
@@ -581,7 +586,7 @@ TEST(TextureFootprint, AFlatStretchOfAShinyNormalMapAddsNothing) {
   FootprintCorners k;
   s.corners(2.0f / 64, 5.0f / 64, k);
   for (SurfaceProbe& c : k.c) c.specular = glm::vec3(0.5f), c.shininess = 8.0f;
-  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta d = k.delta(s.scene);
   ASSERT_TRUE(d.applies);
   EXPECT_NEAR(d.delta.r, 0.0f, 1e-6f);
 }
@@ -593,7 +598,7 @@ TEST(TextureFootprint, ANormalMapSeenFromBehindIsInTheTurnedFrame) {
   const BumpScene front;
   FootprintCorners k;
   front.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta d = texture_footprint_delta(front.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta d = k.delta(front.scene);
   ASSERT_GT(d.delta.r, 0.02f);
   BumpScene back;
   // The bump's normal (its frame's t + n) turned over: towards -x, -z.
@@ -602,7 +607,7 @@ TEST(TextureFootprint, ANormalMapSeenFromBehindIsInTheTurnedFrame) {
     k.c[i].normal = k.c[i].view = glm::vec3(0.0f, 0.0f, -1.0f);
     k.f[i].side = -1.0f;
   }
-  const FootprintDelta behind = texture_footprint_delta(back.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta behind = k.delta(back.scene);
   ASSERT_TRUE(behind.applies);
   EXPECT_NEAR(behind.delta.r, d.delta.r, 1e-5f);
 }
@@ -613,13 +618,13 @@ TEST(TextureFootprint, ALightShadowedAtEveryCornerIsLeftOut) {
   BumpScene s;
   FootprintCorners k;
   s.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta one = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta one = k.delta(s.scene);
   ASSERT_GT(one.delta.r, 0.02f);
   Light shadowed = s.scene.lights[0];
   shadowed.direction = glm::normalize(glm::vec3(1.0f, 0.0f, -1.0f));  // from -x, above the plane
   s.scene.lights.push_back(shadowed);
   for (SurfaceProbe& c : k.c) c.blocked = 1u << 1;
-  const FootprintDelta two = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta two = k.delta(s.scene);
   ASSERT_TRUE(two.applies);
   EXPECT_NEAR(two.delta.r, one.delta.r, 1e-6f);
 }
@@ -630,13 +635,13 @@ TEST(TextureFootprint, ACornerShortOfItsLightIsNotLitLightByLight) {
   const BumpScene s;
   FootprintCorners k;
   s.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta lit = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta lit = k.delta(s.scene);
   ASSERT_GT(lit.delta.r, 0.02f);
   const glm::vec3 irradiance = k.f[1].irradiance;
   k.f[1].irradiance = 0.99f * irradiance;
-  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, lit.delta.r, 1e-6f);
+  EXPECT_NEAR(k.delta(s.scene).delta.r, lit.delta.r, 1e-6f);
   k.f[1].irradiance = 0.95f * irradiance;
-  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, 0.0f, 1e-6f);
+  EXPECT_NEAR(k.delta(s.scene).delta.r, 0.0f, 1e-6f);
 }
 
 // Up to kFootprintLights lights are lit one by one: the bump's light split in that many
@@ -645,16 +650,16 @@ TEST(TextureFootprint, UpToKFootprintLightsAreLitOneByOne) {
   BumpScene s;
   FootprintCorners k;
   s.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta one = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta one = k.delta(s.scene);
   ASSERT_GT(one.delta.r, 0.02f);
   Light part = s.scene.lights[0];
   part.intensity /= float(kFootprintLights);
   s.scene.lights.assign(size_t(kFootprintLights), part);
-  const FootprintDelta split = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta split = k.delta(s.scene);
   EXPECT_NEAR(split.delta.r, one.delta.r, 1e-4f * one.delta.r);
   part.intensity = glm::vec3(0.0f);
   s.scene.lights.push_back(part);  // one more, dark: the irradiance is the same
-  EXPECT_NEAR(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).delta.r, 0.0f, 1e-6f);
+  EXPECT_NEAR(k.delta(s.scene).delta.r, 0.0f, 1e-6f);
 }
 
 // A corner whose shading normal is not its map's (the shader fell back to the geometric
@@ -669,7 +674,7 @@ TEST(TextureFootprint, ACornerShadedAtAnotherNormalThanItsMapsIsNotLitLightByLig
     k.c[i].normal = other;
     k.f[i].irradiance = glm::vec3(s.lambert(other));
   }
-  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta d = k.delta(s.scene);
   ASSERT_TRUE(d.applies);
   EXPECT_NEAR(d.delta.r, 0.0f, 1e-6f);
 }
@@ -684,7 +689,7 @@ TEST(TextureFootprint, ABumpFacingAwayFromTheLightGetsNoneOfIt) {
   for (int y = 0; y < 64; ++y) map.texels[size_t(y) * 64 + 32] = glm::vec4(away * 0.5f + 0.5f, 1.0f);
   FootprintCorners k;
   s.corners(30.5f / 64, 33.5f / 64, k);
-  const FootprintDelta d = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f));
+  const FootprintDelta d = k.delta(s.scene);
   ASSERT_TRUE(d.applies);
   double mean = 0.0;
   for (int i = 0; i < 64; ++i) {
@@ -706,10 +711,10 @@ TEST(TextureFootprint, ATwistOfMoreThanHalfAnEdgeIsNotOnePatch) {
   for (FootprintProbe& f : k.f) f.prim = 0;
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   k.c[3].uv0 += glm::vec2(1.0f / 64, 0.0f);
-  EXPECT_TRUE(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies);
+  EXPECT_TRUE(k.delta(s.scene).applies);
   s.corners(30.5f / 64, 33.5f / 64, k.c);
   k.c[3].uv0 += glm::vec2(2.0f / 64, 0.0f);
-  EXPECT_FALSE(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(1e-3f)).applies);
+  EXPECT_FALSE(k.delta(s.scene).applies);
 }
 
 // The footprint of what a mirror shows, through SceneSource (render/scene_source.h): the
@@ -753,14 +758,14 @@ TEST(TextureFootprint, AMirrorsImageAddsItsDeltaTimesTheMirrorsWeight) {
   for (const float w : {0.5f, 1e-3f}) {
     const glm::vec3 weight[4] = {glm::vec3(w), glm::vec3(w), glm::vec3(w), glm::vec3(w)};
     const float4 d = reflected_footprint(s.scene, k, weight, mean);
-    const float own = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled / w)).delta.r;
+    const float own = k.delta(s.scene, glm::vec3(settled / w)).delta.r;
     EXPECT_EQ(d[3], 1.0f) << w;
     EXPECT_NEAR(d[0], w * own, 1e-6f * w) << w;
   }
   // The case: at the tiny weight, the step at the camera and at the mirror's image settle
   // the pixel differently.
-  EXPECT_GT(std::abs(texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled / 1e-3f)).delta.r -
-                     texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(settled)).delta.r),
+  EXPECT_GT(std::abs(k.delta(s.scene, glm::vec3(settled / 1e-3f)).delta.r -
+                     k.delta(s.scene, glm::vec3(settled)).delta.r),
             0.01f);
 }
 
@@ -791,8 +796,8 @@ TEST(TextureFootprint, AMirrorsImageIsNotRecastFromTheCamera) {
   FoldScene().onto(s.scene, k);
   const glm::vec3 weight[4] = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f)};
   const float4 d = reflected_footprint(s.scene, k, weight, float4(0.5f, 0.5f, 0.5f, 0.0f));
-  const float interpolated = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f)).delta.r;
-  const float recast = texture_footprint_delta(s.scene, k.c, k.p, glm::vec3(0.0f), &FoldScene::kView).delta.r;
+  const float interpolated = k.delta(s.scene, glm::vec3(0.0f)).delta.r;
+  const float recast = k.delta(s.scene, glm::vec3(0.0f), &FoldScene::kView).delta.r;
   ASSERT_GT(std::abs(recast - interpolated), 5e-3f);
   EXPECT_EQ(d[3], 1.0f);
   EXPECT_NEAR(d[0], interpolated, 1e-6f);
