@@ -224,17 +224,22 @@ fs::path assets_root(const fs::path& json_dir, const LoadOptions& options) {
   return (json_dir / ".." / ".." / "shared" / "scenes").lexically_normal();
 }
 
-// "file:line:column: invalid JSON: what", the position from the parser's byte offset.
-[[noreturn]] void throw_json_error(const std::string& file, const std::string& text, size_t byte, std::string what) {
-  // nlohmann's text: "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ...".
-  if (const size_t colon = what.find(": ", what.find("column")); colon != std::string::npos) what = what.substr(colon + 2);
-  std::replace(what.begin(), what.end(), '\n', ' ');
+// "line:column" of the 1-based byte offset `byte` in `text` (nlohmann's parse_error::byte).
+std::string json_line_column(const std::string& text, size_t byte) {
   size_t line = 1, column = 1;
   for (size_t i = 0; i + 1 < byte && i < text.size(); ++i) {
     if (text[i] == '\n') ++line, column = 1;
     else ++column;
   }
-  throw Error(file + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + what);
+  return std::to_string(line) + ":" + std::to_string(column);
+}
+
+// "file:line:column: invalid JSON: what", the position from the parser's byte offset.
+[[noreturn]] void throw_json_error(const std::string& file, const std::string& text, size_t byte, std::string what) {
+  // nlohmann's text: "[json.exception.parse_error.101] parse error at line 1, column 2: syntax error ...".
+  if (const size_t colon = what.find(": ", what.find("column")); colon != std::string::npos) what = what.substr(colon + 2);
+  std::replace(what.begin(), what.end(), '\n', ' ');
+  throw Error(file + ":" + json_line_column(text, byte) + ": invalid JSON: " + what);
 }
 
 // Says so where nothing could light the image: no light that can reach anything (a rig
@@ -271,6 +276,29 @@ size_t find_json_number(const std::string& text, const std::string& number) {
   return std::string::npos;
 }
 
+// Where the n-th (from 0) object key of JSON `text` starts (its opening quote): a string
+// followed by a colon; npos if there are fewer. Keys come in the order the parser reports them.
+size_t find_json_key(const std::string& text, size_t n) {
+  size_t start = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') {
+        ++i;  // the escaped character
+      } else if (c == '"') {
+        in_string = false;
+        const size_t next = text.find_first_not_of(" \t\r\n", i + 1);
+        if (next != std::string::npos && text[next] == ':' && n-- == 0) return start;
+      }
+    } else if (c == '"') {
+      in_string = true;
+      start = i;
+    }
+  }
+  return std::string::npos;
+}
+
 constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
 
 // Refuses a key given twice in one object, naming where ("lights[2]"): nlohmann keeps the
@@ -278,7 +306,7 @@ constexpr uintmax_t kMaxRigBytes = uintmax_t(64) << 20;
 // that a rig never falls back without a word (its unknown keys are refused too).
 class UniqueKeys {
  public:
-  explicit UniqueKeys(std::string file) : file_(std::move(file)) {}
+  UniqueKeys(std::string file, const std::string& text) : file_(std::move(file)), text_(text) {}
   bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
     switch (event) {
       case json::parse_event_t::object_start:
@@ -288,9 +316,13 @@ class UniqueKeys {
       case json::parse_event_t::key: {
         Frame& object = frames_.back();
         object.last_key = parsed.get<std::string>();
-        if (!object.keys.insert(object.last_key).second)
-          throw Error(file_ + ": " + (path().empty() ? "" : path() + ": ") + "key \"" + object.last_key +
+        if (!object.keys.insert(object.last_key).second) {
+          const size_t at = find_json_key(text_, keys_seen_);
+          throw Error(file_ + (at == std::string::npos ? "" : ":" + json_line_column(text_, at + 1)) + ": " +
+                      (path().empty() ? "" : path() + ": ") + "key \"" + object.last_key +
                       "\" given twice (one value per key)");
+        }
+        ++keys_seen_;
         break;
       }
       case json::parse_event_t::value:
@@ -324,6 +356,8 @@ class UniqueKeys {
     return p;
   }
   std::string file_;
+  const std::string& text_;
+  size_t keys_seen_ = 0;  // keys parsed so far, this one excluded: the index find_json_key takes
   std::vector<Frame> frames_;
 };
 
@@ -335,7 +369,7 @@ json parse_rig_file(const fs::path& path) {
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(file + ":1:1: invalid JSON: the file is empty");
   try {
-    return json::parse(text, UniqueKeys(file));
+    return json::parse(text, UniqueKeys(file, text));
   } catch (const json::parse_error& e) {
     throw_json_error(file, text, e.byte, e.what());
   } catch (const json::exception& e) {

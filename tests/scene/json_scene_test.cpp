@@ -182,23 +182,27 @@ TEST(JsonScene, UnknownKeysAreErrorsNamingTheKey) {
 }
 
 // nlohmann keeps a repeated key's last value: a second "exposure" replaced the first and a
-// second "lights": [] dropped every light, without a word.
+// second "lights": [] dropped every light, without a word. The line and column are the
+// second key's opening quote.
 TEST(JsonScene, AKeyGivenTwiceIsAnErrorNamingWhere) {
   Rig r("twice");
   const std::string rig = (r.dir / "rig.json").string();
   EXPECT_EQ(r.error(R"({"model": "model.gltf", "exposure": 2, "exposure": 3})"),
-            rig + ": key \"exposure\" given twice (one value per key)");
+            rig + ":1:40: key \"exposure\" given twice (one value per key)");
   EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0]}], "lights": []})"),
-            rig + ": key \"lights\" given twice (one value per key)");
+            rig + ":1:60: key \"lights\" given twice (one value per key)");
   EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0]},
                        {"position": [0,2,0], "intensity": 1, "intensity": 2}]})"),
-            rig + ": lights[1]: key \"intensity\" given twice (one value per key)");
+            rig + ":2:62: lights[1]: key \"intensity\" given twice (one value per key)");
   EXPECT_EQ(r.error(R"({"model": "model.gltf", "materials_override": {"paint": {"metallic": 1, "metallic": 0}}})"),
-            rig + ": materials_override.paint: key \"metallic\" given twice (one value per key)");
+            rig + ":1:73: materials_override.paint: key \"metallic\" given twice (one value per key)");
   // The same key in sibling objects, or as a string value, is no repeat.
   EXPECT_EQ(r.error(R"({"model": "model.gltf", "lights": [{"position": [0,1,0], "intensity": 1},
                        {"position": [0,2,0], "intensity": 2}], "name": "intensity"})"),
             "");
+  // Strings that hold quotes, colons or a key's name are not keys: the column stays the key's.
+  EXPECT_EQ(r.error(R"({"model": "model.gltf", "name": "a\": \"exposure\": b", "exposure": 2, "exposure": 3})"),
+            rig + ":1:72: key \"exposure\" given twice (one value per key)");
 }
 
 TEST(JsonScene, MalformedValuesAreErrorsNamingTheFile) {
