@@ -445,9 +445,13 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
 
 void add_render_command(CLI::App& app, int& exit_code) {
   auto o = std::make_shared<BatchOptions>();
+  auto dry_run = std::make_shared<bool>(false);
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   add_batch_options(cmd, *o);
-  cmd->callback([o, &exit_code, cmd] {
+  cmd->add_flag("--dry-run", *dry_run,
+                "Check the options, the scene files' names and the outputs as a render would before loading "
+                "anything (exit 105 on a refusal), then exit without loading, rendering or writing");
+  cmd->callback([o, dry_run, &exit_code, cmd] {
     std::vector<std::string> inputs;
     as_usage_checks([&] {  // before anything is loaded: a bad invocation costs no render
       validate(*o);
@@ -456,6 +460,15 @@ void add_render_command(CLI::App& app, int& exit_code) {
     });
     if (!o->quiet)
       for (const std::string& w : inapplicable_options(*cmd, *o)) std::fprintf(stderr, "zigzag: warning: %s\n", w.c_str());
+    if (*dry_run) {  // a farm checks a batch's command line so before it queues any job
+      for (const std::string& scene : o->scenes)
+        if (std::error_code ec; !std::filesystem::is_regular_file(scene, ec) || ::access(scene.c_str(), R_OK) != 0) {
+          std::fprintf(stderr, "zigzag: error: %s: %s\n", scene.c_str(),
+                       std::filesystem::exists(scene, ec) ? "not a readable file" : "no such file");
+          exit_code = 1;  // as the render's job would fail
+        }
+      return;
+    }
     // Instance and device creation overlap the first scene's load and BVH build; the
     // first job that needs the device waits for it. Creation errors (no device: the
     // install hint) end the whole batch as before, even after a job failed to load.

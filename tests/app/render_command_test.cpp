@@ -334,6 +334,30 @@ TEST(RenderCommand, BatchWithCameraPatternWritesOneImagePerJob) {
   fs::remove_all(dir);
 }
 
+// --dry-run checks what a render checks before loading (the usage exit on a refusal, a
+// missing scene as the job's failure) and then loads, renders and writes nothing.
+TEST(RenderCommand, ADryRunChecksTheCommandLineAndWritesNothing) {
+  const fs::path dir = temp_dir();
+  const std::string zigzag = test::zigzag_binary() + " render ", scene = test::source_path("scenes/default.json");
+  const auto ok = test::run_command(zigzag + scene + " --dry-run -o " + (dir / "out/x.png").string() + " --stats " +
+                                    (dir / "out/x.json").string());
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_EQ(ok.output, "");
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  const auto gif = test::run_command(zigzag + scene + " --dry-run -o " + (dir / "x.gif").string());
+  EXPECT_EQ(gif.exit_code, kUsageExit);
+  EXPECT_NE(gif.output.find("-o " + (dir / "x.gif").string() + ": unsupported image format"), std::string::npos)
+      << gif.output;
+  const auto aov = test::run_command(zigzag + scene + " --dry-run --aov normal -o " + (dir / "x.png").string());
+  EXPECT_EQ(aov.exit_code, kUsageExit) << aov.output;
+  const auto missing = test::run_command(zigzag + (dir / "nosuch.json").string() + " --dry-run -o " +
+                                         (dir / "x.png").string());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.output.find("nosuch.json: no such file"), std::string::npos) << missing.output;
+  EXPECT_TRUE(fs::is_empty(dir));
+  fs::remove_all(dir);
+}
+
 // `--aov depth scene.json`: CLI11 takes the scene as the AOV's file and says only that the
 // scenes are missing; the hint says why.
 TEST(RenderCommand, AnAovBeforeTheSceneSaysWhyTheSceneIsMissing) {
