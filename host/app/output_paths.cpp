@@ -76,7 +76,14 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     if (!can_write_image_format(path))
       throw Error(where + "unsupported image format '" + path.extension().string() + "'" + kFormats);
   }
-  fs::path dir = path.parent_path();
+  if (output_is_stream(path)) {  // /dev/stdout, a FIFO: written to, not replaced
+    if (::access(path.c_str(), W_OK) != 0) throw Error(where + "cannot write to it (" + errno_text() + ")");
+    return;
+  }
+  if (write_protected(path))
+    throw Error(where + "the file is write-protected (make it writable, chmod u+w, to let zigzag replace it)");
+  const fs::path target = output_target(path);  // a link's target is what gets written
+  fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   fs::path existing = dir;
   while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
@@ -85,7 +92,7 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
   if (!fs::is_directory(existing, ec))
     throw Error(where + existing.string() + " is a file, not a directory");
   const size_t longest = name_max(existing);
-  for (const fs::path& part : path)
+  for (const fs::path& part : target)
     if (part.string().size() > longest)
       throw Error(where + "the name " + part.string().substr(0, 24) + "... is " + std::to_string(part.string().size()) +
                   " bytes long, the file system takes at most " + std::to_string(longest));
@@ -136,10 +143,11 @@ void check_not_an_input(const std::string& option, const std::filesystem::path& 
 std::filesystem::path output_identity(const std::filesystem::path& path) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path absolute = fs::absolute(path, ec);
+  fs::path absolute = fs::absolute(path, ec);
   if (ec) return path.lexically_normal();
-  // The folder resolved (links, ".."), the name kept: renaming into place replaces a link
-  // named as the output, it does not write through it.
+  // A link named as the output is written through (output_target), a stream as named; the
+  // folder resolved (links, ".."), the name kept, which need not exist yet.
+  if (!output_is_stream(absolute)) absolute = output_target(absolute);
   const fs::path folder = fs::weakly_canonical(absolute.parent_path(), ec);
   return ec ? absolute.lexically_normal() : folder / absolute.filename();
 }

@@ -33,7 +33,8 @@ struct OutputPattern {
 
 // The name outputs are compared by: absolute, the folder's existing part with its links and
 // ".." resolved, the file name as given (`-o /abs/dir/x.png` and `x.png`, `link/x.png` with
-// link -> . are one file; an output that is itself a link is replaced, not written through).
+// link -> . are one file); an output that is itself a link is its target, which is what
+// gets written (output_target), and a stream (/dev/stdout) is named as given.
 std::filesystem::path output_identity(const std::filesystem::path& path);
 
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:
@@ -57,8 +58,9 @@ class OutputClaims {
 // Before a render, for one expanded output path: the file name is not a directory, an
 // image has an extension OpenImageIO can write (`image`), and the nearest existing
 // ancestor of its directory is a directory this process can create files in (probed with
-// a file created and removed at once). Creates nothing. Throws zz::Error starting with
-// "OPTION PATH: ".
+// a file created and removed at once), and an existing file is not write-protected; a
+// stream (/dev/stdout) must be writable. Links are followed to what gets written. Creates
+// nothing. Throws zz::Error starting with "OPTION PATH: ".
 void preflight_output(const std::string& option, const std::filesystem::path& path, bool image);
 
 // Throws zz::UsageError when an output is one of the files the command reads (a scene's

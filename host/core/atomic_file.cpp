@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <vector>
 
 #include "core/error.h"
 #include "core/file_io.h"
@@ -108,6 +109,22 @@ fs::path temporary_name(const fs::path& target) {
 
 std::string errno_text() { return std::strerror(errno); }
 
+// Copies the finished temporary's bytes into the stream `target` names.
+void copy_to_stream(const fs::path& temporary, const fs::path& target) {
+  std::string why;
+  std::vector<unsigned char> bytes;
+  if (!read_regular_file(temporary.string(), UINTMAX_MAX, &bytes, &why))
+    throw Error("cannot write " + target.string() + ": " + why);
+  const FileDescriptor out(::open(target.c_str(), O_WRONLY | O_CLOEXEC));
+  if (out.fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
+  for (size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::write(out.fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) throw Error("cannot write " + target.string() + ": " + (n < 0 ? errno_text() : "nothing written"));
+    done += size_t(n);
+  }
+}
+
 // Creates `temporary` empty, with O_EXCL: never another writer's file. `mode` 0600 while
 // it will replace a file (whose mode it takes once written: take_mode), else 0666 less
 // the umask, as any created file.
@@ -143,10 +160,37 @@ void sync_directory(const fs::path& dir) {
 
 }  // namespace
 
+fs::path output_target(const fs::path& path) {
+  fs::path p = path;
+  std::error_code ec;
+  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {  // 40: the kernel's own limit
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) break;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return p;
+}
+
+bool write_protected(const fs::path& target) {
+  struct stat st {};
+  const fs::path real = output_target(target);
+  if (::stat(real.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
+  if (::geteuid() == 0) return (st.st_mode & 0222) == 0;
+  return ::faccessat(AT_FDCWD, real.c_str(), W_OK, AT_EACCESS) != 0 && errno == EACCES;
+}
+
+bool output_is_stream(const fs::path& target) {
+  struct stat st {};  // stat follows every link, /proc/self/fd's to pipes too (not paths read_symlink can follow)
+  return ::stat(target.c_str(), &st) == 0 &&
+         (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
+}
+
 struct OutputSet::Staged {
   fs::path target, temporary;
+  bool stream;  // target is a device or pipe: it receives the temporary's bytes
   RegisteredTemporary registered;
-  Staged(fs::path t, fs::path tmp) : target(std::move(t)), temporary(std::move(tmp)), registered(temporary) {}
+  Staged(fs::path t, fs::path tmp, bool s)
+      : target(std::move(t)), temporary(std::move(tmp)), stream(s), registered(temporary) {}
 };
 
 OutputSet::OutputSet() = default;
@@ -156,17 +200,23 @@ OutputSet::~OutputSet() {
   for (const auto& s : staged_) fs::remove(s->temporary, ec);
 }
 
-void OutputSet::stage(const fs::path& target, const std::function<void(const fs::path&)>& write) {
+void OutputSet::stage(const fs::path& given, const std::function<void(const fs::path&)>& write) {
+  const bool stream = output_is_stream(given);
+  const fs::path target = stream ? given : output_target(given);
   const fs::path dir = target.parent_path();
   std::error_code ec;
-  if (!dir.empty()) {
+  if (!dir.empty() && !stream) {
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
   }
+  if (write_protected(target))
+    throw Error("cannot write " + given.string() + ": the file is write-protected (make it writable to replace it)");
   struct stat old {};
-  const bool replaces = ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+  const bool replaces = !stream && ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
+  // A stream's temporary goes where temporaries go: /dev is no place for one.
+  const fs::path temporary = temporary_name(stream ? fs::temp_directory_path(ec) / given.filename() : target);
   // Registered for a signal's clean-up before the file exists: no moment leaves it behind.
-  auto staged = std::make_unique<Staged>(target, temporary_name(target));
+  auto staged = std::make_unique<Staged>(target, temporary, stream);
   bool created = false;  // a name taken by another process is not ours to remove
   try {
     create_temporary(staged->temporary, target, replaces ? 0600 : 0666);
@@ -187,10 +237,16 @@ void OutputSet::commit() {
     const CancellableScope publishing;  // a first SIGINT / SIGTERM waits for every rename
     while (!staged_.empty()) {
       const Staged& s = *staged_.front();
-      if (::rename(s.temporary.c_str(), s.target.c_str()) != 0)
-        throw Error("cannot write " + s.target.string() + ": " + errno_text());
-      if (std::find(dirs.begin(), dirs.end(), s.target.parent_path()) == dirs.end())
-        dirs.push_back(s.target.parent_path());
+      if (s.stream) {
+        copy_to_stream(s.temporary, s.target);
+        std::error_code ec;
+        fs::remove(s.temporary, ec);
+      } else {
+        if (::rename(s.temporary.c_str(), s.target.c_str()) != 0)
+          throw Error("cannot write " + s.target.string() + ": " + errno_text());
+        if (std::find(dirs.begin(), dirs.end(), s.target.parent_path()) == dirs.end())
+          dirs.push_back(s.target.parent_path());
+      }
       staged_.erase(staged_.begin());
     }
   }

@@ -17,10 +17,13 @@ namespace zz {
 
 class OutputSet;
 
-// Calls write(temporary) and then publishes the temporary as `target`. The target's
-// directory is created if needed. If `write` throws, or anything fails, the temporary is
-// removed, the target is left untouched, and zz::Error (or write's exception) propagates.
-// With `set`, the written temporary is staged in it instead, published by set->commit().
+// Calls write(temporary) and then publishes the temporary as `target` (output_target: a
+// link's target; a stream gets the temporary's bytes). The temporary is written in the
+// target's folder, a stream's in the system's temporary folder. The target's directory is
+// created if needed; a write-protected target is refused (zz::Error). If `write` throws,
+// or anything fails, the temporary is removed, the target is left untouched, and
+// zz::Error (or write's exception) propagates. With `set`, the written temporary is
+// staged in it instead, published by set->commit().
 void write_atomically(const std::filesystem::path& target,
                       const std::function<void(const std::filesystem::path& temporary)>& write,
                       OutputSet* set = nullptr);
@@ -52,6 +55,21 @@ class OutputSet {
   struct Staged;
   std::vector<std::unique_ptr<Staged>> staged_;
 };
+
+// Where writing `path` lands: its symbolic links followed to the file they name (which may
+// not exist yet), as cp, a shell's > and image writers do; `path` itself when it is none.
+// An output given as a link replaces the link's target, never the link.
+std::filesystem::path output_target(const std::filesystem::path& path);
+
+// Whether `target` (followed: output_target) is an existing file the user protected from
+// writing: one the caller may not write (access), or, as root, which may write anything,
+// one with no write bit at all (rm's "write-protected regular file"). Such a file is
+// refused, not replaced: renaming a temporary over it would defeat the protection.
+bool write_protected(const std::filesystem::path& target);
+
+// Whether `target` is, or links to, a device, pipe or socket (/dev/stdout, a FIFO): a
+// stream, which receives the finished output's bytes instead of being replaced.
+bool output_is_stream(const std::filesystem::path& target);
 
 // 64 random bits as 16 hex digits, for names no other process picks (getrandom;
 // temporaries, the output folder's write probe).

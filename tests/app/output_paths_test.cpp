@@ -107,9 +107,14 @@ TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
   fs::create_directories(dir / "deep" / "er");
   fs::create_directory_symlink(dir / "deep" / "er", dir / "short");
   EXPECT_NE(error_of({{"-o", (dir / "short" / ".." / "q.png").string()}, {"--stats", (dir / "deep" / "q.png").string()}}, job), "");
-  // An output that is a link is replaced by the rename, not written through: no collision.
+  // An output that is a link is written through (its target replaced, as cp and a shell's
+  // > do): a link and its target, existing or not, are one file.
   fs::create_symlink(dir / "frame.png", dir / "latest.png");
-  EXPECT_EQ(error_of({{"-o", (dir / "latest.png").string()}, {"--aov rays", (dir / "frame.png").string()}}, job), "");
+  const std::string through =
+      error_of({{"-o", (dir / "latest.png").string()}, {"--aov rays", (dir / "frame.png").string()}}, job);
+  EXPECT_NE(through.find("-o and --aov rays would both write"), std::string::npos) << through;
+  fs::create_symlink("latest.png", dir / "newest.png");  // relative, and a link to a link
+  EXPECT_NE(error_of({{"-o", (dir / "newest.png").string()}, {"--aov rays", (dir / "frame.png").string()}}, job), "");
   fs::remove_all(dir);
 }
 

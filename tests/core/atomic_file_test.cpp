@@ -141,5 +141,46 @@ TEST_F(AtomicFile, WithoutASetAnOutputIsPublishedAtOnce) {
   EXPECT_EQ(files(), 1u);
 }
 
+// A link chain, relative links included, leads to the file written; a dangling link to
+// the file it names, to be made; a plain path is itself.
+TEST_F(AtomicFile, OutputTargetFollowsLinksToTheFileWritten) {
+  fs::create_directories(path("shots"));
+  fs::create_symlink("shots/v1.png", path("latest.png"));
+  fs::create_symlink(path("latest.png"), path("newest.png"));
+  EXPECT_EQ(output_target(path("newest.png")), path("shots/v1.png"));  // dangling, via an absolute link
+  EXPECT_EQ(output_target(path("plain.png")), path("plain.png"));
+  write_text_atomically(path("newest.png"), "through");
+  EXPECT_TRUE(fs::is_symlink(path("newest.png")));
+  EXPECT_EQ(read(path("shots/v1.png")), "through");
+  EXPECT_EQ(files(), 3u);  // shots, latest.png, newest.png: no temporary left
+}
+
+// Write-protected: no write bit at all refuses whoever runs (root by rm's rule, others as
+// access says); an owner-writable file is not; nor is a file not there.
+TEST_F(AtomicFile, AReadOnlyFileIsWriteProtectedAndRefused) {
+  put(path("final.json"), "FINAL");
+  EXPECT_FALSE(write_protected(path("final.json")));
+  EXPECT_FALSE(write_protected(path("absent.json")));
+  fs::permissions(path("final.json"), fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);
+  EXPECT_TRUE(write_protected(path("final.json")));
+  fs::create_symlink("final.json", path("link.json"));
+  EXPECT_TRUE(write_protected(path("link.json")));
+  EXPECT_THROW(write_text_atomically(path("link.json"), "new"), Error);
+  EXPECT_EQ(read(path("final.json")), "FINAL");
+  EXPECT_EQ(files(), 2u);
+}
+
+// /dev/null is a stream: written to, never renamed over (as root that would replace it).
+TEST_F(AtomicFile, AStreamIsWrittenToNotReplaced) {
+  EXPECT_TRUE(output_is_stream("/dev/null"));
+  EXPECT_FALSE(output_is_stream(path("x.json")));
+  fs::create_symlink("/dev/null", path("null.json"));
+  EXPECT_TRUE(output_is_stream(path("null.json")));
+  write_text_atomically(path("null.json"), "gone");
+  EXPECT_TRUE(fs::is_symlink(path("null.json")));
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  EXPECT_EQ(files(), 1u);
+}
+
 }  // namespace
 }  // namespace zz

@@ -228,14 +228,70 @@ TEST_F(Outputs, ImagesReadBackSameBytesSameMode) {
   std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a date would differ by a second
   ASSERT_EQ(render({good, "--width", "40", "--height", "24", "--aov", "depth", "-o", b.string()}).exit_code, 0);
   EXPECT_EQ(contents(a), contents(b));
-  // The permission bits carry over (read-only too), never setuid, setgid or sticky.
-  for (const mode_t mode : {mode_t(0600), mode_t(0444), mode_t(04755)}) {
+  // The permission bits carry over, never setuid, setgid or sticky (a read-only file is
+  // refused: AWriteProtectedOutputIsRefusedAndKept).
+  for (const mode_t mode : {mode_t(0600), mode_t(0640), mode_t(04755)}) {
     ASSERT_EQ(::chmod(a.c_str(), mode), 0);
     ASSERT_EQ(render({good, "--width", "40", "--height", "24", "-o", a.string(), "--stats", path("s.json").string()}).exit_code, 0);
     struct stat st {};
     ASSERT_EQ(::stat(a.c_str(), &st), 0);
     EXPECT_EQ(st.st_mode & 07777, mode & 0777u) << std::oct << mode;
   }
+}
+
+// A file made read-only to protect it (a studio's finals) is refused before the render,
+// not replaced by the rename, which the directory's permission allows; as root, which
+// may write anything, a file with no write bit at all (as rm asks about it).
+TEST_F(Outputs, AWriteProtectedOutputIsRefusedAndKept) {
+  const fs::path final = path("final.png");
+  write("final.png", "FINAL");
+  ASSERT_EQ(::chmod(final.c_str(), 0444), 0);
+  expect_error(render({path("good.json").string(), "-o", final.string()}), "the file is write-protected", kUsageExit);
+  EXPECT_EQ(contents(final), "FINAL");
+  write("s.json", "STATS");
+  ASSERT_EQ(::chmod(path("s.json").c_str(), 0444), 0);
+  expect_error(render({path("good.json").string(), "-o", path("x.png").string(), "--stats", path("s.json").string()}),
+               "--stats " + path("s.json").string() + ": the file is write-protected", kUsageExit);
+  EXPECT_EQ(contents(path("s.json")), "STATS");
+  EXPECT_FALSE(fs::exists(path("x.png")));
+}
+
+// An output named by a symbolic link is written through, as cp, a shell's > and image
+// writers do: the link stays, its target gets the image (made if it does not exist yet);
+// the render used to replace the link with a plain file and leave the target as it was.
+TEST_F(Outputs, AnOutputThatIsALinkWritesItsTarget) {
+  fs::create_directories(path("shots"));
+  fs::create_symlink("shots/v1.png", path("latest.png"));  // dangling: the target is made
+  ASSERT_EQ(render({path("good.json").string(), "-o", path("latest.png").string()}).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(path("latest.png")));
+  int w = 0, h = 0;
+  EXPECT_NO_THROW(read_rgb_float(path("shots/v1.png"), w, h));
+  write("shots/v1.png", "OLD");  // an existing target is replaced whole
+  ASSERT_EQ(render({path("good.json").string(), "-o", path("latest.png").string()}).exit_code, 0);
+  EXPECT_TRUE(fs::is_symlink(path("latest.png")));
+  EXPECT_NO_THROW(read_rgb_float(path("shots/v1.png"), w, h));
+  EXPECT_EQ(std::distance(fs::directory_iterator(path("shots")), fs::directory_iterator()), 1);  // no temporary left
+}
+
+// A device or pipe (--stats /dev/stdout, a FIFO) receives the finished output's bytes:
+// the render used to rename a plain file over the link that named it, or fail in /dev.
+TEST_F(Outputs, AStreamReceivesTheFinishedOutput) {
+  const fs::path fifo = path("stats.json");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const int reader = ::open(fifo.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);  // the pipe's buffer holds it all
+  ASSERT_GE(reader, 0);
+  const robust::ChildResult r = render({path("good.json").string(), "-o", path("x.png").string(), "--stats", fifo.string()});
+  std::string bytes;
+  char buffer[4096];
+  for (ssize_t n; (n = ::read(reader, buffer, sizeof buffer)) > 0;) bytes.append(buffer, size_t(n));
+  ::close(reader);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(nlohmann::json::parse(bytes).value("aa", ""), "adaptive") << bytes;
+  EXPECT_TRUE(fs::exists(path("x.png")));
+  // Two outputs to one stream would interleave: refused as any two outputs of one file.
+  expect_error(render({path("good.json").string(), "-o", path("y.png").string(), "--stats", "/dev/stdout", "--aov",
+                       "rays", "/dev/stdout"}),
+               "would both write /dev/stdout", kUsageExit);
 }
 
 // `nohup zigzag ...`: a hang-up the parent chose to ignore stays ignored, and the render
