@@ -68,13 +68,11 @@ std::string image_settings(const BatchOptions& o, const Scene& scene) {
   return j.dump();
 }
 
-// The loaded frame, or for a --time the frame at that time; none for a time between frames.
+// The loaded frame, or for a --time the frame at that time (frame_at, whose time the
+// loader made exact); none for a time between frames.
 std::optional<int> whole_frame(const Scene& scene) {
   if (scene.frame >= 0) return scene.frame;
-  const double at = scene.time * scene.fps, nearest = std::round(at);
-  const bool on_a_frame = std::abs(at - nearest) <= 1e-6 && at <= kMaxFrame;  // absolute: frames stay 1 apart
-  if (on_a_frame) return int(nearest);
-  return std::nullopt;
+  return frame_at(scene.time, scene.fps);
 }
 
 // The frame number {frame} names: whole_frame. A time between frames names none, so a
@@ -85,7 +83,7 @@ int output_frame(const BatchOptions& o, const Scene& scene) {
   for (const OutputPattern& p : output_patterns(o))
     if (p.pattern.find("{frame") != std::string::npos) {
       char when[160];
-      std::snprintf(when, sizeof when, "--time %g is %s (frame %.3f at %g fps)", scene.time,
+      std::snprintf(when, sizeof when, "--time %.9g is %s (frame %.9g at %g fps)", scene.time,
                     at > kMaxFrame ? "past the last frame number" : "between frames", at, scene.fps);
       throw UsageError(std::string(when) + ", so {frame} in " + p.option + " " + p.pattern +
                        " names no frame: give --frame N, or an output name without {frame}");

@@ -19,6 +19,7 @@
 #include "app/option_choices.h"
 #include "gpu/visibility.h"
 #include "render/renderer.h"
+#include "scene/animation.h"
 #include "scene/loader.h"
 #include "scene/scene.h"
 
@@ -35,9 +36,6 @@ inline constexpr Choice<UniformPattern> kUniformPatterns[] = {
     {"grid", UniformPattern::Grid}, {"stratified", UniformPattern::Stratified}, {"lattice", UniformPattern::Lattice}};
 inline constexpr Choice<EdgeMode> kEdgeModes[] = {{"vulkan", EdgeMode::Vulkan}, {"off", EdgeMode::Off}};
 inline constexpr Choice<bool> kOnOff[] = {{"on", true}, {"off", false}};
-
-// The largest --frame: a frame number, not a typo's worth of seconds times fps.
-inline constexpr int kMaxFrame = 100000000;
 
 // The adaptive sampler's options, shared with `zigzag analytic`. Defaults chosen by the
 // accuracy/time report at 1024² (reports/REPORT.md, "Chosen defaults"): of the settings

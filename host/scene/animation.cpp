@@ -103,4 +103,10 @@ int last_frame(float end_time, double fps) {
   return frames > 0.0 ? int(std::min(frames, 1e8)) : 0;
 }
 
+std::optional<int> frame_at(double t, double fps) {
+  const double at = t * fps, nearest = std::round(at);
+  if (std::abs(at - nearest) <= 1e-6 && nearest >= 0.0 && nearest <= double(kMaxFrame)) return int(nearest);
+  return std::nullopt;
+}
+
 }  // namespace zz

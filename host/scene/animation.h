@@ -55,4 +55,11 @@ struct Animation {
 // The frames an animation spans at `fps`: 0 .. ceil(end_time * fps).
 int last_frame(float end_time, double fps);
 
+// The largest frame number (--frame): a frame number, not a typo's worth of seconds times fps.
+inline constexpr int kMaxFrame = 100000000;
+
+// The frame a time `t` s falls on at `fps`, within 1e-6 of a frame (absolute: frames stay
+// 1 apart); none between frames or past kMaxFrame.
+std::optional<int> frame_at(double t, double fps);
+
 }  // namespace zz

@@ -196,8 +196,12 @@ struct FrameClock {
       : rig_frames(frames) {
     fps = options.fps > 0.0 ? options.fps : rig_fps > 0.0 ? rig_fps : kDefaultFps;
     if (options.time) {
-      time = *options.time;
+      // A time on a frame is that frame's time, exactly: its output is named after the
+      // frame, and a time within 1e-6 of it posed the scene a hair off the --frame render
+      // of the same name. It stays a --time (warnings speak of the animation's end).
+      const std::optional<int> on = frame_at(*options.time, fps);
       frame = -1;
+      time = on ? double(*on) / fps : *options.time;
     } else {
       frame = options.frame ? *options.frame : rig_frames ? rig_frames->first : 0;
       time = double(frame) / fps;

@@ -54,6 +54,12 @@ TEST_F(AnimationRender, FramesDifferAndTimeMatchesFrame) {
   ASSERT_EQ(t1.size(), f24.size());
   EXPECT_EQ(std::memcmp(t1.data(), f24.data(), t1.size() * sizeof(float)), 0);
   EXPECT_EQ(std::memcmp(f12.data(), f24.data(), f12.size() * sizeof(float)), 0);
+  // A time within 1e-6 of a frame names it ({frame}, the stats), so it is that frame
+  // exactly: 1/24 s written with 7 digits rendered 6 pixels off --frame 1's file of one name.
+  const std::vector<float> f1 = render("--frame 1", "f0001.exr", "f{frame:04}.exr");
+  const std::vector<float> near = render("--time 0.0416667", "n0001.exr", "n{frame:04}.exr");
+  ASSERT_EQ(near.size(), f1.size());
+  EXPECT_EQ(std::memcmp(near.data(), f1.data(), f1.size() * sizeof(float)), 0);
 }
 
 TEST_F(AnimationRender, FrameAndTimeAreExclusive) {

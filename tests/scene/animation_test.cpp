@@ -113,5 +113,18 @@ TEST(Animation, FrameRange) {
   EXPECT_EQ(last_frame(0.0f, 24.0), 0);
 }
 
+// A time is on a frame within 1e-6 of a frame's length, absolute: 0.0416667 s is frame 1 at
+// 24 fps, 0.04167 s (1.00008 frames) none; none below 0 or past the largest frame number.
+TEST(Animation, FrameAtATime) {
+  EXPECT_EQ(frame_at(0.0416667, 24.0), 1);
+  EXPECT_EQ(frame_at(1.0, 24.0), 24);
+  EXPECT_EQ(frame_at(0.0, 24.0), 0);
+  EXPECT_EQ(frame_at(0.04167, 24.0), std::nullopt);
+  EXPECT_EQ(frame_at(1.01, 24.0), std::nullopt);
+  EXPECT_EQ(frame_at(-1.0, 24.0), std::nullopt);
+  EXPECT_EQ(frame_at(double(kMaxFrame) / 24.0, 24.0), kMaxFrame);
+  EXPECT_EQ(frame_at(double(kMaxFrame) + 1.0, 1.0), std::nullopt);
+}
+
 }  // namespace
 }  // namespace zz
