@@ -402,7 +402,10 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   for (const FilmChannel& c : film.channels) record.aov_channels.push_back(c.name);
   record.aov_rays = aov_rays;
   record.aov_seconds = aov_s;
-  record.times = {job.load_s, job.bvh_s, write_s,
+  // The scene's load and BVH are the first camera's, in its total; a later camera's are 0
+  // (as its map's upload is), so every camera's stages add up to its total.
+  const double load_s = first_camera ? job.load_s : 0.0, bvh_s = first_camera ? job.bvh_s : 0.0;
+  record.times = {load_s, bvh_s, write_s,
                   seconds_since(t_job) + (first_camera ? job.load_s + job.bvh_s + job.device_wait_s : 0.0), frame_s};
   if (map_made) {
     setup.device_wait_s = first_camera ? job.device_wait_s : 0.0;
@@ -435,7 +438,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  name_of(kAaModes, o.render.aa),
                  j["rays_per_pixel"].get<double>(), double(stats.rays.total()) / pixels, effects.c_str(),
                  stats.render_seconds, j["mrays_per_s"].get<double>(), map_made ? setup.total_s : 0.0,
-                 job.load_s, job.bvh_s, written.c_str());
+                 load_s, bvh_s, written.c_str());
   }
 }
 

@@ -321,6 +321,37 @@ TEST(RenderCommand, AJobsRealCameraCannotMakeTwoOutputsOneFile) {
   fs::remove_all(dir);
 }
 
+// With --camera all the scene is loaded and its BVH built once, in the first camera's
+// stats and total; a later camera's stats give them 0, so each file's stages add up to its
+// own total (the second camera reported the load and BVH again, past its total).
+TEST(RenderCommand, LaterCamerasDoNotCountTheScenesLoadAgain) {
+  const fs::path dir = temp_dir();
+  test::GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
+  b.doc["cameras"] = nlohmann::json::array();
+  for (int i = 0; i < 2; ++i) {
+    b.doc["cameras"].push_back({{"type", "perspective"}, {"perspective", {{"yfov", 0.6}, {"znear", 0.1}}}});
+    b.node({{"camera", i}, {"translation", {0.3 + 0.1 * i, 0.3, 3}}});
+  }
+  const std::string scene = b.write(dir, "two").string();
+  const auto r = test::run_command(test::zigzag_binary() + " render " + scene + " --camera all --edges off " +
+                                   "--width 16 --height 16 -q -o " + (dir / "{camera}.png").string() + " --stats " +
+                                   (dir / "{camera}.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* camera : {"0", "1"}) {
+    std::ifstream in(dir / (std::string(camera) + ".json"));
+    const nlohmann::json t = nlohmann::json::parse(in)["time_s"];
+    const double stages = t["load"].get<double>() + t["bvh"].get<double>() + t["frame"].get<double>() +
+                          t["write"].get<double>();
+    EXPECT_LE(stages, t["total"].get<double>() + 1e-3) << camera << ": " << t.dump();
+    if (std::string(camera) == "1") {
+      EXPECT_EQ(t["load"].get<double>(), 0.0);
+      EXPECT_EQ(t["bvh"].get<double>(), 0.0);
+    }
+  }
+  fs::remove_all(dir);
+}
+
 TEST(RenderCommand, BatchWithCameraPatternWritesOneImagePerJob) {
   const fs::path dir = temp_dir();
   const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") + " " +
