@@ -106,6 +106,19 @@ TEST(Animation, PoseReplacesOnlyAnimatedProperties) {
   EXPECT_EQ(glm::vec3(p.matrix() * glm::vec4(1, 0, 0, 1)), glm::vec3(4, 0, 0));
 }
 
+// Keys closer than the slerp's straight-lerp threshold (cos > 0.9995, under ~3.6 degrees)
+// still run from the first key to the second (glTF 2.0 Appendix C: slerp(v_k, v_k+1, t)).
+TEST(Animation, NearlyEqualRotationKeysRunFromTheFirstKeyToTheSecond) {
+  const auto c = channel(AnimatedProperty::Rotation, Interpolation::Linear, {0.0f, 1.0f},
+                         {axis_angle_y(0.0f), axis_angle_y(2.0f)});
+  expect_near(sample(c, 0.25f), axis_angle_y(0.5f), 1e-6f);
+  expect_near(sample(c, 0.75f), axis_angle_y(1.5f), 1e-6f);
+  // The same, across the sign flip to the shorter arc.
+  const auto flipped = channel(AnimatedProperty::Rotation, Interpolation::Linear, {0.0f, 1.0f},
+                               {axis_angle_y(0.0f), -axis_angle_y(2.0f)});
+  EXPECT_NEAR(std::abs(glm::dot(sample(flipped, 0.25f), axis_angle_y(0.5f))), 1.0f, 1e-6f);
+}
+
 TEST(Animation, FrameRange) {
   EXPECT_EQ(last_frame(2.0f, 24.0), 48);
   EXPECT_EQ(last_frame(47.0f / 24.0f, 24.0), 47);  // float key time, no extra frame
