@@ -119,6 +119,18 @@ TEST(Animation, NearlyEqualRotationKeysRunFromTheFirstKeyToTheSecond) {
   EXPECT_NEAR(std::abs(glm::dot(sample(flipped, 0.25f), axis_angle_y(0.5f))), 1.0f, 1e-6f);
 }
 
+// An animation ends at the latest key of any of its channels, whatever their order
+// (the frame range of an animated scene runs to it).
+TEST(Animation, EndTimeIsTheLatestKeyOfAnyChannel) {
+  Animation a;
+  a.channels.push_back(channel(AnimatedProperty::Translation, Interpolation::Linear, {0.0f, 5.0f},
+                               {{0, 0, 0, 0}, {1, 0, 0, 0}}));
+  a.channels.push_back(channel(AnimatedProperty::Scale, Interpolation::Linear, {0.0f, 2.0f},
+                               {{1, 1, 1, 0}, {2, 2, 2, 0}}));
+  EXPECT_EQ(a.end_time(), 5.0f);
+  EXPECT_EQ(Animation{}.end_time(), 0.0f);
+}
+
 TEST(Animation, FrameRange) {
   EXPECT_EQ(last_frame(2.0f, 24.0), 48);
   EXPECT_EQ(last_frame(47.0f / 24.0f, 24.0), 47);  // float key time, no extra frame
