@@ -179,5 +179,32 @@ TEST(GltfAnimation, MalformedSamplersAreErrors) {
   }
 }
 
+// glTF 2.0, animation.sampler.input (§5.8): key times are seconds with time[0] >= 0; a
+// sampler whose output holds NaN or Inf is refused too, even where the loaded time does not
+// sample that key (it would at another --frame).
+TEST(GltfAnimation, NegativeKeyTimesAndNonFiniteOutputsAreErrors) {
+  struct Case {
+    std::vector<float> times, values;
+    const char* message;
+  };
+  const std::vector<Case> cases = {
+      {{-1, 1}, {0, 0, 0, 1, 1, 1}, "non-negative"},
+      {{0, 1}, {0, 0, 0, 1, NAN, 1}, "NaN/Inf"},
+      {{0, 1}, {0, 0, 0, INFINITY, 1, 1}, "NaN/Inf"},
+  };
+  for (const Case& c : cases) {
+    GltfBuilder b;
+    const int n = b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
+    animate(b, n, "translation", "LINEAR", c.times, c.values);
+    const auto path = b.write(test::temp_dir("m"));
+    try {
+      load_at(path, 0.0);
+      ADD_FAILURE() << c.message << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.message), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace zz
