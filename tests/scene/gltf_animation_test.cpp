@@ -206,5 +206,21 @@ TEST(GltfAnimation, NegativeKeyTimesAndNonFiniteOutputsAreErrors) {
   }
 }
 
+// A channel must target one of the file's nodes (glTF 2.0, animation.channel.target.node,
+// §5.7): one past the last is an error, not an animation of nothing.
+TEST(GltfAnimation, AChannelTargetingANodePastTheLastIsAnError) {
+  GltfBuilder b;
+  const int n = b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
+  animate(b, n, "translation", "LINEAR", {0, 1}, {0, 0, 0, 1, 0, 0});
+  b.doc["animations"][0]["channels"][0]["target"]["node"] = b.doc["nodes"].size();
+  const auto path = b.write(test::temp_dir("m"));
+  try {
+    load_at(path, 0.0);
+    ADD_FAILURE() << "a channel of node " << b.doc["nodes"].size() << " accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("out of range"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace zz
