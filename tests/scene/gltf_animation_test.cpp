@@ -222,5 +222,21 @@ TEST(GltfAnimation, AChannelTargetingANodePastTheLastIsAnError) {
   }
 }
 
+// An animated node keeps its static properties as a static node has them: a rotation that
+// is not unit length (glTF 2.0 node.rotation is a unit quaternion; files do not always comply)
+// is normalised, not applied as a rotation with a scale of |q|^2.
+TEST(GltfAnimation, AnAnimatedNodesRestRotationIsNormalisedAsAStaticNodes) {
+  GltfBuilder b;
+  // 90 degrees about z, stored at twice unit length; its translation is animated.
+  const int n = b.node({{"mesh", b.mesh("tri", test::kTriPos)}, {"rotation", {0, 0, 2 * kH, 2 * kH}}});
+  animate(b, n, "translation", "LINEAR", {0, 1}, {0, 0, 0, 2, 0, 0});
+  const Scene s = load_at(b.write(test::temp_dir("m")), 0.5);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  // T(1,0,0) * Rz(90): (0,0,0) -> (1,0,0), (1,0,0) -> (1,1,0), (0,1,0) -> (0,0,0).
+  expect_vec3(s.positions[0], {1, 0, 0});
+  expect_vec3(s.positions[1], {1, 1, 0});
+  expect_vec3(s.positions[2], {0, 0, 0});
+}
+
 }  // namespace
 }  // namespace zz
