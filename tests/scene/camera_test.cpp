@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "core/error.h"
 #include "scene/camera.h"
 #include "scene/camera_select.h"
 #include "scene/scene.h"
@@ -143,6 +144,21 @@ TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {
   EXPECT_EQ(frame_size(one_side, two, 0, 100).width, 200);
   EXPECT_EQ(frame_size(one_side, two, 16384).height, 8192);
   EXPECT_EQ(frame_size(one_side, two, 0, 16384).width, 16384);  // clamped to the largest side
+}
+
+// A side from an extreme aspect ratio is still a pixel wide: clamped to [1, the largest
+// side] before rounding, never a 0-pixel frame.
+TEST(FrameSize, AnExtremeAspectStillGivesAtLeastOnePixel) {
+  Scene gltf;
+  Camera strip = tilted();
+  strip.aspect = 1e6f;
+  EXPECT_EQ(frame_size(gltf, strip).width, 512);
+  EXPECT_EQ(frame_size(gltf, strip).height, 1);
+  EXPECT_EQ(frame_size(gltf, strip, 300).height, 1);
+  strip.aspect = 1e-6f;
+  EXPECT_EQ(frame_size(gltf, strip).width, 1);
+  EXPECT_EQ(frame_size(gltf, strip).height, 512);
+  EXPECT_EQ(frame_size(gltf, strip, 0, 300).width, 1);
 }
 
 }  // namespace
