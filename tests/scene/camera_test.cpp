@@ -181,4 +181,14 @@ TEST(CameraClip, CutsIntoABoxOnlyWhereThePlanesCrossIt) {
   EXPECT_EQ(rays.clip.depth(glm::vec3(0, 0, 0)), 5.0f);
 }
 
+// A box whose nearest corner lies exactly on the near plane (or farthest exactly on the far
+// one) counts as cut: the margin covers the rounding of a traced hit's depth, so a hit a
+// rounding error nearer than znear is still tested and cut away.
+TEST(CameraClip, ABoxTouchingAPlaneCountsAsCut) {
+  CameraClip clip{glm::vec3(0, 0, 5), glm::vec3(0, 0, -1), 2.0f, 8.0f};  // depth = 5 - z
+  EXPECT_TRUE(clip.cuts_into({-1, -1, -1}, {1, 1, 3})) << "depths 2..6: touches the near plane";
+  EXPECT_TRUE(clip.cuts_into({-1, -1, -3}, {1, 1, 1})) << "depths 4..8: touches the far plane";
+  EXPECT_FALSE(clip.cuts_into({-1, -1, -1}, {1, 1, 2.99f})) << "depths 2.01..6: inside";
+}
+
 }  // namespace zz
