@@ -75,5 +75,21 @@ TEST(Lights, CanLightNeedsIntensityAndAnOpenCone) {
   EXPECT_FALSE(can_light(l));
 }
 
+// Every colour channel counts (KHR_lights_punctual: colour in [0, 1] per channel): a pure
+// red, green or blue light lights, and a negative value in any one channel is refused.
+TEST(Lights, EachColourChannelCountsOnItsOwn) {
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE(c);
+    Light l;
+    l.intensity = glm::vec3(0.0f);
+    l.intensity[c] = 2.0f;
+    EXPECT_TRUE(can_light(l));
+    EXPECT_EQ(light_problem(l), "");
+    l.intensity = glm::vec3(1.0f);
+    l.intensity[c] = -0.5f;
+    EXPECT_NE(light_problem(l).find("negative colour or intensity"), std::string::npos);
+  }
+}
+
 }  // namespace
 }  // namespace zz
