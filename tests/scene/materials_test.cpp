@@ -90,6 +90,17 @@ TEST(WhittedFromGltf, InvalidIorFallsBackTo15) {
   EXPECT_FLOAT_EQ(whitted_from_gltf(m).ior, 1.5f);
 }
 
+// ior 1 is a valid index (KHR_materials_ior: ior >= 1; out_of_range_factors does not name
+// it): kept, a transmissive surface that does not bend light and mirrors nothing (F0 = 0).
+TEST(WhittedFromGltf, AnIorOfOneIsKept) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.ior = 1.0f;
+  const WhittedMaterial w = whitted_from_gltf(m);
+  EXPECT_EQ(w.ior, 1.0f);
+  expect_vec(w.mirror, glm::vec3(0.0f));
+  EXPECT_TRUE(out_of_range_factors(m).empty());
+}
+
 TEST(WhittedFromGltf, VolumeAttenuationIsBeerLambert) {
   Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
   m.thickness = 0.5f;
