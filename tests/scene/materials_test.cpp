@@ -101,6 +101,17 @@ TEST(WhittedFromGltf, AnIorOfOneIsKept) {
   EXPECT_TRUE(out_of_range_factors(m).empty());
 }
 
+// An attenuation colour above 1 is clamped to 1 (as out_of_range_factors reports): that
+// channel does not absorb, and no channel gains light along the path (sigma_a < 0).
+TEST(WhittedFromGltf, AnAttenuationColourAboveOneDoesNotAmplify) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.thickness = 1.0f;
+  m.attenuation_color = glm::vec3(4.0f, 1.0f, 0.5f);
+  m.attenuation_distance = 2.0f;
+  const WhittedMaterial w = whitted_from_gltf(m);
+  expect_vec(w.absorption, glm::vec3(0.0f, 0.0f, std::log(2.0f) / 2.0f));
+}
+
 TEST(WhittedFromGltf, VolumeAttenuationIsBeerLambert) {
   Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
   m.thickness = 0.5f;
