@@ -57,6 +57,29 @@ TEST(Texture, RepeatWraps) {
   expect_rgba(Texture{}.sample({0.5f, 0.5f}), {1, 1, 1, 1});
 }
 
+// 3 x 1, red 0, 1, 2 (a ramp, so a wrong texel or a blend shows in the value).
+Texture ramp(TextureWrap wrap, TextureFilter filter) {
+  Texture t;
+  t.width = 3;
+  t.height = 1;
+  t.texels = {{0, 0, 0, 1}, {1, 0, 0, 1}, {2, 0, 0, 1}};
+  t.wrap_s = t.wrap_t = wrap;
+  t.filter = filter;
+  return t;
+}
+
+// NEAREST (glTF sampler magFilter 9728, OpenGL 4.6 §8.14.2): the texel whose square holds
+// the point, i = floor(u * width), not the one whose centre rounds nearest.
+TEST(Texture, NearestTakesTheTexelUnderThePoint) {
+  const Texture t = ramp(TextureWrap::Repeat, TextureFilter::Nearest);
+  EXPECT_EQ(t.sample({0.0f, 0.5f}).x, 0.0f);
+  EXPECT_EQ(t.sample({0.3f, 0.5f}).x, 0.0f);  // 0.9 texels in
+  EXPECT_EQ(t.sample({0.34f, 0.5f}).x, 1.0f);
+  EXPECT_EQ(t.sample({0.65f, 0.5f}).x, 1.0f);  // 1.95 texels in
+  EXPECT_EQ(t.sample({0.99f, 0.5f}).x, 2.0f);
+  EXPECT_EQ(t.sample({1.3f, 0.5f}).x, 0.0f);   // repeated
+}
+
 TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   auto dir = test::temp_dir("png");
   // 2 x 1 PNG: (188, 0, 255) and (128, 128, 128).
