@@ -80,6 +80,21 @@ TEST(Texture, NearestTakesTheTexelUnderThePoint) {
   EXPECT_EQ(t.sample({1.3f, 0.5f}).x, 0.0f);   // repeated
 }
 
+// CLAMP_TO_EDGE (glTF sampler 33071): past the edge texel centres the edge texel holds;
+// a bilinear lookup at u = 0 or 1 does not blend in the opposite edge as REPEAT does.
+TEST(Texture, ClampToEdgeHoldsTheEdgeTexel) {
+  const Texture t = ramp(TextureWrap::ClampToEdge, TextureFilter::Linear);
+  EXPECT_EQ(t.sample({0.0f, 0.5f}).x, 0.0f);
+  EXPECT_EQ(t.sample({1.0f, 0.5f}).x, 2.0f);
+  EXPECT_EQ(t.sample({-7.5f, 0.5f}).x, 0.0f);
+  EXPECT_EQ(t.sample({9.25f, 0.5f}).x, 2.0f);
+  EXPECT_FLOAT_EQ(t.sample({0.5f, 0.5f}).x, 1.0f);
+  EXPECT_FLOAT_EQ(ramp(TextureWrap::Repeat, TextureFilter::Linear).sample({0.0f, 0.5f}).x, 1.0f);  // (2 + 0) / 2
+  const Texture n = ramp(TextureWrap::ClampToEdge, TextureFilter::Nearest);
+  EXPECT_EQ(n.sample({-0.1f, 0.5f}).x, 0.0f);
+  EXPECT_EQ(n.sample({1.2f, 0.5f}).x, 2.0f);
+}
+
 TEST(Texture, BaseColourImagesAreSrgbDecoded) {
   auto dir = test::temp_dir("png");
   // 2 x 1 PNG: (188, 0, 255) and (128, 128, 128).
