@@ -48,6 +48,20 @@ TEST(OutputPattern, UnknownPlaceholdersAreErrorsNamingThem) {
   }
 }
 
+// {frame:NN} takes one or two digits (README: {frame:04} zero-pads); a wider width is an
+// unknown placeholder, as is one past int (no std::stoi exception escapes).
+TEST(OutputPattern, FrameWidthsHaveAtMostTwoDigits) {
+  const OutputKey k{"room", "0", 7};
+  for (const char* bad : {"{frame:100}.png", "{frame:004}.png", "{frame:99999999999}.png"}) {
+    try {
+      expand_output_pattern(bad, k);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("unknown placeholder"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(OutputCollisions, NameTheMissingPlaceholder) {
   const std::vector<OutputKey> scenes = {{"room", "0", 0}, {"glass", "0", 0}};
   const std::string e = error_of({{"-o", "x.png"}}, scenes);
