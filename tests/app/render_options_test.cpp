@@ -167,6 +167,17 @@ TEST(RenderOptions, CombinationsAreCheckedBeforeLoading) {
   EXPECT_NE(parse({"a.json", "--camera", "all", "-o", "{scene}.png"}, d).find("add {camera}"), std::string::npos);
 }
 
+// README: the default output is {scene}.png, {scene}_{camera}.png with --camera all (so
+// `--camera all` alone is a batch whose cameras do not collide).
+TEST(RenderOptions, TheDefaultOutputNamesTheCameraUnderCameraAll) {
+  BatchOptions all;
+  EXPECT_EQ(parse({"a.json", "--camera", "all"}, all), "");
+  EXPECT_EQ(all.output_pattern(), "{scene}_{camera}.png");
+  BatchOptions named;
+  EXPECT_EQ(parse({"a.json", "--camera", "front"}, named), "");
+  EXPECT_EQ(named.output_pattern(), "{scene}.png");
+}
+
 // The options a batch's mode never reads, as given on the command line.
 std::vector<std::string> inapplicable(std::vector<std::string> args) {
   BatchOptions o;
