@@ -178,6 +178,15 @@ TEST(RenderOptions, TheDefaultOutputNamesTheCameraUnderCameraAll) {
   EXPECT_EQ(named.output_pattern(), "{scene}.png");
 }
 
+// --aov geo is the visibility map, which --edges off never makes: refused before loading.
+TEST(RenderOptions, TheGeoAovNeedsTheVisibilityMap) {
+  BatchOptions off;
+  EXPECT_NE(parse({"a.json", "--edges", "off", "--aov", "geo", "g.png"}, off).find("--aov geo needs the visibility map"),
+            std::string::npos);
+  BatchOptions on;
+  EXPECT_EQ(parse({"a.json", "--aov", "geo", "g.png"}, on), "");
+}
+
 // The options a batch's mode never reads, as given on the command line.
 std::vector<std::string> inapplicable(std::vector<std::string> args) {
   BatchOptions o;
