@@ -170,5 +170,15 @@ TEST(OrbitCamera, FocusDistanceIsTheSceneCentreAlongTheView) {
   EXPECT_NEAR(focus_distance(c, {0.0f, 0.0f, 20.0f}, 3.0f), 0.3f, 1e-6f);  // behind: clamp
 }
 
+// A vertical drag pans like a horizontal one: the point under the cursor follows it, so a
+// drag down (image y grows downwards) moves the camera up by d tan(fov/2) per half height.
+TEST(OrbitCamera, AVerticalPanMovesThePointUnderTheCursorWithIt) {
+  const Camera start = Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.8f);
+  OrbitCamera orbit(start, 5.0f);
+  orbit.pan(0.0f, 200.0f, 400);
+  expect_near(orbit.camera().position, {0.0f, 5.0f * std::tan(0.4f), 5.0f}, 1e-4f);
+  expect_near(orbit.camera().forward, start.forward, 1e-5f);
+}
+
 }  // namespace
 }  // namespace zz
