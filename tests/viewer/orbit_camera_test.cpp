@@ -180,5 +180,16 @@ TEST(OrbitCamera, AVerticalPanMovesThePointUnderTheCursorWithIt) {
   expect_near(orbit.camera().forward, start.forward, 1e-5f);
 }
 
+// The wheel keeps the orbit distance within [1e-4, 1e6]: zooming far out stops there
+// instead of reaching infinity (a camera at NaN), zooming in stops short of the target.
+TEST(OrbitCamera, ZoomStopsAtItsLimits) {
+  OrbitCamera orbit(start_camera(), 4.0f);
+  orbit.zoom(-1000.0f);
+  EXPECT_EQ(orbit.distance(), 1e6f);
+  EXPECT_TRUE(std::isfinite(orbit.camera().position.x));
+  orbit.zoom(2000.0f);
+  EXPECT_EQ(orbit.distance(), 1e-4f);
+}
+
 }  // namespace
 }  // namespace zz
