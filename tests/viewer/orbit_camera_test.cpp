@@ -191,5 +191,17 @@ TEST(OrbitCamera, ZoomStopsAtItsLimits) {
   EXPECT_EQ(orbit.distance(), 1e-4f);
 }
 
+// An orthographic orbit's stand-off keeps the clipping planes where they were in the scene:
+// a camera without a near plane (znear 0) gets none, and a finite far plane moves back
+// with the camera.
+TEST(OrbitCamera, AnOrthographicStandOffKeepsThePlanesWhereTheyWere) {
+  Camera plan = Camera::look_at({0, 10, 0}, {0, 0, 0}, {0, 0, -1}, 0.8f);
+  plan.ymag = 5.0f;
+  plan.zfar = 30.0f;
+  const Camera start = orbit_for(plan, {0, 0, 0}, 70.0f).camera();  // stood back by 63.5
+  EXPECT_EQ(start.znear, 0.0f) << "no near plane stays none";
+  EXPECT_NEAR(start.zfar, 93.5f, 1e-3f) << "the far plane stays at y = -20";
+}
+
 }  // namespace
 }  // namespace zz
