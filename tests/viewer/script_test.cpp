@@ -45,5 +45,23 @@ TEST(Script, RejectsBadCommandsWithTheCommandInTheMessage) {
   }
 }
 
+// Each value is checked on its own: middle is GLFW's button 2; resize wants both sides in
+// 1..kMaxImageSide; a command takes no more values than it has; a number is a number
+// to its end ("4e" is not 4).
+TEST(Script, EachValueIsCheckedOnItsOwn) {
+  EXPECT_EQ(parse_script("drag:1,2,3,4,middle")[0].button, 2);
+  EXPECT_EQ(parse_script("drag:1,2,3,4,left")[0].button, 0);
+  EXPECT_EQ(parse_script("resize:1,16384")[0].y0, 16384.0f);
+  for (const char* bad : {"resize:10,0", "resize:10,-3", "scroll:1,2", "key:R,S", "sleep:1,2", "resize:1,2,3",
+                          "drag:1,2,3,4,left,6", "scroll:2x", "drag:1,2,3,4e", "resize:10,20px"}) {
+    try {
+      parse_script(bad);
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("--script"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace zz
