@@ -125,5 +125,16 @@ TEST(DisplayFrame, VersionMovesOnEveryChange) {
   EXPECT_GT(frame.version(), v1);
 }
 
+// A visibility map of another size than the frame (made before a resize) is not shown:
+// the geo view is the "not available" checkerboard, and no flag past the map is read.
+TEST(DisplayFrame, AMapOfAnotherSizeIsNotShown) {
+  DisplayFrame frame;
+  frame.resize(4, 2);
+  frame.set_geo(GeoMap{2, 2, {1, 1, 1, 1}});
+  EXPECT_FALSE(frame.has_geo());
+  const std::vector<uint8_t> rgb = frame.rgb(ViewMode::Geo);
+  for (size_t i = 0; i < 8; ++i) EXPECT_EQ(rgb[i * 3], 32) << i;  // the checkerboard's first square
+}
+
 }  // namespace
 }  // namespace zz
