@@ -136,5 +136,15 @@ TEST(DisplayFrame, AMapOfAnotherSizeIsNotShown) {
   for (size_t i = 0; i < 8; ++i) EXPECT_EQ(rgb[i * 3], 32) << i;  // the checkerboard's first square
 }
 
+// In the rays view a pixel not rendered yet (0 rays) is black, not the ramp's 1-ray colour.
+TEST(DisplayFrame, PixelsNotRenderedYetAreBlackInTheRaysView) {
+  DisplayFrame frame;
+  frame.resize(3, 2);
+  for (const uint8_t v : frame.rgb(ViewMode::Rays)) EXPECT_EQ(v, 0);
+  uint8_t one[3];
+  heat_color(1, one);
+  EXPECT_GT(one[0] + one[1] + one[2], 0);
+}
+
 }  // namespace
 }  // namespace zz
