@@ -187,6 +187,17 @@ TEST(RenderOptions, TheGeoAovNeedsTheVisibilityMap) {
   EXPECT_EQ(parse({"a.json", "--aov", "geo", "g.png"}, on), "");
 }
 
+// README: every option is checked before the first scene is loaded; an empty --region
+// (X0 >= X1 or Y0 >= Y1) needs no scene to be wrong, so validate() refuses it.
+TEST(RenderOptions, AnEmptyRegionIsRefusedBeforeLoading) {
+  for (const char* region : {"5,5,5,10", "10,0,5,10", "0,7,10,7"}) {
+    BatchOptions o;
+    EXPECT_NE(parse({"a.json", "--region", region}, o).find("the region is empty"), std::string::npos) << region;
+  }
+  BatchOptions fine;
+  EXPECT_EQ(parse({"a.json", "--region", "0,0,1,1"}, fine), "");
+}
+
 // The options a batch's mode never reads, as given on the command line.
 std::vector<std::string> inapplicable(std::vector<std::string> args) {
   BatchOptions o;
