@@ -238,5 +238,22 @@ TEST(GltfAnimation, AnAnimatedNodesRestRotationIsNormalisedAsAStaticNodes) {
   expect_vec3(s.positions[2], {0, 0, 0});
 }
 
+// A channel of a path the loader does not animate (glTF 2.0 animation.channel.target.path
+// "weights": morph targets) is skipped with a warning; the file loads and its other
+// channels play (an exporter's morph animation must not refuse the whole model).
+TEST(GltfAnimation, AMorphWeightsChannelIsSkippedAndTheRestPlays) {
+  GltfBuilder b;
+  const int n = b.node({{"mesh", b.mesh("tri", test::kTriPos)}});
+  animate(b, n, "translation", "LINEAR", {0, 1}, {0, 0, 0, 2, 0, 0});
+  auto& a = b.doc["animations"][0];
+  // One morph target: a SCALAR weight per key.
+  a["samplers"].push_back({{"input", accessor(b, {0, 1}, 1)}, {"output", accessor(b, {0, 1}, 1)}});
+  a["channels"].push_back({{"sampler", a["samplers"].size() - 1}, {"target", {{"node", n}, {"path", "weights"}}}});
+  const Scene s = load_at(b.write(test::temp_dir("m")), 0.5);
+  ASSERT_EQ(s.triangle_count(), 1u);
+  expect_vec3(s.positions[0], {1, 0, 0});
+  expect_vec3(s.positions[1], {2, 0, 0});
+}
+
 }  // namespace
 }  // namespace zz
