@@ -203,5 +203,18 @@ TEST(OrbitCamera, AnOrthographicStandOffKeepsThePlanesWhereTheyWere) {
   EXPECT_NEAR(start.zfar, 93.5f, 1e-3f) << "the far plane stays at y = -20";
 }
 
+// The clipping planes turn with the orbited view: a scene camera's own clip axis (a glTF
+// camera under a sheared node has one) is dropped, so the planes stay normal to forward.
+TEST(OrbitCamera, TheClippingPlanesTurnWithTheView) {
+  Camera start = Camera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.8f);
+  start.znear = 1.0f;
+  start.clip_axis = glm::vec3(0.0f, 0.0f, -1.0f);
+  OrbitCamera orbit(start, 5.0f);
+  orbit.orbit(240.0f, 0.0f, 480);  // a quarter turn about +Y: now looking along +x
+  const CameraRays rays(orbit.camera(), 8, 8);
+  expect_near(rays.clip.forward, orbit.camera().forward, 1e-6f);
+  expect_near(rays.clip.forward, {1.0f, 0.0f, 0.0f}, 1e-5f);
+}
+
 }  // namespace
 }  // namespace zz
