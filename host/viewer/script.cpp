@@ -1,5 +1,6 @@
 #include "viewer/script.h"
 
+#include <cmath>
 #include <cstdlib>
 
 #include "core/error.h"
@@ -31,6 +32,8 @@ float number(std::string_view s, std::string_view command) {
   const float v = std::strtof(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size())
     throw Error("--script: '" + std::string(command) + "': '" + text + "' is not a number");
+  // nan, inf and 1e39 (inf as a float) made the orbit camera NaN: zoom's clamp keeps a NaN.
+  if (!std::isfinite(v)) throw Error("--script: '" + std::string(command) + "': '" + text + "' is not a finite number");
   return v;
 }
 

@@ -35,7 +35,9 @@ TEST(Script, ParsesEveryCommand) {
 TEST(Script, RejectsBadCommandsWithTheCommandInTheMessage) {
   for (const char* bad : {"drag:1,2,3", "drag:1,2,3,x", "drag:1,2,3,4,up", "jump", "wait:3", "screenshot:",
                           "resize:0,10", "scroll:",
-                          "sleep:", "sleep:-1", "sleep:nan", "sleep:1e9"}) {
+                          "sleep:", "sleep:-1", "sleep:nan", "sleep:1e9",
+                          // a NaN or infinite drag or zoom turned the orbit camera NaN until R
+                          "scroll:nan", "scroll:inf", "scroll:1e39", "drag:nan,0,10,10", "drag:0,0,-inf,0"}) {
     try {
       parse_script(bad);
       ADD_FAILURE() << bad << " was accepted";
