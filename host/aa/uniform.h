@@ -27,6 +27,9 @@ struct UniformSettings {
 
 struct UniformStats {
   uint64_t samples = 0;  // image points evaluated (padding lanes of a last packet excluded)
+  // Of those, the lattice's corners beyond one per pixel: a tile's far column and row of
+  // its shared corner grid, w + h + 1 (adaptive's margin_rays likewise).
+  uint64_t margin = 0;
 };
 
 // A stateless 32-bit hash (Jarkko Kneip's lowbias32) -> [0,1) floats for jitter.
@@ -142,6 +145,7 @@ bool render_tile_uniform(S& source, const TileTarget& target, const UniformSetti
           for (int x = 0; x <= w; ++x) corner_stream.add(float(r.x0 + x), float(r.y0 + y), y * (w + 1) + x, 1.0f);
         }
         corner_stream.flush();
+        stats.margin += uint64_t(w + h + 1);
         const float weight = 1.0f / 25.0f;
         for (int y = 0; y < h; ++y) {
           if (cancelled()) return false;

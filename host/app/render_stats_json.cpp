@@ -74,9 +74,13 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["max_depth"] = r.scene->max_depth;
   j["effects"] = r.shader->effects().names();
   j["rays_per_pixel"] = double(stats.rays.primary) / pixels;
-  // A partial last packet of a tile is padded, and its lanes traced: rays_per_pixel = spp
-  // (1 with --aa none) + padded, as the adaptive section's by_level + padded.
-  if (o.aa != AaMode::Adaptive) j["padded"] = double(stats.rays.primary - std::min(stats.rays.primary, stats.samples)) / pixels;
+  // A partial last packet of a tile is padded, and its lanes traced; the lattice pattern
+  // also traces each tile's far ring of corners (margin_rays): rays_per_pixel = spp (1 with
+  // --aa none) + padded + margin_rays / pixels, as the adaptive section's by_level + padded.
+  if (o.aa != AaMode::Adaptive) {
+    j["padded"] = double(stats.rays.primary - std::min(stats.rays.primary, stats.samples)) / pixels;
+    j["margin_rays"] = stats.margin_samples;
+  }
   j["rays"] = {{"primary", stats.rays.primary},
                {"shadow", stats.rays.shadow},
                {"reflection", stats.rays.reflection},

@@ -21,7 +21,7 @@ namespace {
 
 struct TileResult {
   RayCounters rays;
-  uint64_t samples = 0;
+  uint64_t samples = 0, margin_samples = 0;
   AaStats aa;
   bool done = false;
 };
@@ -147,6 +147,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
       const bool finished = render_tile_uniform(source, target, uniform, scratch.local().data(), uniform_stats,
                                                 callbacks.cancel);
       result.samples = uniform_stats.samples;
+      result.margin_samples = uniform_stats.margin;
       if (!finished) return;  // not done: the frame reports itself cancelled
     }
     result.rays += source.counters;
@@ -162,6 +163,7 @@ void render(const Shader& shader, const Camera& camera, const GeoMap* ready, con
   for (const TileResult& r : results) {
     stats.rays += r.rays;
     stats.samples += r.samples;
+    stats.margin_samples += r.margin_samples;
     stats.aa.merge(r.aa);
     if (!r.done) stats.cancelled = true;
   }

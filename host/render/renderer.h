@@ -43,6 +43,7 @@ struct RenderSettings {
 struct RenderStats {
   RayCounters rays;
   uint64_t samples = 0;  // image-plane points evaluated (uniform modes)
+  uint64_t margin_samples = 0;  // of those, the lattice's corners beyond one per pixel (UniformStats::margin)
   AaStats aa;            // adaptive mode: rays by level, level fractions, zones
   double render_seconds = 0.0;
   int tiles = 0;

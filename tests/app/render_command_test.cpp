@@ -174,18 +174,24 @@ TEST(RenderCommand, StatsHaveTheDocumentedFields) {
 // --aa none printed 1.00003 rays/px for 1 sample, with nothing to say why).
 TEST(RenderCommand, UniformStatsCountPaddingApart) {
   const fs::path dir = temp_dir();
-  for (const std::string mode : {"--aa none", "--aa uniform --spp 9"}) {
+  for (const std::string mode : {"--aa none", "--aa uniform --spp 9", "--aa uniform --spp 25 --pattern lattice"}) {
     const fs::path stats = dir / "u.json";
     const auto r = test::run_command(test::zigzag_binary() + " render " + test::source_path("scenes/default.json") +
                                      " " + mode + " --edges off --width 33 --height 17 -q -o " +
                                      (dir / "u.png").string() + " --stats " + stats.string());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = read_json(stats);
-    const double pixels = 33 * 17, spp = mode == "--aa none" ? 1.0 : 9.0;
+    const double pixels = 33 * 17, spp = mode == "--aa none" ? 1.0 : mode.find("lattice") != std::string::npos ? 25.0 : 9.0;
     ASSERT_TRUE(j.contains("padded")) << mode;
-    EXPECT_GT(j["padded"].get<double>(), 0.0) << mode << ": 561 pixels do not fill whole packets";
-    EXPECT_NEAR(j["rays_per_pixel"].get<double>() - j["padded"].get<double>(), spp, 1e-12) << mode;
-    EXPECT_NEAR(j["rays"]["primary"].get<double>(), (spp + j["padded"].get<double>()) * pixels, 1e-6) << mode;
+    if (spp != 25.0) {  // the lattice's 34 x 18 corners and 24 x 561 inner points fill whole packets
+      EXPECT_GT(j["padded"].get<double>(), 0.0) << mode << ": 561 pixels do not fill whole packets";
+    }
+    // The lattice's shared corner grid has one more column and row per tile (one tile here:
+    // 33 + 17 + 1 corners); the other patterns have none.
+    const double margin = j["margin_rays"].get<double>();
+    EXPECT_EQ(margin, spp == 25.0 ? 33.0 + 17.0 + 1.0 : 0.0) << mode;
+    EXPECT_NEAR(j["rays_per_pixel"].get<double>() - j["padded"].get<double>() - margin / pixels, spp, 1e-12) << mode;
+    EXPECT_NEAR(j["rays"]["primary"].get<double>(), (spp + j["padded"].get<double>()) * pixels + margin, 1e-6) << mode;
   }
   fs::remove_all(dir);
 }
