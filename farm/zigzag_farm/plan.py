@@ -10,7 +10,6 @@ import hashlib
 import json
 import os
 import re
-import string
 from dataclasses import dataclass, field
 
 from .regions import Region, split_frame
@@ -143,24 +142,46 @@ class Plan:
 MAX_OUTPUT_NAME = 155
 
 
-def pattern_fields(pattern: str) -> set[str]:
-    return {name for _, name, _, _ in string.Formatter().parse(pattern) if name is not None}
+KNOWN_PLACEHOLDERS = "{scene}, {camera}, {frame}, {frame:04}"
 
 
-def expand(pattern: str, scene: str, camera: int, frame: int | None) -> str:
-    """Replace {scene}, {camera}, {frame} and {frame:04}-style widths in an output pattern."""
-    try:
-        unknown = pattern_fields(pattern) - {"scene", "camera", "frame"}
-    except ValueError as e:  # an unmatched brace
-        raise ValueError(f"output pattern {pattern!r}: {e}") from None
-    if unknown:
-        raise ValueError(f"output pattern {pattern!r}: unknown field(s) {sorted(unknown)}; "
-                         "use {scene}, {camera}, {frame} or {frame:04}")
-    try:
-        return pattern.format(scene=scene, camera=camera, frame=frame if frame is not None else 0)
-    except (ValueError, TypeError, KeyError, IndexError, AttributeError) as e:
-        raise ValueError(f"output pattern {pattern!r}: {e}; "
-                         "use {scene}, {camera}, {frame} or {frame:04}") from None
+def _placeholder(body: str, scene: str, camera: int, frame: int) -> str | None:
+    """One "{...}" body as the renderer expands it (host/app/output_paths.cpp
+    expand_placeholder), or None if it is not one it knows: {frame:N} pads with zeros to N,
+    one or two digits; no other format spec."""
+    if body == "scene":
+        return scene
+    if body == "camera":
+        return str(camera)
+    if body == "frame":
+        return str(frame)
+    if body.startswith("frame:"):
+        width = body[len("frame:"):]
+        if 1 <= len(width) <= 2 and all(c in "0123456789" for c in width):
+            digits = str(frame)
+            return "0" * max(0, int(width) - len(digits)) + digits
+    return None
+
+
+def expand(pattern: str, scene: str, camera: int, frame: int | None, option: str = "-o") -> str:
+    """An output pattern expanded exactly as `zigzag render` expands it (expand_output_pattern):
+    a '{' starts a placeholder up to the next '}' (no escape); {scene}, {camera}, {frame} and
+    {frame:N}; anything else is refused with the renderer's message. A still is frame 0."""
+    out, i = [], 0
+    while i < len(pattern):
+        if pattern[i] != "{":
+            out.append(pattern[i])
+            i += 1
+            continue
+        close = pattern.find("}", i)
+        value = None if close < 0 else _placeholder(pattern[i + 1:close], scene, camera,
+                                                    frame if frame is not None else 0)
+        if value is None:
+            bad = pattern[i:] if close < 0 else pattern[i:close + 1]
+            raise ValueError(f"{option} {pattern}: unknown placeholder '{bad}' (known: {KNOWN_PLACEHOLDERS})")
+        out.append(value)
+        i = close + 1
+    return "".join(out)
 
 
 def _digest(payload: dict) -> str:
@@ -246,8 +267,8 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
         for frame in _scene_frames(info, frames):
             for cam in cameras:
                 image = _Image(info, cam, frame)
-                out = os.path.abspath(expand(output, info.name, cam, frame))
-                stats_out = os.path.abspath(expand(stats, info.name, cam, frame)) if stats else None
+                out = os.path.abspath(expand(output, info.name, cam, frame, "-o"))
+                stats_out = os.path.abspath(expand(stats, info.name, cam, frame, "--stats")) if stats else None
                 for path, kind, option in ((out, "the image", "-o"), (stats_out, "the stats", "--stats")):
                     if path is None:
                         continue

@@ -93,7 +93,9 @@ def test_bad_numbers_and_options_are_usage_errors(capsys, workdir, scene, args, 
 
 
 @pytest.mark.parametrize("output,stats,message", [
-    ("out/{}.png", None, "output pattern 'out/{}.png'"),
+    ("out/{}.png", None, "-o out/{}.png: unknown placeholder '{}' (known: {scene}, {camera}, {frame}, {frame:04})"),
+    ("out/{frame:4}.png", "out/{scene:.3}.json", "--stats out/{scene:.3}.json: unknown placeholder '{scene:.3}'"),
+    ("w3/{scene}_{camera:x}_{frame:4}.png", None, "-o w3/{scene}_{camera:x}_{frame:4}.png: unknown placeholder '{camera:x}'"),
     ("out/f{frame}.png", "out/f{frame}.png", "both the image of anim camera 0 f0 and the stats of anim camera 0 f0"),
     ("out/f{frame}.png", "out/stats.json", "both the stats of anim camera 0 f0 and the stats of anim camera 0 f1: add {frame} to --stats"),
 ])

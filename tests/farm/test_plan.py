@@ -26,8 +26,33 @@ def test_patterns():
     assert expand("out/{scene}_{camera}_{frame:04}.png", "room", 2, 7) == "out/room_2_0007.png"
     assert expand("{frame}.exr", "room", 0, 123) == "123.exr"
     assert expand("still.png", "room", 0, None) == "still.png"
-    with pytest.raises(ValueError, match="unknown field"):
+    with pytest.raises(ValueError, match="unknown placeholder"):
         expand("{scene}_{take}.png", "room", 0, 1)
+
+
+@pytest.mark.parametrize("pattern,expanded", [
+    ("{frame:4}.png", "0002.png"), ("{frame:04}.png", "0002.png"), ("{frame:1}.png", "2.png"),
+    ("{frame:0}.png", "2.png"), ("{frame:12}.png", "000000000002.png"), ("{frame:00}.png", "2.png"),
+    ("a}b{scene}}.png", "a}bro{om}.png"),  # a lone '}' is itself; {scene}'s braces are not expanded again
+    ("{camera}_{scene}.png", "3_ro{om.png"),
+])
+def test_patterns_expand_as_the_renderer_does(pattern, expanded):
+    """host/app/output_paths.cpp expand_placeholder: {frame:N} is zero-padding to N, one or two
+    digits, and nothing else of Python's format specs (review: {frame:4} gave '   2')."""
+    assert expand(pattern, "ro{om", 3, 2) == expanded
+
+
+@pytest.mark.parametrize("pattern,bad", [
+    ("w3/{scene:.3}_{frame}.png", "{scene:.3}"), ("{camera:x}.png", "{camera:x}"),
+    ("{frame:4d}.png", "{frame:4d}"), ("{frame:>4}.png", "{frame:>4}"), ("{frame:123}.png", "{frame:123}"),
+    ("{frame:}.png", "{frame:}"), ("{frame: 4}.png", "{frame: 4}"), ("{}.png", "{}"), ("{0}.png", "{0}"),
+    ("{{frame}}.png", "{{frame}"), ("{scene.png", "{scene.png"), ("{Frame}.png", "{Frame}"),
+])
+def test_other_placeholders_are_refused_with_the_renderers_message(pattern, bad):
+    with pytest.raises(ValueError) as e:
+        expand(pattern, "room", 0, 2, "--stats")
+    assert str(e.value) == (f"--stats {pattern}: unknown placeholder '{bad}' "
+                            "(known: {scene}, {camera}, {frame}, {frame:04})")
 
 
 ANIM = SceneInfo(path="/s/anim.json", name="anim", width=100, height=60, cameras=2,
@@ -168,7 +193,7 @@ def test_keys_follow_the_scenes_files_but_not_their_paths_only():
 @pytest.mark.parametrize("pattern", ["/o/{}.png", "/o/{0}.png", "/o/{frame[0]}.png", "/o/{scene!x}.png",
                                      "/o/{frame:abc}.png", "/o/{scene.png"])
 def test_bad_pattern_fields_are_value_errors(pattern):
-    with pytest.raises(ValueError, match="output pattern"):
+    with pytest.raises(ValueError, match=f"-o {re.escape(pattern)}: unknown placeholder"):
         plan(output=pattern)
 
 
