@@ -91,12 +91,35 @@ def run_child(cmd: list[str], *, timeout: float | None, cancelled=lambda: False,
         raise
 
 
-def temporary_name(final: str) -> str:
+def plain_name(name: str) -> str:
+    """name without '{' or '}': zigzag expands braces in -o/--stats as placeholders, with no
+    escape, so a temporary named after `shot{camera}.png` would be written as `shot0...`.
+    '%' is escaped too, so that two outputs' temporaries never share a form."""
+    return name.replace("%", "%25").replace("{", "%7B").replace("}", "%7D")
+
+
+def temporary_name(final: str, tag: str | None = None) -> str:
     """A unique sibling of `final` that keeps its extension (the renderer picks the format
-    from it) and starts with a dot (never mistaken for an output)."""
+    from it), starts with a dot (never mistaken for an output) and has no braces (plain_name).
+    tag: the attempt's temporary_tag() (a new one if not given)."""
     folder, name = os.path.split(final)
-    stem, ext = os.path.splitext(name)
-    return os.path.join(folder, f".{stem}.{temporary_tag()}.tmp{ext}")
+    stem, ext = os.path.splitext(plain_name(name))
+    return os.path.join(folder, f".{stem}.{tag or temporary_tag()}.tmp{ext}")
+
+
+def _remove_attempt_files(folder: str, tag: str) -> None:
+    """Every file of one attempt (its tag is unique): the job's temporaries and what the
+    renderer may have left of its own temporaries of them (a killed or failed render)."""
+    try:
+        names = os.listdir(folder or ".")
+    except OSError:
+        return
+    for name in names:
+        if f".{tag}.tmp" in name:
+            try:
+                os.remove(os.path.join(folder, name))
+            except OSError:
+                pass
 
 
 # The longest host part of a tag: a longer host name keeps its first bytes and a hash of
@@ -172,7 +195,8 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
     """Run one `zigzag render` job described by spec (see runner.render_spec)."""
     final = spec["output"]
     os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
-    tmp = temporary_name(final)
+    tag = temporary_tag()
+    tmp = temporary_name(final, tag)
     tmp_stats = tmp + ".stats.json"
     cmd = [spec["zigzag"], "render", spec["scene"], "-o", tmp, "--stats", tmp_stats,
            "--camera", str(spec["camera"]), "-q"]
@@ -195,6 +219,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
         result = _publish(tmp, final)
     finally:
         _remove(tmp, tmp_stats)
+        _remove_attempt_files(os.path.dirname(final), tag)
     result.update(key=spec["key"], seconds=time.monotonic() - start, stats=stats,
                   started_at=started_at, finished_at=time.time(),
                   worker=f"{socket.gethostname()}:{os.getpid()}")
@@ -206,7 +231,8 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
     them once the frame is recorded, so a merge that runs twice still finds them)."""
     final = spec["output"]
     os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
-    tmp = temporary_name(final)
+    tag = temporary_tag()
+    tmp = temporary_name(final, tag)
     cmd = [spec["zigzag"], "merge", *spec["parts"], "-o", tmp]
     start = time.monotonic()
     try:
@@ -216,6 +242,7 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
         result = _publish(tmp, final)
     finally:
         _remove(tmp)
+        _remove_attempt_files(os.path.dirname(final), tag)
     result.update(key=spec["key"], seconds=time.monotonic() - start,
                   worker=f"{socket.gethostname()}:{os.getpid()}")
     return result

@@ -12,6 +12,7 @@ import os
 import re
 from dataclasses import dataclass, field
 
+from .job import plain_name
 from .regions import Region, split_frame
 
 _FRAMES = re.compile(r"^\s*(-?\d+)\s*(?:-\s*(-?\d+)\s*(?:x\s*(\d+)\s*)?)?$")
@@ -120,11 +121,12 @@ class Plan:
 
     def claim(self, path: str, what: str, hint: str = "") -> None:
         """Reserve path for one output; a second claim is a usage error naming both."""
-        name = os.path.basename(path)
+        name = plain_name(os.path.basename(path))  # as in the temporaries' names
         if len(os.fsencode(name)) > MAX_OUTPUT_NAME:
+            escaped = " (each '{', '}' or '%' counts 3)" if name != os.path.basename(path) else ""
             raise ValueError(f"{path} ({what}): its name is {len(os.fsencode(name))} bytes; the farm takes at most "
                              f"{MAX_OUTPUT_NAME}, as its temporaries (and zigzag's) add a host tag to it within the "
-                             "file system's 255")
+                             f"file system's 255{escaped}")
         if path in self.claims:
             raise ValueError(f"{path} would be written as both {self.claims[path]} and {what}"
                              + (f": {hint}" if hint else ""))
@@ -182,6 +184,15 @@ def expand(pattern: str, scene: str, camera: int, frame: int | None, option: str
         out.append(value)
         i = close + 1
     return "".join(out)
+
+
+def _check_folder_has_no_braces(path: str, what: str) -> None:
+    """A file the renderer writes is passed to it in a folder zigzag takes as a pattern: a
+    brace there (a scene named shot{camera} in {scene}/, a --work-dir) would be expanded."""
+    folder = os.path.dirname(path)
+    if "{" in folder or "}" in folder:
+        raise ValueError(f"{path} ({what}): its folder {folder} has '{{' or '}}', which zigzag expands "
+                         "as placeholders (with no escape): use a folder without braces")
 
 
 def _digest(payload: dict) -> str:
@@ -279,6 +290,7 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
                         hint = "-o and --stats must name different files"
                     else:
                         hint = _tell_apart(other[0], image, option)
+                    _check_folder_has_no_braces(path, f"{kind} of {image}")
                     plan.claim(path, f"{kind} of {image}", hint)
                     first_image[path] = (image, option)
                 plan.frames.append(_frame_job(info, cam, frame, out, stats_out, regions, work_dir,
@@ -306,6 +318,7 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
             # (a PNG and an EXR) would otherwise share, and delete, each other's parts.
             part_out = os.path.join(work_dir, f"{tag_base}-{tag}-"
                                               f"{_digest({**identity, 'output': out, 'region': region.bounds})}.exr")
+            _check_folder_has_no_braces(part_out, "--work-dir")
             plan.claim(part_out, f"region part {i} of {info.name} camera {cam} {_frame_tag(frame)}")
         payload = {**identity, "output": part_out, "region": region.bounds if region else None}
         parts.append(RenderJob(key=f"zz-render-{tag_base}-{tag}-{_digest(payload)}",

@@ -93,13 +93,14 @@ def merge_spec(f: FrameJob, s: RunSettings) -> dict:
 def _temporaries_of(path: str) -> re.Pattern:
     """The names of exactly this output's temporaries (never another output's: `shot.png`
     must not match `.shot.v2.*.tmp.png`, the temporary of shot.v2.png):
-    - the job's own, job.temporary_name: ".STEM.TAG.tmp.EXT" (TAG = HOST-PID-UUID8, no dots),
+    - the job's own, job.temporary_name: ".STEM.TAG.tmp.EXT" (TAG = HOST-PID-UUID8, no dots;
+      STEM and EXT without braces, job.plain_name),
       and its stats ".STEM.TAG.tmp.EXT.stats.json";
     - zigzag's temporaries of those (core/atomic_file: "." + stem + ".zz-PID-RANDOM16-N" + ext):
       "..STEM.TAG.tmp.zz-PID-RANDOM16-N.EXT" and "..STEM.TAG.tmp.EXT.stats.zz-PID-RANDOM16-N.json".
     zigzag cuts a temporary's name that would pass 255 bytes; plan.MAX_OUTPUT_NAME and
     job.MAX_TAG_HOST keep these short of that, so every one has this form."""
-    stem, ext = os.path.splitext(os.path.basename(path))
+    stem, ext = os.path.splitext(job.plain_name(os.path.basename(path)))
     ours = rf"{re.escape(stem)}\.[^./]+-\d+-[0-9a-f]{{8}}\.tmp"
     zz, ext = r"\.zz-\d+-[0-9a-f]{16}-\d+", re.escape(ext)
     return re.compile(rf"\.{ours}{ext}(\.stats\.json)?|\.\.{ours}({zz}{ext}|{ext}\.stats{zz}\.json)")

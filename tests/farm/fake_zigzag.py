@@ -9,7 +9,8 @@ height per camera: a side not given by --width/--height follows it, as zigzag's 
 `FAKE X0 Y0 X1 Y1 W H` and one byte per pixel derived from (scene, its files, frame, camera,
 x, y), so a merge of any split is byte-identical to the full render, and the output is
 written slowly in two halves (a reader that does not wait for the rename sees a torn file).
-Options take `--x v` or `--x=v`; one given twice or out of range is a usage error, exit code
+-o and --stats are patterns as zigzag's ({scene}, {camera}, {frame}, {frame:N}; anything else
+refused, exit code 105). Options take `--x v` or `--x=v`; one given twice or out of range is a usage error, exit code
 105/114 as zigzag's CLI11. $FAKE_ZIGZAG_LOG: a file each render appends its arguments to.
 """
 import hashlib
@@ -106,6 +107,28 @@ def info(args):
     print(json.dumps(out if len(out) > 1 else out[0]))
 
 
+def expand(pattern, option, scene, camera, frame):
+    """host/app/output_paths.cpp expand_output_pattern: '{' up to the next '}', no escape."""
+    out, i = "", 0
+    while i < len(pattern):
+        if pattern[i] != "{":
+            out, i = out + pattern[i], i + 1
+            continue
+        close = pattern.find("}", i)
+        body = pattern[i + 1:close] if close >= 0 else None
+        width = body[6:] if body and body.startswith("frame:") else ""
+        if body in ("scene", "camera", "frame"):
+            out += {"scene": scene, "camera": camera, "frame": str(frame)}[body]
+        elif 1 <= len(width) <= 2 and all(c in "0123456789" for c in width):
+            out += str(frame).rjust(int(width), "0")
+        else:
+            bad = pattern[i:] if close < 0 else pattern[i:close + 1]
+            die(f"{option} {pattern}: unknown placeholder '{bad}' (known: {{scene}}, {{camera}}, {{frame}}, "
+                "{frame:04})", 105)
+        i = close + 1
+    return out
+
+
 def pixel(seed, x, y):
     return hashlib.blake2b(f"{seed}:{x}:{y}".encode(), digest_size=1).digest()
 
@@ -116,6 +139,10 @@ def render(args):
         with open(log, "a") as f:
             f.write(json.dumps(args) + "\n")
     scene = args[0]
+    key = (os.path.splitext(os.path.basename(scene))[0], opt(args, "--camera", "0"), int(opt(args, "--frame", "0")))
+    out = expand(opt(args, "-o"), "-o", *key)
+    stats = opt(args, "--stats")
+    stats = expand(stats, "--stats", *key) if stats else None
     eps = opt(args, "--eps")
     if eps is not None and not 0 <= float(eps) <= 1:
         die(f"--eps: Value {eps} not in range 0 to 1", 105)
@@ -135,7 +162,6 @@ def render(args):
         except OSError as e:
             die(f"{path}: {e}")
     seed = f"{json.dumps(s, sort_keys=True)}:{contents}:{opt(args, '--frame')}:{camera}"
-    out = opt(args, "-o")
     body = b"".join(pixel(seed, x, y) for y in range(y0, y1) for x in range(x0, x1))
     data = f"FAKE {x0} {y0} {x1} {y1} {w} {h}\n".encode() + body
     with open(out, "wb") as f:
@@ -143,7 +169,6 @@ def render(args):
         f.flush()
         time.sleep(float(os.environ.get("FAKE_ZIGZAG_SLEEP", s.get("sleep", 0.0))))
         f.write(data[len(data) // 2:])
-    stats = opt(args, "--stats")
     if stats:
         px = (x1 - x0) * (y1 - y0)
         with open(stats, "w") as f:

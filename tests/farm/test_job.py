@@ -1,5 +1,6 @@
 """The worker side of a job, without Dask: process groups, timeouts, atomic outputs."""
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -9,7 +10,7 @@ import time
 import psutil
 import pytest
 
-from conftest import FAKE_ZIGZAG, fake_render, read, wait_for, write_scene
+from conftest import FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, fake_render, read, wait_for, write_scene
 from zigzag_farm import job
 
 
@@ -115,3 +116,52 @@ def test_temporary_names_keep_the_extension_and_hide():
     t = job.temporary_name("/a/b/frame_0001.exr")
     assert t.startswith("/a/b/.frame_0001.") and t.endswith(".tmp.exr")
     assert job.temporary_name("/a/b/frame_0001.exr") != t
+
+
+def test_temporary_names_have_no_braces():
+    """zigzag expands braces in -o/--stats as placeholders and has no escape."""
+    t = os.path.basename(job.temporary_name("/a/shot{camera}%7B.png"))
+    assert "{" not in t and "}" not in t and t.startswith(".shot%7Bcamera%7D%257B.") and t.endswith(".tmp.png")
+
+
+@pytest.mark.parametrize("renderer", ["fake", "real"])
+def test_a_scene_and_output_named_with_braces_are_written_as_named(workdir, renderer):
+    """A scene `shot{camera}.json` rendered to `{scene}.png`: the job's temporary was named after
+    it, the renderer expanded its braces and wrote `.shot0....tmp.png`, so every attempt failed
+    ("exited 0 but wrote no ...") and left that file and its stats behind (review)."""
+    if renderer == "real":
+        if not os.access(REAL_ZIGZAG, os.X_OK):
+            pytest.skip(f"no {REAL_ZIGZAG}")
+        for name in ("default.gltf", "default.bin"):
+            shutil.copy(os.path.join(ROOT, "scenes", name), workdir)
+        scene = os.path.join(workdir, "shot{camera}.json")
+        shutil.copy(os.path.join(ROOT, "scenes", "default.json"), scene)
+        s = spec(scene, "", zigzag=REAL_ZIGZAG, frame=None, args=["--width", "16"])
+    else:
+        scene = write_scene(workdir, "shot{camera}")
+        s = spec(scene, "")
+    out = os.path.join(workdir, "out", "shot{camera}.png")
+    s["output"] = out
+    r = job.render(s)
+    assert r["stats"] is not None and r["sha256"] == job.sha256_of(out)
+    assert os.listdir(os.path.dirname(out)) == ["shot{camera}.png"]
+
+
+def test_what_a_failed_attempt_wrote_is_removed(workdir):
+    """A renderer that fails after writing its output and a temporary of its own (as zigzag's
+    atomic files name them): nothing of the attempt stays beside the output."""
+    fake = os.path.join(workdir, "zigzag")
+    with open(fake, "w") as f:
+        f.write(textwrap.dedent("""\
+            #!/bin/sh
+            while [ $# -gt 0 ]; do [ "$1" = -o ] && out="$2"; shift; done
+            dir=$(dirname "$out"); base=$(basename "$out" .png)
+            echo part > "$dir/.$base.zz-77-0123456789abcdef-0.png"
+            echo torn > "$out"; echo torn > "$out.stats.json"
+            echo "zigzag: error: out of memory" >&2; exit 1
+            """))
+    os.chmod(fake, 0o755)
+    out = os.path.join(workdir, "out", "f.png")
+    with pytest.raises(job.JobError, match="out of memory"):
+        job.render(spec(write_scene(workdir, "s"), out, zigzag=fake))
+    assert os.listdir(os.path.dirname(out)) == []

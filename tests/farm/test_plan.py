@@ -209,3 +209,14 @@ def test_a_batch_of_too_many_jobs_is_refused_before_it_is_planned():
 def test_missing_camera_is_refused():
     with pytest.raises(ValueError, match="--camera 2 does not exist"):
         plan(camera="2", scenes=[ANIM])
+
+
+def test_folders_with_braces_are_refused_as_the_renderer_would_expand_them():
+    """A file name's braces stay out of the temporaries the renderer is given; a folder's
+    cannot, and zigzag would write elsewhere."""
+    braced = dataclasses.replace(STILL, name="shot{camera}")
+    with pytest.raises(ValueError, match=r"its folder /o/shot\{camera\} has '\{' or '\}'"):
+        plan(scenes=[braced], output="/o/{scene}/x.png")
+    with pytest.raises(ValueError, match=r"/w\{1\}/still-still-c0-r0of2-.*--work-dir.*has '\{' or '\}'"):
+        plan(scenes=[STILL], output="/o/x.png", regions=2, work_dir="/w{1}")
+    plan(scenes=[braced], output="/o/{scene}.png", regions=2)

@@ -134,3 +134,15 @@ def test_stats_that_cannot_be_written_fail_the_frame_without_a_traceback(workdir
     assert [x.key for x in outcome.failures] == ["f"]
     assert "No space left on device" in outcome.failures[0].message
     assert not os.path.exists(f.stats)
+
+
+def test_stale_temporaries_of_an_output_named_with_braces_are_found(workdir):
+    out = os.path.join(workdir, "shot{camera}.png")
+    theirs = os.path.basename(job.temporary_name(out))
+    names = [theirs, theirs + ".stats.json", zigzag_temporary(theirs, "7", "c36ddd58c2531d1b", 0)]
+    for name in names + ["shot{camera}.png"]:
+        open(os.path.join(workdir, name), "w").close()
+    part = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None, output=out)
+    remove_stale_temporaries(FrameJob(key="f", output=out, stats=None, scene_name="s", frame=None, camera=0,
+                                      parts=(part,), merged=False))
+    assert os.listdir(workdir) == ["shot{camera}.png"]
