@@ -6,6 +6,7 @@ import dataclasses
 import os
 import shutil
 import signal
+import subprocess
 import sys
 import tempfile
 
@@ -142,6 +143,40 @@ def _check_outputs_writable(plan, extra: dict[str, str]) -> None:
             _check_can_write(path, what)
 
 
+def _renderer_refusal(stderr: str, code: int) -> str:
+    """The renderer's error lines (not its warnings nor CLI11's "Run with --help")."""
+    lines = [line for line in stderr.strip().splitlines()
+             if line.strip() and not line.startswith("Run with --help")]
+    errors = [line.removeprefix("zigzag: error: ") for line in lines if line.startswith("zigzag: error:")]
+    return " ".join(errors or lines) or f"exit code {code}"
+
+
+def _check_with_renderer(zigzag: str, plan, o, opts, timeout: float = 120.0) -> None:
+    """`zigzag render --dry-run`, once per scene, as its first job would run but with the
+    user's own -o/--stats patterns (which it expands as the farm did) and every pass-through
+    option: what the renderer refuses (an image format it cannot write, --aov layers in a
+    .png, ...) is a usage error now, naming the user's path, not a failure of every job naming
+    a temporary. Also with --regions, whose parts are .exr: the check is of the merged image."""
+    seen = set()
+    for f in plan.frames:
+        scene = f.parts[0].scene
+        if scene in seen:
+            continue
+        seen.add(scene)
+        cmd = [zigzag, "render", "--dry-run", scene, "-o", o.output, "--camera", str(f.camera), "-q"]
+        if o.stats:
+            cmd += ["--stats", o.stats]
+        if f.frame is not None:
+            cmd += ["--frame", str(f.frame)]
+        cmd += [*opts.runtime_args, *opts.key_args]
+        try:
+            p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, stdin=subprocess.DEVNULL)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise UsageError(f"cannot check the batch with {zigzag} render --dry-run: {e}") from None
+        if p.returncode != 0:
+            raise UsageError(f"zigzag render refuses {scene}: {_renderer_refusal(p.stderr, p.returncode)}")
+
+
 def _find_zigzag(given: str | None) -> str:
     candidate = given or os.environ.get("ZIGZAG") or shutil.which("zigzag")
     if not candidate or not os.access(candidate, os.X_OK):
@@ -203,6 +238,7 @@ def render(o) -> int:
     except ValueError as e:
         raise UsageError(f"{e}") from None
     _check_outputs_writable(plan, {})
+    _check_with_renderer(zigzag, plan, o, opts)
 
     try:
         manifest = Manifest(manifest_path)

@@ -148,12 +148,14 @@ def wait_for(predicate, timeout, what, poll=0.05):
 
 
 def renderer_children(pid):
-    """The renderer processes (zigzag render) below the driver, with their parents."""
+    """The renderer processes (zigzag render) below the driver, with their parents (not the
+    driver's own `zigzag render --dry-run` checks, which render nothing)."""
     out = []
     for p in descendants(pid):
         try:
             cmd = p.cmdline()
-            if len(cmd) > 2 and "render" in cmd[1:3] and any("zigzag" in c for c in cmd[:2]):
+            if len(cmd) > 2 and "render" in cmd[1:3] and any("zigzag" in c for c in cmd[:2]) \
+                    and "--dry-run" not in cmd:
                 out.append((p, p.parent()))
         except psutil.Error:
             continue

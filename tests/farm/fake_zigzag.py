@@ -2,7 +2,8 @@
 """A stand-in for the zigzag binary that obeys its farm-facing CLI, for the driver's tests.
 
 Scenes are JSON files: {"width", "height", "cameras", "animated", "frame_range", "fps",
-"sleep" (seconds per render), "fail" (a render error message), "camera_aspects" (width /
+"sleep" (seconds per render), "fail" (a render error message), "refuse" (a usage error found
+once the scene is loaded, exit code 105), "camera_aspects" (width /
 height per camera: a side not given by --width/--height follows it, as zigzag's cameras do),
 "files" (more files the scene reads, relative to it: their bytes go into the image),
 "needs_assets" (a file that must be in --assets DIR)}. An "image" is a header line
@@ -10,8 +11,11 @@ height per camera: a side not given by --width/--height follows it, as zigzag's 
 x, y), so a merge of any split is byte-identical to the full render, and the output is
 written slowly in two halves (a reader that does not wait for the rename sees a torn file).
 -o and --stats are patterns as zigzag's ({scene}, {camera}, {frame}, {frame:N}; anything else
-refused, exit code 105). Options take `--x v` or `--x=v`; one given twice or out of range is a usage error, exit code
-105/114 as zigzag's CLI11. $FAKE_ZIGZAG_LOG: a file each render appends its arguments to.
+refused, exit code 105). -o must have an image extension zigzag writes, an `--aov NAME` without a file an .exr -o (exit
+105); `render --dry-run` makes those checks and that the scene exists, then exits writing
+nothing. Options take `--x v` or `--x=v`; one given twice or out of range is a usage error, exit code
+105/114 as zigzag's CLI11. $FAKE_ZIGZAG_LOG: a file each render appends its arguments to;
+$FAKE_ZIGZAG_DRY_RUN_LOG: the same for `render --dry-run`.
 """
 import hashlib
 import json
@@ -129,15 +133,35 @@ def expand(pattern, option, scene, camera, frame):
     return out
 
 
+FORMATS = (".png", ".exr", ".jpg", ".jpeg", ".tif", ".tiff", ".bmp", ".tga", ".webp", ".hdr")
+
+
+def check_output(out, args):
+    """zigzag's preflight_output and validate(): the format from the extension, AOV layers in .exr."""
+    ext = os.path.splitext(out)[1].lower()
+    if not ext:
+        die(f"-o {out}: no file extension to choose the format (use .png or .exr)", 105)
+    if ext not in FORMATS:
+        die(f"-o {out}: unsupported image format '{ext}' (use .png or .exr; .jpg, .tif, .bmp, .tga, .webp, .hdr "
+            "also work)", 105)
+    for i, a in enumerate(args):
+        name = a.split("=", 1)[1] if a.startswith("--aov=") else args[i + 1] if a == "--aov" and i + 1 < len(args) else None
+        at = i + (1 if a.startswith("--aov=") else 2)
+        if name is not None and (at >= len(args) or args[at].startswith("-")) and ext != ".exr":
+            die(f"--aov {name} without a file adds channels to the -o image, which must be an .exr (-o {out})", 105)
+
+
 def pixel(seed, x, y):
     return hashlib.blake2b(f"{seed}:{x}:{y}".encode(), digest_size=1).digest()
 
 
 def render(args):
-    log = os.environ.get("FAKE_ZIGZAG_LOG")
+    log = os.environ.get("FAKE_ZIGZAG_DRY_RUN_LOG" if "--dry-run" in args else "FAKE_ZIGZAG_LOG")
     if log:
         with open(log, "a") as f:
             f.write(json.dumps(args) + "\n")
+    dry_run = "--dry-run" in args
+    args = [a for a in args if a != "--dry-run"]
     scene = args[0]
     key = (os.path.splitext(os.path.basename(scene))[0], opt(args, "--camera", "0"), int(opt(args, "--frame", "0")))
     out = expand(opt(args, "-o"), "-o", *key)
@@ -147,7 +171,14 @@ def render(args):
     if eps is not None and not 0 <= float(eps) <= 1:
         die(f"--eps: Value {eps} not in range 0 to 1", 105)
     int_opt(args, "--threads", 0, least=0)
+    check_output(out, args)
+    if dry_run:
+        if not os.path.exists(scene):
+            die(f"{scene}: no such file")
+        return
     s = load(scene)
+    if s.get("refuse"):  # options refused once the scene is loaded (--dry-run loads nothing)
+        die(s["refuse"], 105)
     if s.get("fail"):
         die(f"{scene}: {s['fail']}")
     check_assets(scene, s, args)

@@ -1,12 +1,13 @@
 """The driver's command line, in process and without a cluster: options after `--`, and every
 usage error a clean one-line message with exit code 2 (nothing rendered, no traceback)."""
 import argparse
+import json
 import os
 import time
 
 import pytest
 
-from conftest import FAKE_ZIGZAG, write_scene
+from conftest import FAKE_ZIGZAG, REAL_ZIGZAG, ROOT, write_scene
 from zigzag_farm import cli
 from zigzag_farm.scene_info import InfoUsageError, SceneError, scene_info
 
@@ -182,3 +183,48 @@ def test_info_errors_keep_the_renderers_message(tmp_path, code, stderr, kind, me
         scene_info(str(fake), "s.json")
     assert type(e.value) is kind
     assert message in str(e.value) and "Run with --help" not in str(e.value) and "warning" not in str(e.value)
+
+
+@pytest.mark.parametrize("renderer", ["fake", "real"])
+@pytest.mark.parametrize("output,args,message", [
+    ("ext/x.gif", [], "-o {w}/ext/x.gif: unsupported image format '.gif'"),
+    ("ext/x.txt", ["--regions", "2"], "-o {w}/ext/x.txt: unsupported image format '.txt'"),
+    ("y.png", ["--", "--aov", "normal"], "--aov normal without a file adds channels to the -o image, which must "
+                                         "be an .exr (-o {w}/y.png)"),
+    ("y.png", ["--regions", "2", "--", "--aov=normal"], "--aov normal without a file adds channels to the -o "
+                                                        "image, which must be an .exr (-o {w}/y.png)"),
+])
+def test_what_the_renderer_refuses_is_a_usage_error_before_any_cluster(capsys, workdir, renderer, output, args,
+                                                                       message):
+    """The farm started its cluster and failed every job naming its temporary (-o x.gif), or
+    with --regions rendered .exr parts and dropped --aov in the merge (review): the renderer's
+    --dry-run, given the user's own outputs and options, refuses them first."""
+    if renderer == "real":
+        if not os.access(REAL_ZIGZAG, os.X_OK):
+            pytest.skip(f"no {REAL_ZIGZAG}")
+        zigzag, scene = REAL_ZIGZAG, os.path.join(ROOT, "scenes", "default.json")
+    else:
+        zigzag, scene = FAKE_ZIGZAG, write_scene(workdir, "default")
+    before = sorted(os.listdir(workdir))
+    started = time.monotonic()
+    err = usage_error(capsys, scene, "-o", f"{workdir}/{output}", "--zigzag", zigzag, "--width", "64", *args)
+    assert f"zigzag render refuses {scene}: " + message.format(w=workdir) in err
+    assert ".tmp" not in err
+    assert sorted(os.listdir(workdir)) == before
+    assert time.monotonic() - started < 20  # no cluster started
+
+
+def test_the_renderer_checks_the_users_patterns_with_the_jobs_options(capsys, workdir, monkeypatch):
+    """One --dry-run per scene, as its first job: camera, frame, stats and the options after --."""
+    log = os.path.join(workdir, "renders.log")
+    monkeypatch.setenv("FAKE_ZIGZAG_DRY_RUN_LOG", log)
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[2, 5], sleep=0)
+    other = write_scene(workdir, "still")
+    err = usage_error(capsys, scene, other, "-o", f"{workdir}/o/{{scene}}_{{frame:04}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--stats", f"{workdir}/o/{{scene}}{{frame}}.json", "--camera", "0", "--", "--eps", "0.5", "--aov", "depth")
+    assert f"-o {workdir}/o/anim_0002.png" in err
+    runs = [json.loads(line) for line in open(log)]
+    assert len(runs) == 1 and "--dry-run" in runs[0]
+    for pair in (["-o", f"{workdir}/o/{{scene}}_{{frame:04}}.png"], ["--stats", f"{workdir}/o/{{scene}}{{frame}}.json"],
+                 ["--frame", "2"], ["--camera", "0"], ["--eps", "0.5"]):
+        assert any(runs[0][i:i + 2] == pair for i in range(len(runs[0]))), (pair, runs[0])

@@ -439,13 +439,21 @@ def test_fake_stats_of_complete_frames_are_written_without_rendering(workdir, re
 
 
 def test_fake_a_usage_error_of_the_renderer_is_not_retried(workdir):
-    scene = write_scene(workdir, "still")
+    """Options the renderer refuses once it has loaded the scene (its --dry-run before the
+    cluster loads nothing, so they pass it): the job fails once, not retried."""
+    scene = write_scene(workdir, "still", refuse="--aov geo needs the visibility map (--edges vulkan)")
     out, log = os.path.join(workdir, "out"), os.path.join(workdir, "renders.log")
-    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--retries", "3"), "--", "--eps", "5",
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--retries", "3"), "--", "--eps", "0.5",
                  env={"FAKE_ZIGZAG_LOG": log})
     assert p.returncode == 1
     assert "refused its options (exit code 105; not retried)" in p.stderr
-    assert "--eps: Value 5 not in range" in p.stderr
+    assert "--aov geo needs the visibility map" in p.stderr
+    assert len(logged_renders(log)) == 1
+    # Options refused as they are (a value out of range): by the --dry-run, before any job.
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--retries", "3"), "--", "--eps", "5",
+                 env={"FAKE_ZIGZAG_LOG": log})
+    assert p.returncode == 2
+    assert "zigzag-farm: error: zigzag render refuses" in p.stderr and "--eps: Value 5 not in range" in p.stderr
     assert len(logged_renders(log)) == 1
 
 
