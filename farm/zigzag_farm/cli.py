@@ -10,15 +10,17 @@ import subprocess
 import sys
 import tempfile
 
-from . import cluster, fingerprint
+from . import fingerprint
 from .fingerprint import HashCache
 from .job import write_json_atomically
 from .manifest import Manifest, ManifestBusy
 from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
 from .progress import summary
-from .runner import Failure, RunSettings, Runner, indent
 from .scene_info import InfoUsageError, SceneError, scene_infos
+
+# Dask (cluster, runner) is imported by render(), inside main()'s handling of Ctrl-C: its
+# imports take seconds, and a Ctrl-C during them printed a traceback.
 
 USAGE_ERROR = 2
 LAST_FRAME = 100_000_000  # zigzag render --frame's range
@@ -186,6 +188,7 @@ def _find_zigzag(given: str | None) -> str:
 
 
 def _client(o):
+    from . import cluster
     if o.scheduler:
         return cluster.existing_scheduler(o.scheduler, o.wait)
     if o.slurm is not None:
@@ -201,7 +204,8 @@ def _sigterm(signum, frame):
 
 def _scenes(zigzag: str, paths: list[str], info_args: list[str], hashes: HashCache):
     """-> (SceneInfo with its files' content digest for each scene that loads, failures)."""
-    failures: list[Failure] = []
+    from .runner import Failure
+    failures = []
     infos = []
     for path, info in scene_infos(zigzag, paths, info_args):
         if isinstance(info, InfoUsageError):
@@ -215,6 +219,8 @@ def _scenes(zigzag: str, paths: list[str], info_args: list[str], hashes: HashCac
 
 
 def render(o) -> int:
+    from . import cluster
+    from .runner import RunSettings, Runner, indent
     _check_numbers(o)
     frames = _frames(o)
     opts = render_options(o, o.pass_through)

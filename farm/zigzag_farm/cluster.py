@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import os
+import signal
 
 import dask
 
@@ -36,17 +38,79 @@ def local_cluster(workers: int, allowed_failures: int = 3, processes: bool = Tru
     # too: they ignore it (each would print a KeyboardInterrupt traceback) and the driver,
     # interrupted, shuts them down. In-process workers would make the driver ignore it.
     quiet = {"preload": ["zigzag_farm.worker_setup"]} if processes else {}
-    with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures}):
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=jobs_per_worker, processes=processes,
-                               protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                               worker_dashboard_address="127.0.0.1:0",
-                               resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL,
-                               **quiet)
+    with dask.config.set({"distributed.scheduler.allowed-failures": allowed_failures,
+                          "distributed.worker.multiprocessing-method": "spawn"}), \
+            _spawned_with_sigint_blocked():
+        with _signals_deferred() as replay:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=jobs_per_worker, processes=processes,
+                                   protocol="tcp://", host="127.0.0.1", dashboard_address="127.0.0.1:0",
+                                   worker_dashboard_address="127.0.0.1:0",
+                                   resources={"render": jobs_per_worker}, silence_logs=logging.CRITICAL,
+                                   **quiet)
         try:
+            replay()  # a Ctrl-C or SIGTERM during the start, taken now that the cluster can close
             with Client(cluster) as client:
                 yield client
         finally:
             cluster.close()
+
+
+@contextlib.contextmanager
+def _signals_deferred():
+    """SIGINT and SIGTERM recorded, not acted on, in the block; yields replay(), which acts on
+    them (their handlers as they were). LocalCluster's constructor interrupted leaves a cluster
+    half started that no one holds, and its close at exit fails with a traceback (workers in
+    Status.init); so a Ctrl-C while it starts ends the driver once it has started (seconds)."""
+    import threading
+    if threading.current_thread() is not threading.main_thread():
+        yield lambda: None
+        return
+    caught: list[int] = []
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        handler = signal.getsignal(sig)
+        if handler not in (signal.SIG_IGN, None):
+            previous[sig] = handler
+            signal.signal(sig, lambda signum, frame: caught.append(signum))
+
+    def replay():
+        for signum in caught:
+            handler = previous[signum]
+            if callable(handler):
+                handler(signum, None)
+            else:  # SIG_DFL
+                os.kill(os.getpid(), signum)
+
+    try:
+        yield replay
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+@contextlib.contextmanager
+def _spawned_with_sigint_blocked():
+    """Processes multiprocessing spawns meanwhile (the LocalCluster's workers, a nanny's
+    restart of one) start with SIGINT blocked: a blocked signal stays blocked across exec, so a
+    Ctrl-C while a worker imports stays pending instead of raising KeyboardInterrupt there
+    (dozens of lines of tracebacks and "Nanny failed to start"), and worker_setup discards it
+    by ignoring SIGINT. Only the spawning thread blocks it, for the spawn: the driver's main
+    thread still takes Ctrl-C."""
+    import multiprocessing.util as mp_util
+    original = mp_util.spawnv_passfds
+
+    def spawnv_passfds(path, args, passfds):
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            return original(path, args, passfds)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+    mp_util.spawnv_passfds = spawnv_passfds
+    try:
+        yield
+    finally:
+        mp_util.spawnv_passfds = original
 
 
 @contextlib.contextmanager

@@ -480,3 +480,39 @@ def test_fake_ctrl_c_stops_everything_quietly(workdir):
     assert "interrupted" in err
     wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
              20, "the workers and renderers to exit")
+
+
+def own_group_driver(*args):
+    """The driver as a terminal's foreground job: its own process group, SIGINT not ignored."""
+    driver = subprocess.Popen(farm_cmd(*args), env=farm_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                              text=True, stdin=subprocess.DEVNULL, start_new_session=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    LoopbackWatch(driver)  # its own process group, so not start_farm: still on loopback only
+    return driver
+
+
+@pytest.mark.parametrize("after_s", [1.5, 3.0, 4.0])
+def test_fake_ctrl_c_while_the_cluster_starts_is_quiet_too(workdir, after_s):
+    """Workers ignored SIGINT only in dask_setup, after their imports: a Ctrl-C while they
+    started printed 69-115 lines of KeyboardInterrupt tracebacks and "Nanny failed to start",
+    and one during the driver's Dask imports or its LocalCluster's start a traceback of its
+    own (review). Workers are spawned with SIGINT blocked; the driver imports Dask where it
+    handles Ctrl-C and takes one during the start once the cluster can be closed."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 3], sleep=1.0)
+    driver = own_group_driver(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame:04}}.png", "--workers", "2"))
+    try:
+        try:
+            driver.wait(timeout=after_s)
+        except subprocess.TimeoutExpired:
+            pass
+        tree = descendants(driver.pid)
+        os.killpg(driver.pid, signal.SIGINT)
+        _, err = driver.communicate(timeout=60)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err and "Nanny" not in err, err
+    assert err.strip().splitlines()[-1].startswith("zigzag-farm: interrupted"), err
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the workers to exit")
