@@ -198,7 +198,15 @@ def _client(o):
     return cluster.local_cluster(o.workers, o.allowed_failures)
 
 
+_terminated = False
+
+
 def _sigterm(signum, frame):
+    # Stopped as on Ctrl-C (jobs cancelled, the cluster closed), then exit 143 (128 + SIGTERM)
+    # as zigzag render does: main() tells the two apart by this flag, as the exception may be
+    # raised again on its way (Dask's sync re-raises what interrupted it).
+    global _terminated
+    _terminated = True
     raise KeyboardInterrupt
 
 
@@ -309,9 +317,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"zigzag-farm: error: {e}", file=sys.stderr)
         return USAGE_ERROR
     except KeyboardInterrupt:
-        print("zigzag-farm: interrupted; finished jobs are recorded, a re-run renders the rest",
-              file=sys.stderr)
-        return 130
+        how, code = ("terminated (SIGTERM)", 128 + signal.SIGTERM) if _terminated else ("interrupted", 130)
+        print(f"zigzag-farm: {how}; finished jobs are recorded, a re-run renders the rest", file=sys.stderr)
+        return code
     except Exception as e:  # e.g. the scheduler lost for good: one line, not a traceback
         print(f"zigzag-farm: internal error: {type(e).__name__}: {e}; finished jobs are recorded, "
               "a re-run renders the rest", file=sys.stderr)

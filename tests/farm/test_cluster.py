@@ -516,3 +516,23 @@ def test_fake_ctrl_c_while_the_cluster_starts_is_quiet_too(workdir, after_s):
     assert err.strip().splitlines()[-1].startswith("zigzag-farm: interrupted"), err
     wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
              20, "the workers to exit")
+
+
+def test_fake_sigterm_stops_everything_and_exits_143(workdir):
+    """SIGTERM exited 130 "interrupted" (review): 143 (128 + 15) as zigzag render, cleaned up as on Ctrl-C."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 8], sleep=2.0)
+    driver = start_farm(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame}}.png", "--workers", "2"))
+    try:
+        wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
+                 "two renderers to start")
+        tree = descendants(driver.pid)
+        driver.send_signal(signal.SIGTERM)
+        _, err = driver.communicate(timeout=60)
+    finally:
+        if driver.poll() is None:
+            driver.kill()
+    assert driver.returncode == 143, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert "zigzag-farm: terminated (SIGTERM); finished jobs are recorded" in err
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the workers and renderers to exit")
