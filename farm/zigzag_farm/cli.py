@@ -233,6 +233,11 @@ def render(o) -> int:
     frames = _frames(o)
     opts = render_options(o, o.pass_through)
     zigzag = _find_zigzag(o.zigzag)
+    if o.slurm is not None:
+        try:
+            cluster.check_slurm(memory=o.slurm_memory, cores=o.slurm_cores)
+        except cluster.ClusterError as e:
+            raise UsageError(f"{e}") from None
 
     root = output_root(o.output)
     manifest_path = os.path.abspath(o.manifest or os.path.join(root, ".zigzag-farm-manifest.jsonl"))

@@ -11,6 +11,7 @@ from __future__ import annotations
 import contextlib
 import logging
 import os
+import shutil
 import signal
 
 import dask
@@ -151,12 +152,40 @@ def slurm_options(*, queue=None, account=None, walltime=None, memory=None, cores
     return options
 
 
+JOBQUEUE_YAML = "~/.config/dask/jobqueue.yaml"
+
+
+def check_slurm(**options) -> None:
+    """What --slurm would fail on once started, as a usage error naming where it is set: the
+    worker jobs' cores and memory (SLURMCluster's "You must specify ..." and a size it cannot
+    read), and sbatch, which submits them (else a traceback from the submitting thread)."""
+    from dask.utils import parse_bytes
+    for key, flag in (("cores", "--slurm-cores"), ("memory", "--slurm-memory")):
+        if options.get(key) is None and dask.config.get(f"jobqueue.slurm.{key}", None) is None:
+            raise ClusterError(f"--slurm: how many {key} each worker job has is not set: give {flag} or "
+                               f"set {key} in {JOBQUEUE_YAML} (jobqueue: slurm: {key}:)")
+    memory = options.get("memory")
+    where = f"--slurm-memory {memory}" if memory is not None else f"memory in {JOBQUEUE_YAML}"
+    memory = memory if memory is not None else dask.config.get("jobqueue.slurm.memory")
+    try:
+        parse_bytes(memory)
+    except (ValueError, TypeError):
+        raise ClusterError(f"{where}: {memory!r} is not a size (e.g. 8GB)") from None
+    if shutil.which("sbatch") is None:
+        raise ClusterError("--slurm: sbatch not found on PATH (Slurm submits the worker jobs with it: "
+                           "run on a machine that submits Slurm jobs)")
+
+
 @contextlib.contextmanager
 def slurm_cluster(jobs: int, wait_s: float, **options):
     """jobs Slurm jobs of one worker each (see slurm_options)."""
     from dask_jobqueue import SLURMCluster
     from distributed import Client
-    cluster = SLURMCluster(**slurm_options(**options))
+    check_slurm(**options)
+    try:
+        cluster = SLURMCluster(**slurm_options(**options))
+    except ValueError as e:  # what check_slurm does not foresee: still the configuration
+        raise ClusterError(f"--slurm: {e} (the --slurm-* options or {JOBQUEUE_YAML})") from None
     try:
         # Adaptive at a fixed size, not scale(): a job that ends (walltime, node failure) is
         # submitted again instead of leaving the batch with fewer workers, or none.
