@@ -187,6 +187,16 @@ def _find_zigzag(given: str | None) -> str:
     return os.path.abspath(candidate)
 
 
+def _folders_to_make(folder: str) -> list[str]:
+    """folder and those of its parents that do not exist yet, deepest first: what a run that
+    writes into it makes, and may remove again (never a folder that was there before)."""
+    made = []
+    while not os.path.exists(folder) and os.path.dirname(folder) != folder:
+        made.append(folder)
+        folder = os.path.dirname(folder)
+    return made
+
+
 def _client(o):
     from . import cluster
     if o.scheduler:
@@ -243,6 +253,11 @@ def render(o) -> int:
     manifest_path = os.path.abspath(o.manifest or os.path.join(root, ".zigzag-farm-manifest.jsonl"))
     work_dir = os.path.abspath(o.work_dir or os.path.join(root, ".zigzag-farm-parts"))
     hashes = HashCache(os.path.join(os.path.dirname(manifest_path), fingerprint.CACHE_NAME))
+    # Removed once empty: the folders of a --work-dir the run makes; the default one, the
+    # farm's by its name, even when an earlier run left it.
+    work_folders = _folders_to_make(work_dir)
+    if not o.work_dir and work_dir not in work_folders:
+        work_folders.insert(0, work_dir)
 
     infos, scene_failures = _scenes(zigzag, o.scenes, opts.info_args, hashes)
     try:
@@ -273,7 +288,8 @@ def render(o) -> int:
                                                     # Only --scheduler: a LocalCluster's nannies
                                                     # restart workers, and Slurm resubmits ended
                                                     # jobs that may wait in its queue.
-                                                    no_workers_s=o.wait if o.scheduler else None),
+                                                    no_workers_s=o.wait if o.scheduler else None,
+                                                    work_folders=tuple(work_folders)),
                         progress_stream=devnull if o.quiet else None, live=False if o.quiet else None)
         if runner.pending_frames():
             try:

@@ -33,6 +33,9 @@ class RunSettings:
     runtime_args: tuple[str, ...] = ()
     # Seconds without any render worker after which the jobs left fail (None: wait for ever).
     no_workers_s: float | None = None
+    # The folders of region parts to remove once empty, deepest first: those the run made, never
+    # one that was there before (a --work-dir the user made). None: the parts' own folders.
+    work_folders: tuple[str, ...] | None = None
 
 
 @dataclass
@@ -337,10 +340,14 @@ class Runner:
 
     def _remove_empty_work_folders(self) -> None:
         """The region parts' folders once their parts are merged and removed (a folder still
-        holding anything, another batch's parts or kept parts, stays)."""
+        holding anything, another batch's parts or kept parts, stays): only those the run made
+        (RunSettings.work_folders), deepest first."""
         if self.s.keep_parts:
             return
-        for folder in {os.path.dirname(p.output) for f in self.plan.frames if f.merged for p in f.parts}:
+        parts_folders = {os.path.dirname(p.output) for f in self.plan.frames if f.merged for p in f.parts}
+        if not parts_folders:
+            return
+        for folder in self.s.work_folders if self.s.work_folders is not None else sorted(parts_folders):
             try:
                 os.rmdir(folder)
             except OSError:

@@ -536,3 +536,20 @@ def test_fake_sigterm_stops_everything_and_exits_143(workdir):
     assert "zigzag-farm: terminated (SIGTERM); finished jobs are recorded" in err
     wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
              20, "the workers and renderers to exit")
+
+
+def test_fake_work_dir_removes_exactly_the_folders_the_run_made(workdir):
+    """--work-dir DIR removed a DIR the user had made, and of wd/mine/sub/deeper only `deeper`,
+    leaving the `sub` the farm made (review): now the folders the run made, deepest first, once
+    empty, and never one that was there before."""
+    scene = write_scene(workdir, "still", width=40, height=30)
+    os.makedirs(f"{workdir}/myscratch")
+    os.makedirs(f"{workdir}/wd3/mine")
+    for i, work in enumerate(["myscratch", "wd3/mine/sub/deeper", "fresh/a/b"]):
+        p = run_farm(*fake_farm(scene, "-o", f"{workdir}/out/{i}.png", "--regions", "2",
+                                "--work-dir", f"{workdir}/{work}"))
+        assert p.returncode == 0, p.stderr
+    assert os.listdir(f"{workdir}/myscratch") == []
+    assert os.listdir(f"{workdir}/wd3") == ["mine"] and os.listdir(f"{workdir}/wd3/mine") == []
+    assert not os.path.exists(f"{workdir}/fresh")
+    assert sorted(n for n in os.listdir(f"{workdir}/out") if not n.startswith(".")) == ["0.png", "1.png", "2.png"]
