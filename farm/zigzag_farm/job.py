@@ -148,6 +148,12 @@ def sha256_of(path: str) -> str:
     return h.hexdigest()
 
 
+def written_path(final: str) -> str:
+    """Where writing `final` lands: a symbolic link's target (the link is kept), as zigzag
+    render writes through one; `final` itself when it is no link."""
+    return os.path.realpath(final) if os.path.islink(final) else final
+
+
 def _publish(tmp: str, final: str) -> dict:
     """fsync the finished temporary file and rename it over the final name."""
     fd = os.open(tmp, os.O_RDONLY)
@@ -157,7 +163,7 @@ def _publish(tmp: str, final: str) -> dict:
         os.close(fd)
     digest = sha256_of(tmp)
     size = os.path.getsize(tmp)
-    os.replace(tmp, final)
+    os.replace(tmp, written_path(final))
     return {"output": final, "size": size, "sha256": digest}
 
 
@@ -165,7 +171,7 @@ def write_json_atomically(path: str, data) -> dict:
     """JSON written whole to a temporary, fsynced and renamed over `path` (a failure keeps
     what was there and removes the temporary) -> the file as the manifest records it."""
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    tmp = temporary_name(os.path.abspath(path))
+    tmp = temporary_name(os.path.abspath(written_path(path)))
     try:
         with open(tmp, "w") as fh:
             json.dump(data, fh, indent=2)
@@ -194,9 +200,9 @@ def _fail(code: int, stderr: str) -> JobError:
 def render(spec: dict, cancelled=lambda: False) -> dict:
     """Run one `zigzag render` job described by spec (see runner.render_spec)."""
     final = spec["output"]
-    os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
+    os.makedirs(os.path.dirname(written_path(final)) or ".", exist_ok=True)
     tag = temporary_tag()
-    tmp = temporary_name(final, tag)
+    tmp = temporary_name(written_path(final), tag)  # beside what is replaced: one file system
     tmp_stats = tmp + ".stats.json"
     cmd = [spec["zigzag"], "render", spec["scene"], "-o", tmp, "--stats", tmp_stats,
            "--camera", str(spec["camera"]), "-q"]
@@ -219,7 +225,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
         result = _publish(tmp, final)
     finally:
         _remove(tmp, tmp_stats)
-        _remove_attempt_files(os.path.dirname(final), tag)
+        _remove_attempt_files(os.path.dirname(tmp), tag)
     result.update(key=spec["key"], seconds=time.monotonic() - start, stats=stats,
                   started_at=started_at, finished_at=time.time(),
                   worker=f"{socket.gethostname()}:{os.getpid()}")
@@ -230,9 +236,9 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
     """`zigzag merge PARTS... -o OUTPUT` for one frame; the parts stay (the driver removes
     them once the frame is recorded, so a merge that runs twice still finds them)."""
     final = spec["output"]
-    os.makedirs(os.path.dirname(final) or ".", exist_ok=True)
+    os.makedirs(os.path.dirname(written_path(final)) or ".", exist_ok=True)
     tag = temporary_tag()
-    tmp = temporary_name(final, tag)
+    tmp = temporary_name(written_path(final), tag)
     cmd = [spec["zigzag"], "merge", *spec["parts"], "-o", tmp]
     start = time.monotonic()
     try:
@@ -242,7 +248,7 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
         result = _publish(tmp, final)
     finally:
         _remove(tmp)
-        _remove_attempt_files(os.path.dirname(final), tag)
+        _remove_attempt_files(os.path.dirname(tmp), tag)
     result.update(key=spec["key"], seconds=time.monotonic() - start,
                   worker=f"{socket.gethostname()}:{os.getpid()}")
     return result

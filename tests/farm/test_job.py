@@ -33,6 +33,21 @@ def test_output_appears_whole_and_twice_the_same(workdir):
     assert os.listdir(os.path.dirname(out)) == ["s.png"]  # no temporary or stats file left
 
 
+def test_an_output_that_is_a_link_writes_its_target(workdir):
+    """As zigzag render does: the link is kept and its target, made if missing, gets the
+    image (os.replace had put a plain file in the link's place)."""
+    scene = write_scene(workdir, "s")
+    os.makedirs(os.path.join(workdir, "shots"))
+    out = os.path.join(workdir, "latest.png")
+    os.symlink(os.path.join("shots", "v1.png"), out)
+    result = job.render(spec(scene, out))
+    assert os.path.islink(out)
+    target = os.path.join(workdir, "shots", "v1.png")
+    assert read(target) == fake_render(scene, os.path.join(workdir, "ref.png"), "--frame", "3")
+    assert result["output"] == out and result["sha256"] == job.sha256_of(target)
+    assert os.listdir(os.path.join(workdir, "shots")) == ["v1.png"]  # no temporary left
+
+
 def test_a_failure_carries_stderr_and_keeps_the_old_output(workdir):
     scene = write_scene(workdir, "s", fail="no such material")
     out = os.path.join(workdir, "s.png")
