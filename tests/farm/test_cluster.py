@@ -457,29 +457,24 @@ def test_fake_a_usage_error_of_the_renderer_is_not_retried(workdir):
     assert len(logged_renders(log)) == 1
 
 
-def test_fake_ctrl_c_stops_everything_quietly(workdir):
-    """A terminal's Ctrl-C: SIGINT to the driver's whole process group (its workers too)."""
-    scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 8], sleep=2.0)
-    out = os.path.join(workdir, "out")
-    driver = subprocess.Popen(farm_cmd(*fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--workers", "2")),
-                              env=farm_env(), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                              stdin=subprocess.DEVNULL, start_new_session=True,
-                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    LoopbackWatch(driver)  # its own process group, so not start_farm: still on loopback only
+def two_renderers(driver):
+    wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
+             "two renderers to start")
+
+
+def signalled(driver, send, until=None):
+    """Once until() (if given) has waited for the moment, send() a signal: the driver's
+    processes as they were then and its stderr once it exits (killed whatever fails)."""
     try:
-        wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
-                 "two renderers to start")
+        if until:
+            until()
         tree = descendants(driver.pid)
-        os.killpg(driver.pid, signal.SIGINT)
+        send()
         _, err = driver.communicate(timeout=60)
     finally:
         if driver.poll() is None:
             driver.kill()
-    assert driver.returncode == 130, err
-    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
-    assert "interrupted" in err
-    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
-             20, "the workers and renderers to exit")
+    return tree, err
 
 
 def own_group_driver(*args):
@@ -491,6 +486,19 @@ def own_group_driver(*args):
     return driver
 
 
+def test_fake_ctrl_c_stops_everything_quietly(workdir):
+    """A terminal's Ctrl-C: SIGINT to the driver's whole process group (its workers too)."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 8], sleep=2.0)
+    out = os.path.join(workdir, "out")
+    driver = own_group_driver(*fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--workers", "2"))
+    tree, err = signalled(driver, lambda: os.killpg(driver.pid, signal.SIGINT), until=lambda: two_renderers(driver))
+    assert driver.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
+    assert "interrupted" in err
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the workers and renderers to exit")
+
+
 @pytest.mark.parametrize("after_s", [1.5, 3.0, 4.0])
 def test_fake_ctrl_c_while_the_cluster_starts_is_quiet_too(workdir, after_s):
     """Workers ignored SIGINT only in dask_setup, after their imports: a Ctrl-C while they
@@ -500,17 +508,13 @@ def test_fake_ctrl_c_while_the_cluster_starts_is_quiet_too(workdir, after_s):
     handles Ctrl-C and takes one during the start once the cluster can be closed."""
     scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 3], sleep=1.0)
     driver = own_group_driver(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame:04}}.png", "--workers", "2"))
-    try:
+
+    def start_up():
         try:
             driver.wait(timeout=after_s)
         except subprocess.TimeoutExpired:
             pass
-        tree = descendants(driver.pid)
-        os.killpg(driver.pid, signal.SIGINT)
-        _, err = driver.communicate(timeout=60)
-    finally:
-        if driver.poll() is None:
-            driver.kill()
+    tree, err = signalled(driver, lambda: os.killpg(driver.pid, signal.SIGINT), until=start_up)
     assert driver.returncode == 130, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err and "Nanny" not in err, err
     assert err.strip().splitlines()[-1].startswith("zigzag-farm: interrupted"), err
@@ -522,15 +526,7 @@ def test_fake_sigterm_stops_everything_and_exits_143(workdir):
     """SIGTERM exited 130 "interrupted" (review): 143 (128 + 15) as zigzag render, cleaned up as on Ctrl-C."""
     scene = write_scene(workdir, "anim", animated=True, frame_range=[1, 8], sleep=2.0)
     driver = start_farm(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame}}.png", "--workers", "2"))
-    try:
-        wait_for(lambda: len(renderer_children(driver.pid)) >= 2 or driver.poll() is not None, 120,
-                 "two renderers to start")
-        tree = descendants(driver.pid)
-        driver.send_signal(signal.SIGTERM)
-        _, err = driver.communicate(timeout=60)
-    finally:
-        if driver.poll() is None:
-            driver.kill()
+    tree, err = signalled(driver, lambda: driver.send_signal(signal.SIGTERM), until=lambda: two_renderers(driver))
     assert driver.returncode == 143, err
     assert "Traceback" not in err and "KeyboardInterrupt" not in err, err
     assert "zigzag-farm: terminated (SIGTERM); finished jobs are recorded" in err
