@@ -101,23 +101,25 @@ TEST(WhittedFromGltf, AnIorOfOneIsKept) {
   EXPECT_TRUE(out_of_range_factors(m).empty());
 }
 
+// Clear glass (KHR_materials_transmission 1) with a volume: `thickness`, `attenuation` at a
+// distance of 2.
+Material absorbing_glass(glm::vec3 attenuation, float thickness = 1.0f) {
+  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
+  m.thickness = thickness;
+  m.attenuation_color = attenuation;
+  m.attenuation_distance = 2.0f;
+  return m;
+}
+
 // An attenuation colour above 1 is clamped to 1 (as out_of_range_factors reports): that
 // channel does not absorb, and no channel gains light along the path (sigma_a < 0).
 TEST(WhittedFromGltf, AnAttenuationColourAboveOneDoesNotAmplify) {
-  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
-  m.thickness = 1.0f;
-  m.attenuation_color = glm::vec3(4.0f, 1.0f, 0.5f);
-  m.attenuation_distance = 2.0f;
-  const WhittedMaterial w = whitted_from_gltf(m);
+  const WhittedMaterial w = whitted_from_gltf(absorbing_glass(glm::vec3(4.0f, 1.0f, 0.5f)));
   expect_vec(w.absorption, glm::vec3(0.0f, 0.0f, std::log(2.0f) / 2.0f));
 }
 
 TEST(WhittedFromGltf, VolumeAttenuationIsBeerLambert) {
-  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
-  m.thickness = 0.5f;
-  m.attenuation_color = glm::vec3(0.5f, 0.25f, 1.0f);
-  m.attenuation_distance = 2.0f;
-  WhittedMaterial w = whitted_from_gltf(m);
+  const WhittedMaterial w = whitted_from_gltf(absorbing_glass(glm::vec3(0.5f, 0.25f, 1.0f), 0.5f));
   EXPECT_FALSE(w.thin_walled);
   // sigma_a = -ln(c) / d, so exp(-sigma_a * d) = c.
   expect_vec(w.absorption, glm::vec3(std::log(2.0f) / 2.0f, std::log(4.0f) / 2.0f, 0.0f));
@@ -150,11 +152,7 @@ TEST(WhittedFromGltf, ShininessFollowsGgxAlpha) {
 // the colour is clamped to 1e-6 before its logarithm (an infinite sigma_a would be NaN
 // through 0 x inf at a zero path length).
 TEST(WhittedFromGltf, ABlackAttenuationChannelAbsorbsFinitely) {
-  Material m = make(glm::vec3(1.0f), 0.0f, 0.0f, 1.0f);
-  m.thickness = 1.0f;
-  m.attenuation_color = glm::vec3(0.0f, 0.5f, 1.0f);
-  m.attenuation_distance = 2.0f;
-  const WhittedMaterial w = whitted_from_gltf(m);
+  const WhittedMaterial w = whitted_from_gltf(absorbing_glass(glm::vec3(0.0f, 0.5f, 1.0f)));
   EXPECT_NEAR(w.absorption.x, -std::log(1e-6f) / 2.0f, 1e-4f);
   EXPECT_NEAR(w.absorption.y, std::log(2.0f) / 2.0f, 1e-6f);
 }
