@@ -115,8 +115,13 @@ void copy_to_stream(const fs::path& temporary, const fs::path& target) {
   std::vector<unsigned char> bytes;
   if (!read_regular_file(temporary.string(), UINTMAX_MAX, &bytes, &why))
     throw Error("cannot write " + target.string() + ": " + why);
-  const FileDescriptor out(::open(target.c_str(), O_WRONLY | O_CLOEXEC));
-  if (out.fd < 0) throw Error("cannot write " + target.string() + ": " + errno_text());
+  // Non-blocking open: a FIFO nobody reads fails (ENXIO) instead of hanging the run; the
+  // writes then block as a shell's > does while the reader catches up.
+  const FileDescriptor out(::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));
+  if (out.fd < 0)
+    throw Error("cannot write " + target.string() + ": " +
+                (errno == ENXIO ? std::string("no process is reading the pipe") : errno_text()));
+  ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
   for (size_t done = 0; done < bytes.size();) {
     const ssize_t n = ::write(out.fd, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;

@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -180,6 +181,15 @@ TEST_F(AtomicFile, AStreamIsWrittenToNotReplaced) {
   EXPECT_TRUE(fs::is_symlink(path("null.json")));
   EXPECT_TRUE(fs::is_character_file("/dev/null"));
   EXPECT_EQ(files(), 1u);
+  // A FIFO nobody reads is an error, not a hang, and leaves no temporary.
+  ASSERT_EQ(::mkfifo(path("fifo.json").c_str(), 0600), 0);
+  try {
+    write_text_atomically(path("fifo.json"), "lost");
+    ADD_FAILURE() << "a FIFO without a reader was written";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no process is reading the pipe"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(files(), 2u);
 }
 
 }  // namespace
