@@ -450,8 +450,9 @@ void add_render_command(CLI::App& app, int& exit_code) {
   CLI::App* cmd = app.add_subcommand("render", "Render scene files (.json rig, .gltf, .glb) to images");
   add_batch_options(cmd, *o);
   cmd->add_flag("--dry-run", *dry_run,
-                "Check the options, the scene files' names and the outputs as a render would before loading "
-                "anything (exit 105 on a refusal), then exit without loading, rendering or writing");
+                "Check the options, that the scene files exist and the outputs as a render would before "
+                "loading anything (exit 105 on a refusal, 1 for a missing scene), then exit without "
+                "loading, rendering or writing");
   cmd->callback([o, dry_run, &exit_code, cmd] {
     std::vector<std::string> inputs;
     as_usage_checks([&] {  // before anything is loaded: a bad invocation costs no render
