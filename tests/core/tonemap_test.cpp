@@ -111,5 +111,25 @@ TEST(ToneMap, NoIncrementBelowEpsOverTheSlopeShows) {
       EXPECT_LE(tm.apply(c + x) - tm.apply(c), 1.02f * tm.slope4(float4(c))[0] * x + 1e-6f) << c << " " << x;
 }
 
+// exp_neg4 is exp(x) for every x <= 0: far below the polynomial's range it underflows to
+// (about) 0, never to garbage.
+TEST(ExpNeg4, UnderflowsToZeroFarBelowItsRange) {
+  for (float x : {-87.5f, -88.0f, -90.0f, -100.0f, -1000.0f, -1e30f, -std::numeric_limits<float>::infinity()}) {
+    const float got = exp_neg4(float4(x))[0];
+    EXPECT_GE(got, 0.0f) << x;
+    EXPECT_LE(got, 2e-38f) << x;
+  }
+}
+
+// slope4 stays the non-negative bound of the display's change where the display saturates.
+TEST(ToneMap, SlopeIsNonNegativeWhereTheDisplaySaturates) {
+  for (float e : {1.0f, 4.0f})
+    for (float c : {30.0f, 90.0f, 1e3f, 1e30f, std::numeric_limits<float>::infinity()}) {
+      const float slope = ToneMap{e}.slope4(float4(c))[0];
+      EXPECT_GE(slope, 0.0f) << e << " " << c;
+      EXPECT_LE(slope, 1e-12f) << e << " " << c;
+    }
+}
+
 }  // namespace
 }  // namespace zz
