@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cmath>
+#include <set>
+#include <utility>
 #include <vector>
 
 #include "core/film.h"
@@ -86,6 +89,55 @@ TEST(Uniform, ACancelledTileStopsWithinARowAndLeavesItsTargetUntouched) {
     for (const glm::vec3& p : tile.film.radiance) EXPECT_EQ(p, glm::vec3(-1.0f));
     for (uint8_t r : tile.film.rays) EXPECT_EQ(r, 0);
   }
+}
+
+// A constant colour that records every point it traces (a padded last packet repeats one).
+struct RecordingSource {
+  std::set<std::pair<float, float>> points;
+  Rgb4 sample4(float4 px, float4 py) {
+    alignas(16) float x[4], y[4];
+    px.store(x);
+    py.store(y);
+    for (int i = 0; i < 4; ++i) points.insert({x[i], y[i]});
+    return {float4(0.5f), float4(0.5f), float4(0.5f)};
+  }
+};
+
+std::set<std::pair<float, float>> traced(const UniformSettings& settings) {
+  Tile tile;
+  RecordingSource source;
+  UniformStats stats;
+  EXPECT_TRUE(render_tile_uniform(source, tile.target(), settings, tile.scratch.data(), stats));
+  return source.points;
+}
+
+// none: one ray through each pixel's centre.
+TEST(Uniform, CentreTracesThePixelCentre) {
+  std::set<std::pair<float, float>> want;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) want.insert({x + 0.5f, y + 0.5f});
+  EXPECT_EQ(traced({UniformPattern::Center, 1}), want);
+}
+
+// grid: the n x n points ((i + 1/2) / n, (j + 1/2) / n) of every pixel, all n² of them.
+TEST(Uniform, GridTracesTheRegularNByNPointsOfEveryPixel) {
+  std::set<std::pair<float, float>> want;
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int j = 0; j < 3; ++j)
+        for (int i = 0; i < 3; ++i) want.insert({x + (i + 0.5f) / 3, y + (j + 0.5f) / 3});
+  EXPECT_EQ(traced({UniformPattern::Grid, 9}), want);
+}
+
+// lattice: the shared corners and the 24 inner points P_k = (k/25, (7k mod 25)/25) of every pixel.
+TEST(Uniform, LatticeTracesTheSharedCornersAndTheRank1LatticeOfEveryPixel) {
+  std::set<std::pair<float, float>> want;
+  for (int y = 0; y <= 8; ++y)
+    for (int x = 0; x <= 8; ++x) want.insert({float(x), float(y)});
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x)
+      for (int k = 1; k < kLatticePoints; ++k) want.insert({x + kLattice[k].u, y + kLattice[k].v});
+  EXPECT_EQ(traced({UniformPattern::Lattice, 25}), want);
 }
 
 }  // namespace
