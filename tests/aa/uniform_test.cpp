@@ -140,5 +140,22 @@ TEST(Uniform, LatticeTracesTheSharedCornersAndTheRank1LatticeOfEveryPixel) {
   EXPECT_EQ(traced({UniformPattern::Lattice, 25}), want);
 }
 
+// stratified: one point in each of the n x n cells of a pixel, jittered in x and y independently.
+TEST(Uniform, StratifiedPutsOneIndependentlyJitteredPointInEveryCell) {
+  const int n = 4;
+  const std::set<std::pair<float, float>> points = traced({UniformPattern::Stratified, n * n});
+  ASSERT_EQ(points.size(), 64u * n * n);
+  std::vector<int> per_cell(64 * n * n, 0);
+  int on_the_diagonal = 0;
+  for (auto [px, py] : points) {
+    const int cx = int(px * n), cy = int(py * n);  // cell in the frame's 32 x 32 grid of cells
+    ASSERT_TRUE(cx >= 0 && cx < 8 * n && cy >= 0 && cy < 8 * n) << px << "," << py;
+    ++per_cell[size_t(cy) * 8 * n + size_t(cx)];
+    on_the_diagonal += std::fabs((px * n - cx) - (py * n - cy)) < 1e-4f;  // the same jitter in x as in y
+  }
+  for (int c : per_cell) EXPECT_EQ(c, 1);
+  EXPECT_LT(on_the_diagonal, 8);  // of 1024 points: x and y jitter are hashed apart
+}
+
 }  // namespace
 }  // namespace zz
