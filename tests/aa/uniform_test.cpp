@@ -157,5 +157,16 @@ TEST(Uniform, StratifiedPutsOneIndependentlyJitteredPointInEveryCell) {
   EXPECT_LT(on_the_diagonal, 8);  // of 1024 points: x and y jitter are hashed apart
 }
 
+// The rays AOV counts the points per pixel and saturates at 255; every pixel is at level 1.
+TEST(Uniform, RaysSaturateAt255AndEveryPixelIsLevelOne) {
+  Tile tile;
+  test::ConstantSource source;
+  UniformStats stats;
+  EXPECT_TRUE(render_tile_uniform(source, tile.target(), {UniformPattern::Grid, 256}, tile.scratch.data(), stats));
+  EXPECT_EQ(stats.samples, 64u * 256u);
+  for (uint8_t r : tile.film.rays) EXPECT_EQ(r, 255);
+  for (uint8_t l : tile.film.level) EXPECT_EQ(l, 1);
+}
+
 }  // namespace
 }  // namespace zz
