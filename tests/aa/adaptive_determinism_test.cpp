@@ -58,5 +58,33 @@ TEST(AdaptiveDeterminism, TileOrderDoesNotMatter) {
   EXPECT_TRUE(same(ref, fb));
 }
 
+// AaStats count a tile's own pixels once, whatever the tiling; the Mitchell margin's extra
+// refinement rays (E..H and zones, rays - 1 per margin pixel) are reported in margin_rays.
+TEST(AdaptiveDeterminism, OwnPixelCountsDoNotDependOnTheTilingAndTheMarginRaysAreTheDifference) {
+  const AnalyticImage star = make_analytic_image("star", 48);
+  AdaptiveSettings s;
+  s.filter = Filter::Mitchell;
+  s.tables = find_table_set("tuned");
+  const AnalyticSource source{&star};
+  AaStats whole, tiled;
+  test::render(source, 48, 48, s, 48, 1, {}, &whole);  // one tile: no margin inside the frame
+  test::render(source, 48, 48, s, 7, 1, {}, &tiled);
+  ASSERT_GT(whole.level2_pixels, 0u);
+  EXPECT_EQ(whole.margin_rays, 0u);
+  EXPECT_EQ(tiled.pixels, 48u * 48u);
+  EXPECT_EQ(tiled.pixels, whole.pixels);
+  EXPECT_EQ(tiled.level2_pixels, whole.level2_pixels);
+  EXPECT_EQ(tiled.level3_pixels, whole.level3_pixels);
+  EXPECT_EQ(tiled.vertical_pixels, whole.vertical_pixels);
+  EXPECT_EQ(tiled.zones_traced, whole.zones_traced);
+  EXPECT_EQ(tiled.zones_interpolated, whole.zones_interpolated);
+  // Every refined pixel traces or interpolates each of its five zones.
+  EXPECT_EQ(whole.zones_traced + whole.zones_interpolated, 5 * whole.level2_pixels);
+  // The corner field traces level 1 once for the frame: the tiling adds only margin refinement.
+  EXPECT_EQ(tiled.rays[0], whole.rays[0]);
+  EXPECT_GT(tiled.margin_rays, 0u);
+  EXPECT_EQ(tiled.rays[1] + tiled.rays[2] - tiled.margin_rays, whole.rays[1] + whole.rays[2]);
+}
+
 }  // namespace
 }  // namespace zz
