@@ -1,6 +1,7 @@
 // Smooth images cost exactly the corner rays; unrefined pixels are the corner mean.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "aa/analytic.h"
@@ -70,6 +71,40 @@ TEST(AdaptiveSmooth, UnrefinedPixelsAreExactlyTheCornerMean) {
       }
     EXPECT_GT(unrefined, 200);
   }
+}
+
+// A ramp whose display value rises 0.12 per pixel (tone mapping inverted): the corners of
+// every pixel differ by more than eps = 0.1, its E..H and corners by at most 0.72 x 0.12.
+struct DisplayRampSource {
+  Rgb4 sample4(float4 px, float4) const {
+    alignas(16) float x[4], out[4];
+    px.store(x);
+    for (int i = 0; i < 4; ++i) {
+      const double d = 0.05 + 0.12 * double(x[i]);
+      const double u = d <= 0.04045 ? d / 12.92 : std::pow((d + 0.055) / 1.055, 2.4);
+      out[i] = float(-std::log(1.0 - u));  // T^-1 at exposure 1
+    }
+    const float4 v = float4::load(out);
+    return {v, v, v};
+  }
+};
+
+// A pixel level 1 refines but whose level-2 masks all stay zero traces no zone: it reports
+// level 2 and 5 rays (corner + E..H), and all five of its zones count as interpolated.
+TEST(AdaptiveSmooth, ARampSteeperThanEpsStopsAtLevelTwo) {
+  AdaptiveSettings s;  // the paper's tables, eps 0.1
+  AaStats st;
+  const Film f = test::render(DisplayRampSource{}, 7, 3, s, 64, 1, {}, &st);
+  for (size_t i = 0; i < f.level.size(); ++i) {
+    EXPECT_EQ(f.level[i], 2) << "pixel " << i;
+    EXPECT_EQ(f.rays[i], 5) << "pixel " << i;
+  }
+  EXPECT_EQ(st.level2_pixels, 21u);
+  EXPECT_EQ(st.level3_pixels, 0u);
+  EXPECT_EQ(st.zones_traced, 0u);
+  EXPECT_EQ(st.zones_interpolated, 5u * 21u);
+  EXPECT_EQ(st.rays[1], 4u * 21u);
+  EXPECT_EQ(st.rays[2], 0u);
 }
 
 }  // namespace
