@@ -2,6 +2,8 @@
 // aa/adaptive_pixel.h).
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "test_sources.h"
 
 namespace zz {
@@ -99,6 +101,30 @@ TEST(MapZones, GeoPixelsTraceWhereTheMapSawTheEdgeAndOnlyThereWhenNoMaskFired) {
   EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/true, GeoPolicy::Split, false, 0), kAllZones);
   EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/true, GeoPolicy::All, false, map), kAllZones);
   EXPECT_EQ(decide_zones(t, 0, 0, 0, 0, 0, /*geo=*/false, GeoPolicy::Split, true, map), kAllZones);
+}
+
+// The map's zones are in the map's frame (kGeoAlongX: the vertical one): they count in a geo
+// pixel only where the pixel is oriented in that frame, never as zones of the other.
+TEST(MapZones, CountOnlyInAPixelOrientedInTheMapsFrame) {
+  // A vertical edge at x = 3.5: level 1 orients column 3 horizontally (a0, a1), and the
+  // paper's tables trace its zone 2 alone (b = c1 = 1001, c0 = 0): 9 rays.
+  const test::AxisEdgeSource edge{true, 3.5f, 0.0f, 1.0f};
+  AdaptiveSettings s;
+  s.geo_zones = true;
+  auto rays_of_column_3 = [&](uint8_t flag) {
+    GeoMap geo{8, 4, std::vector<uint8_t>(32, 0)};
+    for (int y = 0; y < 4; ++y) geo.flags[size_t(y) * 8 + 3] = flag;
+    const Film f = test::render(edge, 8, 4, s, 64, 1, geo);
+    std::vector<int> rays;
+    for (int y = 0; y < 4; ++y) rays.push_back(f.rays[size_t(y) * 8 + 3]);
+    return rays;
+  };
+  const uint8_t zone0 = uint8_t(1 << kGeoZoneShift);
+  EXPECT_EQ(rays_of_column_3(kGeoEdge), std::vector<int>(4, 9));
+  // The map's zone 0 in the horizontal frame: traced too.
+  EXPECT_EQ(rays_of_column_3(kGeoEdge | zone0), std::vector<int>(4, 13));
+  // Its zone 0 in the vertical frame is another strip of the pixel: the tables' zones alone.
+  EXPECT_EQ(rays_of_column_3(kGeoEdge | kGeoAlongX | zone0), std::vector<int>(4, 9));
 }
 
 }  // namespace
