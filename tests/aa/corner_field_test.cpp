@@ -124,6 +124,22 @@ TEST(HiddenDetail, WhatASourceMaySkipCouldNotShow) {
   }
 }
 
+// The same at a fine eps (1/1000 of the display) just above sRGB's linear toe, where the
+// table's chords rise faster than the tangent (up to 0.8 % here): the 2 % margin on the
+// slope keeps what a source may skip below eps.
+TEST(HiddenDetail, WhatASourceMaySkipCouldNotShowAtAFineEpsNearTheSrgbToe) {
+  const ToneMap tonemap;
+  const float4 eps(0.001f);
+  for (const float m : {0.00333971f, 0.00334f, 0.00336f}) {
+    const float4 mean(m, m, m, 0.0f);
+    VisibleRecorder source;
+    VisibleRecorder::Probe probes[16];
+    EXPECT_EQ(hidden_detail_shows(source, probes + 5, 4, mean, tonemap, eps), 0u);
+    const float4 shown = tonemap.apply4(mean + source.visible) - tonemap.apply4(mean);
+    for (int c = 0; c < 3; ++c) EXPECT_LE(shown[c], eps[c]) << m << " " << c;
+  }
+}
+
 bool same(const Film& a, const Film& b) {
   return a.radiance.size() == b.radiance.size() &&
          std::memcmp(a.radiance.data(), b.radiance.data(), a.radiance.size() * sizeof(glm::vec3)) == 0 &&
