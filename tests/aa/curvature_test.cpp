@@ -92,6 +92,21 @@ TEST(Curvature, AnOuterCornerAcrossEpsIsAnEdgeThoughTheRowIsOneCurve) {
   EXPECT_NE(smooth[0], mean[0]);
 }
 
+// The same rule down the columns: every column 0, .10, .14, .10 and every row constant, so
+// the outer corner above the pixel is the edge beyond it at eps .05.
+TEST(Curvature, AnOuterCornerAcrossEpsAboveIsAnEdgeThoughTheColumnIsOneCurve) {
+  const float column[4] = {0.0f, 0.10f, 0.14f, 0.10f};
+  float4 corners[16];
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) corners[j * 4 + i] = float4(column[j], column[j], column[j], 0.0f);
+  const float4* tl = corners + 5;
+  const float4 mean = corner_mean(tl[0], tl[1], tl[4], tl[5]);
+  const float4 at_edge = curvature_corrected(mean, tl, tl, 4, float4(0.05f));
+  const float4 smooth = curvature_corrected(mean, tl, tl, 4, float4(0.2f));
+  EXPECT_EQ(at_edge[0], mean[0]);
+  EXPECT_NE(smooth[0], mean[0]);
+}
+
 // A bowl with a faint step at x = 9.5 (0.02 brighter before it, below eps): not curvature.
 struct BowlWithFaintStep {
   BowlSource bowl;
