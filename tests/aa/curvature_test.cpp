@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "test_sources.h"
 
@@ -168,6 +169,30 @@ TEST(Curvature, SaturatedHdrStepsAreNotCurvature) {
       }
       EXPECT_GE(v, 1e3f) << x;
     }
+}
+
+// The rule's bound on a 4 x 4 stencil: a saturated parabola along the rows, 1485.7, 285.7,
+// 285.7, 1485.7 (white on the display everywhere: no edge, and one curve), whose correction
+// (100) is 0.35 of the pixel's mean (285.7): a quarter of the mean or more is saturated HDR,
+// not shading, so the pixel keeps its mean; a tenth of that curvature (correction 10 of a
+// mean of 420.7) is corrected.
+TEST(Curvature, ACorrectionOfAQuarterOfTheMeanOrMoreLeavesThePlainMean) {
+  const ToneMap tonemap;
+  auto corrected = [&](float a, float c) {  // rows a + c (i - 1/2)^2, i = -1..2; columns constant
+    float4 lin[16], disp[16];
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const float u = float(i - 1) - 0.5f, v = a + c * u * u;
+        lin[j * 4 + i] = float4(v, v, v, 0.0f);
+        disp[j * 4 + i] = tonemap.apply4(lin[j * 4 + i]);
+      }
+    const float4 mean = corner_mean(lin[5], lin[6], lin[9], lin[10]);
+    return std::pair{mean[0], curvature_corrected(mean, lin + 5, disp + 5, 4, float4(0.05f))[0]};
+  };
+  const auto [mean, kept] = corrected(135.7f, 600.0f);
+  EXPECT_EQ(kept, mean);
+  const auto [small_mean, small] = corrected(405.7f, 60.0f);
+  EXPECT_NEAR(small, small_mean - 10.0f, 1e-3f);
 }
 
 TEST(Curvature, BitIdenticalAcrossTileSizesAndThreads) {
