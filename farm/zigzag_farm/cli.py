@@ -12,7 +12,7 @@ import tempfile
 
 from . import fingerprint
 from .fingerprint import HashCache
-from .job import write_json_atomically
+from .job import write_json_atomically, write_protected
 from .manifest import Manifest, ManifestBusy
 from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
@@ -162,7 +162,10 @@ def _check_with_renderer(zigzag: str, plan, o, opts, timeout: float = 120.0) -> 
     seen = set()
     for f in plan.frames:
         scene = f.parts[0].scene
-        if scene in seen:
+        # A frame whose image or stats the user write-protected (finished frames of a batch
+        # run again) would be refused, though the run may only add the others: check a frame
+        # it may write; none such, nothing to check.
+        if scene in seen or any(write_protected(p) for p in (f.output, f.stats) if p):
             continue
         seen.add(scene)
         cmd = [zigzag, "render", "--dry-run", scene, "-o", o.output, "--camera", str(f.camera), "-q"]

@@ -19,6 +19,7 @@ import json
 import os
 import signal
 import socket
+import stat
 import subprocess
 import time
 import uuid
@@ -154,6 +155,27 @@ def written_path(final: str) -> str:
     return os.path.realpath(final) if os.path.islink(final) else final
 
 
+def write_protected(path: str) -> bool:
+    """As zigzag render decides it: an existing file the caller may not write; as root, one
+    with no write bit at all. Such a file is refused, not replaced."""
+    try:
+        st = os.stat(path)
+    except OSError:
+        return False
+    if not stat.S_ISREG(st.st_mode):
+        return False
+    if os.geteuid() == 0:
+        return st.st_mode & 0o222 == 0
+    return not os.access(path, os.W_OK)
+
+
+def _refuse_protected(final: str) -> None:
+    """A job's image the user write-protected is refused, not replaced, as zigzag render
+    refuses one (the rename needs only the folder's permission)."""
+    if write_protected(final):
+        raise UsageFailure(f"{final}: the file is write-protected (make it writable to let the farm replace it)")
+
+
 def _publish(tmp: str, final: str) -> dict:
     """fsync the finished temporary file and rename it over the final name."""
     fd = os.open(tmp, os.O_RDONLY)
@@ -222,6 +244,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
         if os.path.exists(tmp_stats):
             with open(tmp_stats) as f:
                 stats = json.load(f)
+        _refuse_protected(final)
         result = _publish(tmp, final)
     finally:
         _remove(tmp, tmp_stats)
@@ -245,6 +268,7 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
         code, err = run_child(cmd, timeout=spec.get("timeout"), cancelled=cancelled)
         if code != 0:
             raise _fail(code, err)
+        _refuse_protected(final)
         result = _publish(tmp, final)
     finally:
         _remove(tmp)

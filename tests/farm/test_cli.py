@@ -228,3 +228,21 @@ def test_the_renderer_checks_the_users_patterns_with_the_jobs_options(capsys, wo
     for pair in (["-o", f"{workdir}/o/{{scene}}_{{frame:04}}.png"], ["--stats", f"{workdir}/o/{{scene}}{{frame}}.json"],
                  ["--frame", "2"], ["--camera", "0"], ["--eps", "0.5"]):
         assert any(runs[0][i:i + 2] == pair for i in range(len(runs[0]))), (pair, runs[0])
+
+
+def test_the_check_skips_a_frame_the_user_write_protected(capsys, workdir, monkeypatch):
+    """A batch run again over finished frames the user made read-only: the renderer's check of
+    the first frame refused the whole batch, though the run only adds the others. It checks
+    the first frame it may write (the jobs refuse a protected image themselves: test_job)."""
+    log = os.path.join(workdir, "renders.log")
+    monkeypatch.setenv("FAKE_ZIGZAG_DRY_RUN_LOG", log)
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[2, 5], sleep=0)
+    os.makedirs(f"{workdir}/o")
+    with open(f"{workdir}/o/anim_0002.png", "wb") as f:
+        f.write(b"FINAL")
+    os.chmod(f"{workdir}/o/anim_0002.png", 0o444)
+    usage_error(capsys, scene, "-o", f"{workdir}/o/{{scene}}_{{frame:04}}.png", "--zigzag", FAKE_ZIGZAG,
+                "--", "--aov", "depth")  # the fake's check refuses --aov into a .png: the check ran
+    runs = [json.loads(line) for line in open(log)]
+    assert len(runs) == 1
+    assert any(runs[0][i:i + 2] == ["--frame", "3"] for i in range(len(runs[0]))), runs[0]

@@ -48,6 +48,21 @@ def test_an_output_that_is_a_link_writes_its_target(workdir):
     assert os.listdir(os.path.join(workdir, "shots")) == ["v1.png"]  # no temporary left
 
 
+def test_a_write_protected_output_is_refused_and_kept(workdir):
+    """As zigzag render: the rename needs only the folder's permission, so a finished frame
+    the user made read-only was replaced. Refused instead, not retried (a usage failure)."""
+    scene = write_scene(workdir, "s")
+    out = os.path.join(workdir, "s.png")
+    with open(out, "wb") as f:
+        f.write(b"FINAL")
+    os.chmod(out, 0o444)
+    with pytest.raises(job.UsageFailure, match="write-protected"):
+        job.render(spec(scene, out))
+    assert read(out) == b"FINAL"
+    assert sorted(os.listdir(workdir)) == ["s.json", "s.png"]
+    assert job.write_protected(out) and not job.write_protected(os.path.join(workdir, "s.json"))
+
+
 def test_a_failure_carries_stderr_and_keeps_the_old_output(workdir):
     scene = write_scene(workdir, "s", fail="no such material")
     out = os.path.join(workdir, "s.png")
