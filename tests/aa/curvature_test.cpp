@@ -79,33 +79,24 @@ TEST(Curvature, AnEdgeBesideThePixelLeavesThePlainMean) {
 // every row 0, .10, .14, .10 and every column constant: one curve (not bent: its second
 // differences -.06 and -.08 agree), but the outer corner on the left is .10 from its
 // neighbour, an edge beyond the pixel at eps .05, so the pixel keeps its mean; at eps .2 the
-// same corners are curvature and the mean moves.
-TEST(Curvature, AnOuterCornerAcrossEpsIsAnEdgeThoughTheRowIsOneCurve) {
-  const float row[4] = {0.0f, 0.10f, 0.14f, 0.10f};
-  float4 corners[16];
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) corners[j * 4 + i] = float4(row[i], row[i], row[i], 0.0f);
-  const float4* tl = corners + 5;
-  const float4 mean = corner_mean(tl[0], tl[1], tl[4], tl[5]);
-  const float4 at_edge = curvature_corrected(mean, tl, tl, 4, float4(0.05f));
-  const float4 smooth = curvature_corrected(mean, tl, tl, 4, float4(0.2f));
-  EXPECT_EQ(at_edge[0], mean[0]);
-  EXPECT_NE(smooth[0], mean[0]);
-}
-
-// The same rule down the columns: every column 0, .10, .14, .10 and every row constant, so
-// the outer corner above the pixel is the edge beyond it at eps .05.
-TEST(Curvature, AnOuterCornerAcrossEpsAboveIsAnEdgeThoughTheColumnIsOneCurve) {
-  const float column[4] = {0.0f, 0.10f, 0.14f, 0.10f};
-  float4 corners[16];
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 4; ++i) corners[j * 4 + i] = float4(column[j], column[j], column[j], 0.0f);
-  const float4* tl = corners + 5;
-  const float4 mean = corner_mean(tl[0], tl[1], tl[4], tl[5]);
-  const float4 at_edge = curvature_corrected(mean, tl, tl, 4, float4(0.05f));
-  const float4 smooth = curvature_corrected(mean, tl, tl, 4, float4(0.2f));
-  EXPECT_EQ(at_edge[0], mean[0]);
-  EXPECT_NE(smooth[0], mean[0]);
+// same corners are curvature and the mean moves. The same down the columns (the outer
+// corner above the pixel is the edge).
+TEST(Curvature, AnOuterCornerAcrossEpsIsAnEdgeThoughTheRowOrColumnIsOneCurve) {
+  const float curve[4] = {0.0f, 0.10f, 0.14f, 0.10f};
+  for (const bool down : {false, true}) {
+    float4 corners[16];
+    for (int j = 0; j < 4; ++j)
+      for (int i = 0; i < 4; ++i) {
+        const float v = curve[down ? j : i];
+        corners[j * 4 + i] = float4(v, v, v, 0.0f);
+      }
+    const float4* tl = corners + 5;
+    const float4 mean = corner_mean(tl[0], tl[1], tl[4], tl[5]);
+    const float4 at_edge = curvature_corrected(mean, tl, tl, 4, float4(0.05f));
+    const float4 smooth = curvature_corrected(mean, tl, tl, 4, float4(0.2f));
+    EXPECT_EQ(at_edge[0], mean[0]) << (down ? "columns" : "rows");
+    EXPECT_NE(smooth[0], mean[0]) << (down ? "columns" : "rows");
+  }
 }
 
 // A bowl with a faint step at x = 9.5 (0.02 brighter before it, below eps): not curvature.
