@@ -222,9 +222,10 @@ def _fail(code: int, stderr: str) -> JobError:
 def render(spec: dict, cancelled=lambda: False) -> dict:
     """Run one `zigzag render` job described by spec (see runner.render_spec)."""
     final = spec["output"]
-    os.makedirs(os.path.dirname(written_path(final)) or ".", exist_ok=True)
+    target = written_path(final)
+    os.makedirs(os.path.dirname(target) or ".", exist_ok=True)
     tag = temporary_tag()
-    tmp = temporary_name(written_path(final), tag)  # beside what is replaced: one file system
+    tmp = temporary_name(target, tag)  # beside what is replaced: one file system
     tmp_stats = tmp + ".stats.json"
     cmd = [spec["zigzag"], "render", spec["scene"], "-o", tmp, "--stats", tmp_stats,
            "--camera", str(spec["camera"]), "-q"]
@@ -259,9 +260,10 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
     """`zigzag merge PARTS... -o OUTPUT` for one frame; the parts stay (the driver removes
     them once the frame is recorded, so a merge that runs twice still finds them)."""
     final = spec["output"]
-    os.makedirs(os.path.dirname(written_path(final)) or ".", exist_ok=True)
+    target = written_path(final)
+    os.makedirs(os.path.dirname(target) or ".", exist_ok=True)
     tag = temporary_tag()
-    tmp = temporary_name(written_path(final), tag)
+    tmp = temporary_name(target, tag)
     cmd = [spec["zigzag"], "merge", *spec["parts"], "-o", tmp]
     start = time.monotonic()
     try:
