@@ -444,46 +444,79 @@ Shader::Kernel Shader::pick_kernel(unsigned effects, std::integer_sequence<unsig
   return kernels[effects];
 }
 
+// One packet's hits as the shading stages pass them on: where each lane's ray hit, what
+// it found there and the radiance gathered so far.
+struct Shader::Hits4 {
+  Hits4(const HitPacket4& packet, const Media& media) : hits(packet), crossed(media) {}
+  LaneHits hits;
+  float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // distance travelled through cut-outs
+  alignas(16) float out[3][4] = {};            // radiance, SoA
+  SurfacePoint sp[4];
+  bool shaded[4] = {false, false, false, false};  // hit a surface (not inactive, not the background)
+  // The volume each lane's segment crossed: the one the ray was in, unless the hit shows
+  // the ray left it through an open surface (outside its bounds, or on a front face of it).
+  Media crossed;
+};
+
 template <unsigned kEffects>
 Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int blend_layers, float4 throughput,
                          const Media& media, RayCounters& counters, PathSignature4* signature,
                          const CameraClip* clip) const {
-  constexpr bool kTextured = (kEffects & kTextures) != 0;
-  constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
-  Rgb4 zero{float4(0.0f), float4(0.0f), float4(0.0f)};
-  if (active.none()) return zero;
+  if (active.none()) return Rgb4{float4(0.0f), float4(0.0f), float4(0.0f)};
 
   HitPacket4 packet_hits;
   bvh_.intersect4(rays, active, packet_hits);
-  LaneHits hits(packet_hits);
+  Hits4 h(packet_hits, media);
   const int active_bits = active.bits();
-  float skipped[4] = {0.0f, 0.0f, 0.0f, 0.0f};  // distance travelled through cut-outs
-
-  if (clip) clip_near(scene_, bvh_, rays, active_bits, hits, skipped, *clip, counters);
+  if (clip) clip_near(scene_, bvh_, rays, active_bits, h.hits, h.skipped, *clip, counters);
   // Alpha: a ray that hits a cut-out texel (MASK below the cutoff, BLEND alpha 0)
   // continues behind it.
-  if constexpr (kSeeThrough) pass_cutouts(scene_, bvh_, rays, active_bits, hits, skipped, counters);
-  if (clip) clip_far(scene_, active_bits, hits, *clip);
+  if constexpr ((kEffects & kAlpha) != 0) pass_cutouts(scene_, bvh_, rays, active_bits, h.hits, h.skipped, counters);
+  if (clip) clip_far(scene_, active_bits, h.hits, *clip);
 
-  alignas(16) float out[3][4] = {};
-  SurfacePoint sp[4];
-  bool shaded[4] = {false, false, false, false};
-  // The volume each lane's segment crossed: media.inside, unless the hit shows the ray left
-  // it through an open surface (outside its bounds, or on a front face of that volume).
-  Media crossed = media;
+  shade_surfaces<kEffects>(rays, active_bits, media, signature, h);
+  if constexpr ((kEffects & kShadows) != 0) add_direct_light<kEffects>(h, counters, signature);
+  int refracted_lanes = 0;  // lanes whose refraction ray took the path tree's refraction node
+  if constexpr ((kEffects & (kReflection | kRefraction)) != 0)
+    if (depth < scene_.max_depth)  // depth = bounces taken so far
+      refracted_lanes = add_reflection_and_refraction<kEffects>(h, depth, blend_layers, throughput, counters, signature);
+  if constexpr ((kEffects & kRefraction) != 0)
+    if (effects_.absorption) absorb_along_segment(h, signature);
+  if constexpr ((kEffects & kAlpha) != 0)
+    blend_over_behind<kEffects>(h, refracted_lanes, depth, blend_layers, throughput, counters, signature, clip);
+
+  if (signature && signature->probes)
+    for (int i = 0; i < 4; ++i)
+      if (h.shaded[i]) signature->probes.at(signature->node, i).blocked = signature->blocked[i];
+
+  Rgb4 result{float4::load(h.out[0]), float4::load(h.out[1]), float4::load(h.out[2])};
+  // NaN (e.g. from a degenerate normal) never leaves the shader, but is counted; +Inf is capped.
+  counters.nan_radiance += uint64_t(count_lanes((isnan(result.r) | isnan(result.g) | isnan(result.b)) & active));
+  auto sanitize = [&](float4 x) {
+    return select(isnan(x) | !active, float4(0.0f), min(max(x, float4(0.0f)), float4(kRadianceMax)));
+  };
+  return {sanitize(result.r), sanitize(result.g), sanitize(result.b)};
+}
+
+// Each hit's surface: geometry, material, textures, emission; the background for misses.
+template <unsigned kEffects>
+void Shader::shade_surfaces(const RayPacket4& rays, int active_bits, const Media& media, PathSignature4* signature,
+                            Hits4& h) const {
+  constexpr bool kTextured = (kEffects & kTextures) != 0;
+  constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
   for (int i = 0; i < 4; ++i) {
     if (!((active_bits >> i) & 1)) continue;
-    const int prim = hits.prim[i];
+    const int prim = h.hits.prim[i];
     if (prim < 0) {
-      out[0][i] = scene_.background.r;
-      out[1][i] = scene_.background.g;
-      out[2][i] = scene_.background.b;
+      h.out[0][i] = scene_.background.r;
+      h.out[1][i] = scene_.background.g;
+      h.out[2][i] = scene_.background.b;
       continue;
     }
-    const float u = hits.u[i], v = hits.v[i];
+    const float u = h.hits.u[i], v = h.hits.v[i];
     const size_t t3 = size_t(prim) * 3;
-    SurfacePoint& s = sp[i];
-    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
+    SurfacePoint& s = h.sp[i];
+    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), h.hits, i, h.skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
     if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;
@@ -518,354 +551,345 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
     if (signature && signature->probes)
       signature->probes.at(signature->node, i) = {s.hit.p, s.ns, s.wo, s.material->specular, s.material->shininess,
                                                0u, mat_index, uv0, uv1};
-    out[0][i] = emission.r;
-    out[1][i] = emission.g;
-    out[2][i] = emission.b;
-    shaded[i] = true;
+    h.out[0][i] = emission.r;
+    h.out[1][i] = emission.g;
+    h.out[2][i] = emission.b;
+    h.shaded[i] = true;
     if (const int here = media.inside[i];
         here >= 0 && (!volume_bounds_[size_t(here)].contains(s.hit.p) || (s.front && here == int(mat_index))))
-      crossed.inside[i] = crossed.outside[i] = -1;
+      h.crossed.inside[i] = h.crossed.outside[i] = -1;
   }
+}
 
-  // Direct light: one shadow packet per light, lanes that face it. The lanes are shaded
-  // together (SoA float4), each with the scalar code's operations in its order.
-  if constexpr ((kEffects & kShadows) != 0) {
-    if (!scene_.lights.empty()) {
-      const LitLanes lit(sp, shaded);
-      float4 out_r = float4::load(out[0]), out_g = float4::load(out[1]), out_b = float4::load(out[2]);
-      // The footprint's light terms (a camera packet that asks for them only).
-      const bool footprint = signature && signature->footprint && footprinted(signature->node);
-      vec3x4 irradiance{float4(0.0f), float4(0.0f), float4(0.0f)};
-      auto add_light = [&](mask4 reached, const vec3x4& e) {
-        irradiance.x = select(reached, irradiance.x + e.x, irradiance.x);
-        irradiance.y = select(reached, irradiance.y + e.y, irradiance.y);
-        irradiance.z = select(reached, irradiance.z + e.z, irradiance.z);
-      };
-      for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
-        const Light& light = scene_.lights[light_index];
-        const uint32_t light_bit = 1u << (light_index % 32);
-        const LightConstants& constants = light_constants_[light_index];
-        const LightSample4 ls = light_towards4(light, constants, lit.p);
-        const vec3x4& wi = ls.to_light;
-        const float4 cos_s = dot(lit.ns, wi);
-        // Below the flat triangle's plane the light is blocked by the triangle itself,
-        // unless the shadow ray starts lifted off it (the shadow terminator, above).
-        const mask4 facing = lit.shaded & ls.lit &
-                             !((cos_s <= float4(0.0f)) | andnot(lit.lifted, dot(lit.ng, wi) <= float4(0.0f)));
-        if (facing.none()) continue;
-        // Normalised Phong: (n+2)/(2 pi) cos^n(R, wo), energy-conserving lobe.
-        const vec3x4 r = lit.ns * (float4(2.0f) * cos_s) - wi;
-        const float4 cos_r = max(dot(r, lit.wo), float4(0.0f));
-        const float4 lobe = phong_pow4(cos_r, lit.shininess, facing);
-        const float4 phong = (lit.shininess + float4(2.0f)) * float4(0.5f) * float4(kInvPi) * lobe;
-        const vec3x4 f = lit.albedo * float4(kInvPi) + lit.specular * phong;
-        const vec3x4 contribution = (f * ls.scale) * cos_s;
-        const mask4 lanes = facing & ((contribution.x > float4(0.0f)) | (contribution.y > float4(0.0f)) |
-                                      (contribution.z > float4(0.0f)));
-        // A black corner traces no shadow ray, but its neighbours in the texture may be lit:
-        // the footprint takes the light as reaching it.
-        if (footprint) add_light(andnot(lanes, facing), (ls.scale * cos_s) * float4(kInvPi));
-        if (lanes.none()) continue;
-        if (signature && signature->light_radiance)
-          for (int i = 0; i < 4; ++i)
-            if (lanes[i]) {
-              glm::vec3& slot = signature->light_radiance[light_index % kLightSlots][i];
-              slot = glm::max(slot, glm::vec3(contribution.x[i], contribution.y[i], contribution.z[i]));
-            }
-        // Unused lanes as PacketBuilder leaves them: zero origin, +z direction, tmax 0.
-        RayPacket4 shadow;
-        shadow.ox = select(lanes, lit.origin.x, float4(0.0f));
-        shadow.oy = select(lanes, lit.origin.y, float4(0.0f));
-        shadow.oz = select(lanes, lit.origin.z, float4(0.0f));
-        vec3x4 dir;
-        float4 tmax;
-        if (light.type == Light::Type::Directional) {
-          dir = wi;
-          tmax = float4(kInfinity);
-        } else {
-          dir = constants.position - lit.origin;  // t in (0, 1) reaches the light
-          tmax = float4(1.0f - kShadowEpsilon);
-        }
-        shadow.dx = select(lanes, dir.x, float4(0.0f));
-        shadow.dy = select(lanes, dir.y, float4(0.0f));
-        shadow.dz = select(lanes, dir.z, float4(1.0f));
-        shadow.tmax = select(lanes, tmax, float4(0.0f));
-        if constexpr ((kEffects & (kAlpha | kRefraction)) != 0) {
-          PacketBuilder builder;
-          shadow.ox.store(builder.o[0]), shadow.oy.store(builder.o[1]), shadow.oz.store(builder.o[2]);
-          shadow.dx.store(builder.d[0]), shadow.dy.store(builder.d[1]), shadow.dz.store(builder.d[2]);
-          shadow.tmax.store(builder.tmax);
-          glm::vec3 through[4];
-          shadow_transmittance<kTextured, kSeeThrough, (kEffects & kRefraction) != 0>(
-              scene_, bvh_, light, builder, lanes.bits(), through, counters);
-          alignas(16) float t[3][4];
-          for (int i = 0; i < 4; ++i) {
-            t[0][i] = through[i].r, t[1][i] = through[i].g, t[2][i] = through[i].b;
-            if (signature && lanes[i] && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
-              signature->shadowed[i] |= light_bit;
-            if (signature && lanes[i] && !(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f))
-              signature->blocked[i] |= light_bit;
-          }
-          out_r = select(lanes, out_r + contribution.x * float4::load(t[0]), out_r);
-          out_g = select(lanes, out_g + contribution.y * float4::load(t[1]), out_g);
-          out_b = select(lanes, out_b + contribution.z * float4::load(t[2]), out_b);
-          if (footprint)
-            add_light(lanes, ((ls.scale * cos_s) * float4(kInvPi)) *
-                                 vec3x4{float4::load(t[0]), float4::load(t[1]), float4::load(t[2])});
-        } else {
-          counters.shadow += uint64_t(count_lanes(lanes));
-          const mask4 blocked = bvh_.occluded4(shadow, lanes);
-          if (signature) {
-            const int shadowed = (lanes & blocked).bits();
-            for (int i = 0; i < 4; ++i)
-              if ((shadowed >> i) & 1) signature->shadowed[i] |= light_bit, signature->blocked[i] |= light_bit;
-          }
-          const mask4 reached = andnot(blocked, lanes);
-          out_r = select(reached, out_r + contribution.x, out_r);
-          out_g = select(reached, out_g + contribution.y, out_g);
-          out_b = select(reached, out_b + contribution.z, out_b);
-          if (footprint) add_light(reached, (ls.scale * cos_s) * float4(kInvPi));
-        }
-      }
-      out_r.store(out[0]), out_g.store(out[1]), out_b.store(out[2]);
-      if (footprint)
-        for (int i = 0; i < 4; ++i) {
-          if (!shaded[i]) continue;
-          FootprintProbe& f = signature->footprint.at(signature->node, i);
-          f.irradiance = glm::vec3(irradiance.x[i], irradiance.y[i], irradiance.z[i]);
-        }
-    }
-  }
-
-  int refracted_lanes = 0;  // lanes whose refraction ray took the path tree's refraction node
-  // Mirror reflection and refraction, each as one secondary packet.
-  if constexpr ((kEffects & (kReflection | kRefraction)) != 0) {
-    if (depth < scene_.max_depth) {  // depth = bounces taken so far
-      PacketBuilder reflected, refracted;
-      Media refracted_media = crossed;  // reflected rays stay in the media of their parent
-      glm::vec3 reflect_weight[4], refract_weight[4];
-      alignas(16) float path[4], reflect_path[4] = {}, refract_path[4] = {};
-      throughput.store(path);
-      auto largest = [](const glm::vec3& w) { return std::max(w.r, std::max(w.g, w.b)); };
-      bool do_reflect[4] = {false, false, false, false}, do_refract[4] = {false, false, false, false};
-      for (int i = 0; i < 4; ++i) {
-        if (!shaded[i]) continue;
-        const SurfacePoint& s = sp[i];
-        const WhittedMaterial& m = *s.material;
-        const float cos_i = std::clamp(glm::dot(s.ns, s.wo), 0.0f, 1.0f);
-        glm::vec3 kr = m.mirror;
-        bool transmit = false;
-        float eta = 1.0f;
-        if constexpr ((kEffects & kRefraction) != 0) {
-          if (m.transmits()) {
-            // n_incident / n_transmitted; a thin wall has air on both sides of its sheet. A
-            // ray enters this volume from the one it is in, or leaves it for the one around.
-            const int here = crossed.inside[i], self = int(scene_.material_of[size_t(hits.prim[i])]);
-            if (m.thin_walled) {
-              eta = 1.0f / m.ior;
-            } else if (s.front) {
-              // Entering `self` from the medium the ray is in (air after an open surface).
-              eta = (here >= 0 ? scene_.whitted[size_t(here)].ior : 1.0f) / m.ior;
-              refracted_media.inside[i] = self;
-              refracted_media.outside[i] = here;
-            } else {
-              // Leaving `self`; a ray not known to be inside it (it started there, or the mesh
-              // is open) stays in the medium it is in.
-              const int next = here == self ? crossed.outside[i] : here;
-              eta = m.ior / (next >= 0 ? scene_.whitted[size_t(next)].ior : 1.0f);
-              refracted_media.inside[i] = next;
-              refracted_media.outside[i] = here == self ? -1 : crossed.outside[i];
-            }
-            const float f = fresnel_dielectric(cos_i, eta);
-            kr = glm::vec3(f);
-            refract_weight[i] = (1.0f - f) * m.transmission;
-            transmit = f < 1.0f;
-          }
-        }
-        if (!transmit && m.fresnel_mirror && !m.transmits()) {  // Schlick from F0 = mirror
-          const float c = 1.0f - cos_i, c5 = c * c * c * c * c;
-          kr = m.mirror + (glm::vec3(1.0f) - m.mirror) * c5;
-        }
-        reflect_path[i] = path[i] * largest(kr);
-        if ((kr.r > 0.0f || kr.g > 0.0f || kr.b > 0.0f) && reflect_path[i] >= kMinThroughput) {
-          glm::vec3 r = 2.0f * glm::dot(s.ns, s.wo) * s.ns - s.wo;
-          if (glm::dot(r, s.ng) <= 0.0f) r = 2.0f * glm::dot(s.ng, s.wo) * s.ng - s.wo;
-          reflected.set(i, offset_ray_origin(s.hit, s.ng), r, kInfinity);
-          reflect_weight[i] = kr;
-          do_reflect[i] = true;
-        }
-        if constexpr ((kEffects & kRefraction) != 0) {
-          if (transmit) refract_path[i] = path[i] * largest(refract_weight[i]);
-          if (transmit && refract_path[i] >= kMinThroughput) {
-            const float cos_t = std::max(0.0f, cos_transmitted(cos_i, eta));
-            // Snell, vector form; a thin wall's two faces bend the ray back: it goes on.
-            const glm::vec3 t = m.thin_walled ? -s.wo : -eta * s.wo + (eta * cos_i - cos_t) * s.ns;
-            if (glm::dot(t, s.ng) < 0.0f) {
-              refracted.set(i, offset_ray_origin(s.hit, -s.ng), t, kInfinity);
-              do_refract[i] = true;
-            }
-          }
-        }
-      }
-      const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
-      // The secondary rays' first hits, for a camera packet's signature and probes.
-      // Made only for a packet that records a signature.
-      std::optional<PathSignature4> seen_reflected, seen_refracted;
-      const bool probing = signature && signature->probes;
-      const bool probe_reflected = probing && probed(reflected_node(signature->node));
-      const bool probe_refracted = probing && probed(refracted_node(signature->node));
-      const bool footprinting = signature && signature->footprint;
-      const bool footprint_reflected = footprinting && footprinted(reflected_node(signature->node));
-      const bool footprint_refracted = footprinting && footprinted(refracted_node(signature->node));
-      if (reflect_lanes.any()) {
-        counters.reflection += uint64_t(count_lanes(reflect_lanes));
-        if ((signature && depth <= 1) || probe_reflected || footprint_reflected) {
-          seen_reflected.emplace();
-          seen_reflected->node = reflected_node(signature->node);
-        }
-        if (probe_reflected) seen_reflected->probes = signature->probes;
-        if (footprint_reflected) seen_reflected->footprint = signature->footprint;
-        const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
-                                             float4::load(reflect_path), crossed, counters,
-                                             seen_reflected ? &*seen_reflected : nullptr);
-        if (seen_reflected) {
-          const PathSignature4& seen = *seen_reflected;
-          for (int i = 0; i < 4; ++i)
-            signature->reflected[i] =
-                !do_reflect[i] ? 0u
-                : depth == 0   ? hit_then(seen.object[i], seen.reflected[i])
-                : reflect_path[i] >= kSignedMirrorPath ? seen.object[i] : 0u;
-        }
-        for (int i = 0; i < 4; ++i)
-          if (do_reflect[i]) {
-            out[0][i] += reflect_weight[i].r * c.r[i];
-            out[1][i] += reflect_weight[i].g * c.g[i];
-            out[2][i] += reflect_weight[i].b * c.b[i];
-          }
-      }
-      if constexpr ((kEffects & kRefraction) != 0) {
-        const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
-        if (refract_lanes.any()) {
-          counters.refraction += uint64_t(count_lanes(refract_lanes));
-          refracted_lanes = refract_lanes.bits();
-          // A refracted ray's first hit is mostly the far side of the same glass; what the
-          // glass shows is the hit after that, so a camera packet's signature keeps both.
-          const bool sign = signature && depth <= 1;
-          if (sign || probe_refracted || footprint_refracted) {
-            seen_refracted.emplace();
-            seen_refracted->node = refracted_node(signature->node);
-          }
-          if (probe_refracted) seen_refracted->probes = signature->probes;
-          if (footprint_refracted) seen_refracted->footprint = signature->footprint;
-          const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
-                                               float4::load(refract_path), refracted_media, counters,
-                                               seen_refracted ? &*seen_refracted : nullptr);
-          if (seen_refracted) {
-            const PathSignature4& seen = *seen_refracted;
-            for (int i = 0; i < 4; ++i)
-              signature->refracted[i] =
-                  !do_refract[i] ? 0u : depth == 0 ? hit_then(seen.object[i], seen.refracted[i]) : seen.object[i];
-          }
-          for (int i = 0; i < 4; ++i)
-            if (do_refract[i]) {
-              out[0][i] += refract_weight[i].r * c.r[i];
-              out[1][i] += refract_weight[i].g * c.g[i];
-              out[2][i] += refract_weight[i].b * c.b[i];
-            }
-        }
-      }
-      // The children's probes carry the weight of the ray that reached them.
-      if (probing || footprinting)
-        for (int i = 0; i < 4; ++i) {
-          if (do_reflect[i]) scale_path(*signature, reflected_node(signature->node), i, reflect_weight[i]);
-          if (do_refract[i]) scale_path(*signature, refracted_node(signature->node), i, refract_weight[i]);
-        }
-    }
-  }
-
-  // Beer-Lambert over the segment to this hit, by the medium it crossed: the volume the
-  // ray is in, whatever it hits there (an object inside a tinted glass too); for a ray not
-  // known to be inside one that hits a surface from inside, the volume behind that surface.
-  if constexpr ((kEffects & kRefraction) != 0) {
-    if (effects_.absorption) {
-      for (int i = 0; i < 4; ++i) {
-        if (!shaded[i]) continue;
-        const int medium = crossed.inside[i];
-        if (medium < 0 && sp[i].front) continue;
-        const glm::vec3 sigma = medium >= 0 ? scene_.whitted[size_t(medium)].absorption : sp[i].material->absorption;
-        if (!(sigma.r > 0.0f || sigma.g > 0.0f || sigma.b > 0.0f)) continue;
-        glm::vec3 kept;
-        for (int c = 0; c < 3; ++c) {
-          kept[c] = std::exp(-sigma[c] * sp[i].distance);
-          out[c][i] *= kept[c];
-        }
-        if (signature && (signature->probes || signature->footprint))
-          scale_path(*signature, signature->node, i, kept);  // highlights and footprints too
-      }
-    }
-  }
-
-  // BLEND: this surface's colour over what a continuation ray sees behind it,
-  // out = alpha * surface + (1 - alpha) * behind (glTF's "over" with straight alpha).
-  if constexpr (kSeeThrough) {
-    PacketBuilder behind;
-    int blend = 0;
-    for (int i = 0; i < 4; ++i) {
-      if (!shaded[i] || !(sp[i].alpha < 1.0f) || blend_layers >= kMaxBlendLayers) continue;
-      behind.set(i, offset_ray_origin(sp[i].hit, -sp[i].ng), sp[i].dir, kInfinity);
-      blend |= 1 << i;
-    }
-    if (blend != 0) {
-      counters.continuation += uint64_t(std::popcount(unsigned(blend)));
-      // What a camera packet sees through a BLEND surface takes the refraction's node of the
-      // path tree where the surface does not refract, as glass's image does: the highlight
-      // flag probes the highlights behind the pane and the footprint its textures, which
-      // the pane's own surface does not show (1024² vase FLIP 1.489 -> 1.473x the lattice's).
-      // A lane that refracts here too (a BLEND glass) keeps the node for its refraction and
-      // traces what is behind unprobed, in a packet of its own: whether a lane is probed must
-      // not depend on the other lanes of its packet.
-      std::optional<PathSignature4> seen_behind;
-      const int behind_node = signature ? refracted_node(signature->node) : 0;
-      const bool probe_behind = signature && signature->probes && probed(behind_node);
-      const bool footprint_behind = signature && signature->footprint && footprinted(behind_node);
-      const int probed_lanes = probe_behind || footprint_behind ? blend & ~refracted_lanes : 0;
-      if (probed_lanes != 0) {
-        seen_behind.emplace();
-        seen_behind->node = behind_node;
-        if (probe_behind) seen_behind->probes = signature->probes;
-        if (footprint_behind) seen_behind->footprint = signature->footprint;
-      }
-      Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
-      if (probed_lanes != 0)
-        c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
-                                  crossed, counters, &*seen_behind, clip);
-      if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
-        const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1, throughput,
-                                             crossed, counters, nullptr, clip);
-        c = select(mask4::from_bits(unprobed), u, c);
-      }
-      for (int i = 0; i < 4; ++i) {
-        if (!((blend >> i) & 1)) continue;
-        const float a = sp[i].alpha;
-        if ((probed_lanes >> i) & 1) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
-        out[0][i] = a * out[0][i] + (1.0f - a) * c.r[i];
-        out[1][i] = a * out[1][i] + (1.0f - a) * c.g[i];
-        out[2][i] = a * out[2][i] + (1.0f - a) * c.b[i];
-      }
-    }
-  }
-
-  if (signature && signature->probes)
-    for (int i = 0; i < 4; ++i)
-      if (shaded[i]) signature->probes.at(signature->node, i).blocked = signature->blocked[i];
-
-  Rgb4 result{float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
-  // NaN (e.g. from a degenerate normal) never leaves the shader, but is counted; +Inf is capped.
-  counters.nan_radiance += uint64_t(count_lanes((isnan(result.r) | isnan(result.g) | isnan(result.b)) & active));
-  auto sanitize = [&](float4 x) {
-    return select(isnan(x) | !active, float4(0.0f), min(max(x, float4(0.0f)), float4(kRadianceMax)));
+// Direct light: one shadow packet per light, lanes that face it. The lanes are shaded
+// together (SoA float4), each with the scalar code's operations in its order.
+template <unsigned kEffects>
+void Shader::add_direct_light(Hits4& h, RayCounters& counters, PathSignature4* signature) const {
+  constexpr bool kTextured = (kEffects & kTextures) != 0;
+  constexpr bool kSeeThrough = (kEffects & kAlpha) != 0;
+  if (scene_.lights.empty()) return;
+  const LitLanes lit(h.sp, h.shaded);
+  float4 out_r = float4::load(h.out[0]), out_g = float4::load(h.out[1]), out_b = float4::load(h.out[2]);
+  // The footprint's light terms (a camera packet that asks for them only).
+  const bool footprint = signature && signature->footprint && footprinted(signature->node);
+  vec3x4 irradiance{float4(0.0f), float4(0.0f), float4(0.0f)};
+  auto add_light = [&](mask4 reached, const vec3x4& e) {
+    irradiance.x = select(reached, irradiance.x + e.x, irradiance.x);
+    irradiance.y = select(reached, irradiance.y + e.y, irradiance.y);
+    irradiance.z = select(reached, irradiance.z + e.z, irradiance.z);
   };
-  return {sanitize(result.r), sanitize(result.g), sanitize(result.b)};
+  for (size_t light_index = 0; light_index < scene_.lights.size(); ++light_index) {
+    const Light& light = scene_.lights[light_index];
+    const uint32_t light_bit = 1u << (light_index % 32);
+    const LightConstants& constants = light_constants_[light_index];
+    const LightSample4 ls = light_towards4(light, constants, lit.p);
+    const vec3x4& wi = ls.to_light;
+    const float4 cos_s = dot(lit.ns, wi);
+    // Below the flat triangle's plane the light is blocked by the triangle itself,
+    // unless the shadow ray starts lifted off it (the shadow terminator, above).
+    const mask4 facing = lit.shaded & ls.lit &
+                         !((cos_s <= float4(0.0f)) | andnot(lit.lifted, dot(lit.ng, wi) <= float4(0.0f)));
+    if (facing.none()) continue;
+    // Normalised Phong: (n+2)/(2 pi) cos^n(R, wo), energy-conserving lobe.
+    const vec3x4 r = lit.ns * (float4(2.0f) * cos_s) - wi;
+    const float4 cos_r = max(dot(r, lit.wo), float4(0.0f));
+    const float4 lobe = phong_pow4(cos_r, lit.shininess, facing);
+    const float4 phong = (lit.shininess + float4(2.0f)) * float4(0.5f) * float4(kInvPi) * lobe;
+    const vec3x4 f = lit.albedo * float4(kInvPi) + lit.specular * phong;
+    const vec3x4 contribution = (f * ls.scale) * cos_s;
+    const mask4 lanes = facing & ((contribution.x > float4(0.0f)) | (contribution.y > float4(0.0f)) |
+                                  (contribution.z > float4(0.0f)));
+    // A black corner traces no shadow ray, but its neighbours in the texture may be lit:
+    // the footprint takes the light as reaching it.
+    if (footprint) add_light(andnot(lanes, facing), (ls.scale * cos_s) * float4(kInvPi));
+    if (lanes.none()) continue;
+    if (signature && signature->light_radiance)
+      for (int i = 0; i < 4; ++i)
+        if (lanes[i]) {
+          glm::vec3& slot = signature->light_radiance[light_index % kLightSlots][i];
+          slot = glm::max(slot, glm::vec3(contribution.x[i], contribution.y[i], contribution.z[i]));
+        }
+    // Unused lanes as PacketBuilder leaves them: zero origin, +z direction, tmax 0.
+    RayPacket4 shadow;
+    shadow.ox = select(lanes, lit.origin.x, float4(0.0f));
+    shadow.oy = select(lanes, lit.origin.y, float4(0.0f));
+    shadow.oz = select(lanes, lit.origin.z, float4(0.0f));
+    vec3x4 dir;
+    float4 tmax;
+    if (light.type == Light::Type::Directional) {
+      dir = wi;
+      tmax = float4(kInfinity);
+    } else {
+      dir = constants.position - lit.origin;  // t in (0, 1) reaches the light
+      tmax = float4(1.0f - kShadowEpsilon);
+    }
+    shadow.dx = select(lanes, dir.x, float4(0.0f));
+    shadow.dy = select(lanes, dir.y, float4(0.0f));
+    shadow.dz = select(lanes, dir.z, float4(1.0f));
+    shadow.tmax = select(lanes, tmax, float4(0.0f));
+    if constexpr ((kEffects & (kAlpha | kRefraction)) != 0) {
+      PacketBuilder builder;
+      shadow.ox.store(builder.o[0]), shadow.oy.store(builder.o[1]), shadow.oz.store(builder.o[2]);
+      shadow.dx.store(builder.d[0]), shadow.dy.store(builder.d[1]), shadow.dz.store(builder.d[2]);
+      shadow.tmax.store(builder.tmax);
+      glm::vec3 through[4];
+      shadow_transmittance<kTextured, kSeeThrough, (kEffects & kRefraction) != 0>(scene_, bvh_, light, builder,
+                                                                                  lanes.bits(), through, counters);
+      alignas(16) float t[3][4];
+      for (int i = 0; i < 4; ++i) {
+        t[0][i] = through[i].r, t[1][i] = through[i].g, t[2][i] = through[i].b;
+        if (signature && lanes[i] && !(through[i].r >= 1.0f && through[i].g >= 1.0f && through[i].b >= 1.0f))
+          signature->shadowed[i] |= light_bit;
+        if (signature && lanes[i] && !(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f))
+          signature->blocked[i] |= light_bit;
+      }
+      out_r = select(lanes, out_r + contribution.x * float4::load(t[0]), out_r);
+      out_g = select(lanes, out_g + contribution.y * float4::load(t[1]), out_g);
+      out_b = select(lanes, out_b + contribution.z * float4::load(t[2]), out_b);
+      if (footprint)
+        add_light(lanes, ((ls.scale * cos_s) * float4(kInvPi)) *
+                             vec3x4{float4::load(t[0]), float4::load(t[1]), float4::load(t[2])});
+    } else {
+      counters.shadow += uint64_t(count_lanes(lanes));
+      const mask4 blocked = bvh_.occluded4(shadow, lanes);
+      if (signature) {
+        const int shadowed = (lanes & blocked).bits();
+        for (int i = 0; i < 4; ++i)
+          if ((shadowed >> i) & 1) signature->shadowed[i] |= light_bit, signature->blocked[i] |= light_bit;
+      }
+      const mask4 reached = andnot(blocked, lanes);
+      out_r = select(reached, out_r + contribution.x, out_r);
+      out_g = select(reached, out_g + contribution.y, out_g);
+      out_b = select(reached, out_b + contribution.z, out_b);
+      if (footprint) add_light(reached, (ls.scale * cos_s) * float4(kInvPi));
+    }
+  }
+  out_r.store(h.out[0]), out_g.store(h.out[1]), out_b.store(h.out[2]);
+  if (footprint)
+    for (int i = 0; i < 4; ++i) {
+      if (!h.shaded[i]) continue;
+      FootprintProbe& f = signature->footprint.at(signature->node, i);
+      f.irradiance = glm::vec3(irradiance.x[i], irradiance.y[i], irradiance.z[i]);
+    }
+}
+
+// Mirror reflection and refraction, each as one secondary packet; returns the lanes whose
+// refraction ray took the path tree's refraction node.
+template <unsigned kEffects>
+int Shader::add_reflection_and_refraction(Hits4& h, int depth, int blend_layers, float4 throughput,
+                                          RayCounters& counters, PathSignature4* signature) const {
+  int refracted_lanes = 0;
+  PacketBuilder reflected, refracted;
+  Media refracted_media = h.crossed;  // reflected rays stay in the media of their parent
+  glm::vec3 reflect_weight[4], refract_weight[4];
+  alignas(16) float path[4], reflect_path[4] = {}, refract_path[4] = {};
+  throughput.store(path);
+  auto largest = [](const glm::vec3& w) { return std::max(w.r, std::max(w.g, w.b)); };
+  bool do_reflect[4] = {false, false, false, false}, do_refract[4] = {false, false, false, false};
+  for (int i = 0; i < 4; ++i) {
+    if (!h.shaded[i]) continue;
+    const SurfacePoint& s = h.sp[i];
+    const WhittedMaterial& m = *s.material;
+    const float cos_i = std::clamp(glm::dot(s.ns, s.wo), 0.0f, 1.0f);
+    glm::vec3 kr = m.mirror;
+    bool transmit = false;
+    float eta = 1.0f;
+    if constexpr ((kEffects & kRefraction) != 0) {
+      if (m.transmits()) {
+        // n_incident / n_transmitted; a thin wall has air on both sides of its sheet. A
+        // ray enters this volume from the one it is in, or leaves it for the one around.
+        const int here = h.crossed.inside[i], self = int(scene_.material_of[size_t(h.hits.prim[i])]);
+        if (m.thin_walled) {
+          eta = 1.0f / m.ior;
+        } else if (s.front) {
+          // Entering `self` from the medium the ray is in (air after an open surface).
+          eta = (here >= 0 ? scene_.whitted[size_t(here)].ior : 1.0f) / m.ior;
+          refracted_media.inside[i] = self;
+          refracted_media.outside[i] = here;
+        } else {
+          // Leaving `self`; a ray not known to be inside it (it started there, or the mesh
+          // is open) stays in the medium it is in.
+          const int next = here == self ? h.crossed.outside[i] : here;
+          eta = m.ior / (next >= 0 ? scene_.whitted[size_t(next)].ior : 1.0f);
+          refracted_media.inside[i] = next;
+          refracted_media.outside[i] = here == self ? -1 : h.crossed.outside[i];
+        }
+        const float f = fresnel_dielectric(cos_i, eta);
+        kr = glm::vec3(f);
+        refract_weight[i] = (1.0f - f) * m.transmission;
+        transmit = f < 1.0f;
+      }
+    }
+    if (!transmit && m.fresnel_mirror && !m.transmits()) {  // Schlick from F0 = mirror
+      const float c = 1.0f - cos_i, c5 = c * c * c * c * c;
+      kr = m.mirror + (glm::vec3(1.0f) - m.mirror) * c5;
+    }
+    reflect_path[i] = path[i] * largest(kr);
+    if ((kr.r > 0.0f || kr.g > 0.0f || kr.b > 0.0f) && reflect_path[i] >= kMinThroughput) {
+      glm::vec3 r = 2.0f * glm::dot(s.ns, s.wo) * s.ns - s.wo;
+      if (glm::dot(r, s.ng) <= 0.0f) r = 2.0f * glm::dot(s.ng, s.wo) * s.ng - s.wo;
+      reflected.set(i, offset_ray_origin(s.hit, s.ng), r, kInfinity);
+      reflect_weight[i] = kr;
+      do_reflect[i] = true;
+    }
+    if constexpr ((kEffects & kRefraction) != 0) {
+      if (transmit) refract_path[i] = path[i] * largest(refract_weight[i]);
+      if (transmit && refract_path[i] >= kMinThroughput) {
+        const float cos_t = std::max(0.0f, cos_transmitted(cos_i, eta));
+        // Snell, vector form; a thin wall's two faces bend the ray back: it goes on.
+        const glm::vec3 t = m.thin_walled ? -s.wo : -eta * s.wo + (eta * cos_i - cos_t) * s.ns;
+        if (glm::dot(t, s.ng) < 0.0f) {
+          refracted.set(i, offset_ray_origin(s.hit, -s.ng), t, kInfinity);
+          do_refract[i] = true;
+        }
+      }
+    }
+  }
+  const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
+  // The secondary rays' first hits, for a camera packet's signature and probes.
+  // Made only for a packet that records a signature.
+  std::optional<PathSignature4> seen_reflected, seen_refracted;
+  const bool probing = signature && signature->probes;
+  const bool probe_reflected = probing && probed(reflected_node(signature->node));
+  const bool probe_refracted = probing && probed(refracted_node(signature->node));
+  const bool footprinting = signature && signature->footprint;
+  const bool footprint_reflected = footprinting && footprinted(reflected_node(signature->node));
+  const bool footprint_refracted = footprinting && footprinted(refracted_node(signature->node));
+  if (reflect_lanes.any()) {
+    counters.reflection += uint64_t(count_lanes(reflect_lanes));
+    if ((signature && depth <= 1) || probe_reflected || footprint_reflected) {
+      seen_reflected.emplace();
+      seen_reflected->node = reflected_node(signature->node);
+    }
+    if (probe_reflected) seen_reflected->probes = signature->probes;
+    if (footprint_reflected) seen_reflected->footprint = signature->footprint;
+    const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
+                                         float4::load(reflect_path), h.crossed, counters,
+                                         seen_reflected ? &*seen_reflected : nullptr);
+    if (seen_reflected) {
+      const PathSignature4& seen = *seen_reflected;
+      for (int i = 0; i < 4; ++i)
+        signature->reflected[i] = !do_reflect[i] ? 0u
+                                  : depth == 0   ? hit_then(seen.object[i], seen.reflected[i])
+                                  : reflect_path[i] >= kSignedMirrorPath ? seen.object[i]
+                                                                         : 0u;
+    }
+    for (int i = 0; i < 4; ++i)
+      if (do_reflect[i]) {
+        h.out[0][i] += reflect_weight[i].r * c.r[i];
+        h.out[1][i] += reflect_weight[i].g * c.g[i];
+        h.out[2][i] += reflect_weight[i].b * c.b[i];
+      }
+  }
+  if constexpr ((kEffects & kRefraction) != 0) {
+    const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
+    if (refract_lanes.any()) {
+      counters.refraction += uint64_t(count_lanes(refract_lanes));
+      refracted_lanes = refract_lanes.bits();
+      // A refracted ray's first hit is mostly the far side of the same glass; what the
+      // glass shows is the hit after that, so a camera packet's signature keeps both.
+      const bool sign = signature && depth <= 1;
+      if (sign || probe_refracted || footprint_refracted) {
+        seen_refracted.emplace();
+        seen_refracted->node = refracted_node(signature->node);
+      }
+      if (probe_refracted) seen_refracted->probes = signature->probes;
+      if (footprint_refracted) seen_refracted->footprint = signature->footprint;
+      const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
+                                           float4::load(refract_path), refracted_media, counters,
+                                           seen_refracted ? &*seen_refracted : nullptr);
+      if (seen_refracted) {
+        const PathSignature4& seen = *seen_refracted;
+        for (int i = 0; i < 4; ++i)
+          signature->refracted[i] =
+              !do_refract[i] ? 0u : depth == 0 ? hit_then(seen.object[i], seen.refracted[i]) : seen.object[i];
+      }
+      for (int i = 0; i < 4; ++i)
+        if (do_refract[i]) {
+          h.out[0][i] += refract_weight[i].r * c.r[i];
+          h.out[1][i] += refract_weight[i].g * c.g[i];
+          h.out[2][i] += refract_weight[i].b * c.b[i];
+        }
+    }
+  }
+  // The children's probes carry the weight of the ray that reached them.
+  if (probing || footprinting)
+    for (int i = 0; i < 4; ++i) {
+      if (do_reflect[i]) scale_path(*signature, reflected_node(signature->node), i, reflect_weight[i]);
+      if (do_refract[i]) scale_path(*signature, refracted_node(signature->node), i, refract_weight[i]);
+    }
+  return refracted_lanes;
+}
+
+// Beer-Lambert over the segment to each hit, by the medium it crossed: the volume the ray
+// is in, whatever it hits there (an object inside a tinted glass too); for a ray not known
+// to be inside one that hits a surface from inside, the volume behind that surface.
+void Shader::absorb_along_segment(Hits4& h, PathSignature4* signature) const {
+  for (int i = 0; i < 4; ++i) {
+    if (!h.shaded[i]) continue;
+    const int medium = h.crossed.inside[i];
+    if (medium < 0 && h.sp[i].front) continue;
+    const glm::vec3 sigma = medium >= 0 ? scene_.whitted[size_t(medium)].absorption : h.sp[i].material->absorption;
+    if (!(sigma.r > 0.0f || sigma.g > 0.0f || sigma.b > 0.0f)) continue;
+    glm::vec3 kept;
+    for (int c = 0; c < 3; ++c) {
+      kept[c] = std::exp(-sigma[c] * h.sp[i].distance);
+      h.out[c][i] *= kept[c];
+    }
+    if (signature && (signature->probes || signature->footprint))
+      scale_path(*signature, signature->node, i, kept);  // highlights and footprints too
+  }
+}
+
+// BLEND: each surface's colour over what a continuation ray sees behind it,
+// out = alpha * surface + (1 - alpha) * behind (glTF's "over" with straight alpha).
+template <unsigned kEffects>
+void Shader::blend_over_behind(Hits4& h, int refracted_lanes, int depth, int blend_layers, float4 throughput,
+                               RayCounters& counters, PathSignature4* signature, const CameraClip* clip) const {
+  PacketBuilder behind;
+  int blend = 0;
+  for (int i = 0; i < 4; ++i) {
+    if (!h.shaded[i] || !(h.sp[i].alpha < 1.0f) || blend_layers >= kMaxBlendLayers) continue;
+    behind.set(i, offset_ray_origin(h.sp[i].hit, -h.sp[i].ng), h.sp[i].dir, kInfinity);
+    blend |= 1 << i;
+  }
+  if (blend == 0) return;
+  counters.continuation += uint64_t(std::popcount(unsigned(blend)));
+  // What a camera packet sees through a BLEND surface takes the refraction's node of the
+  // path tree where the surface does not refract, as glass's image does: the highlight
+  // flag probes the highlights behind the pane and the footprint its textures, which
+  // the pane's own surface does not show (1024² vase FLIP 1.489 -> 1.473x the lattice's).
+  // A lane that refracts here too (a BLEND glass) keeps the node for its refraction and
+  // traces what is behind unprobed, in a packet of its own: whether a lane is probed must
+  // not depend on the other lanes of its packet.
+  std::optional<PathSignature4> seen_behind;
+  const int behind_node = signature ? refracted_node(signature->node) : 0;
+  const bool probe_behind = signature && signature->probes && probed(behind_node);
+  const bool footprint_behind = signature && signature->footprint && footprinted(behind_node);
+  const int probed_lanes = probe_behind || footprint_behind ? blend & ~refracted_lanes : 0;
+  if (probed_lanes != 0) {
+    seen_behind.emplace();
+    seen_behind->node = behind_node;
+    if (probe_behind) seen_behind->probes = signature->probes;
+    if (footprint_behind) seen_behind->footprint = signature->footprint;
+  }
+  Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
+  if (probed_lanes != 0)
+    c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
+                              h.crossed, counters, &*seen_behind, clip);
+  if (const int unprobed = blend & ~probed_lanes; unprobed != 0) {
+    const Rgb4 u = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(unprobed), depth, blend_layers + 1,
+                                         throughput, h.crossed, counters, nullptr, clip);
+    c = select(mask4::from_bits(unprobed), u, c);
+  }
+  for (int i = 0; i < 4; ++i) {
+    if (!((blend >> i) & 1)) continue;
+    const float a = h.sp[i].alpha;
+    if ((probed_lanes >> i) & 1) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
+    h.out[0][i] = a * h.out[0][i] + (1.0f - a) * c.r[i];
+    h.out[1][i] = a * h.out[1][i] + (1.0f - a) * c.g[i];
+    h.out[2][i] = a * h.out[2][i] + (1.0f - a) * c.b[i];
+  }
 }
 
 }  // namespace zz

@@ -182,6 +182,21 @@ class Shader {
                    const Media& media, RayCounters& counters, PathSignature4* signature,
                    const CameraClip* clip = nullptr) const;
 
+  // The kernel's stages, in the order trace4_impl runs them on one packet's hits (Hits4).
+  struct Hits4;
+  template <unsigned kEffects>
+  void shade_surfaces(const RayPacket4& rays, int active_bits, const Media& media, PathSignature4* signature,
+                      Hits4& h) const;
+  template <unsigned kEffects>
+  void add_direct_light(Hits4& h, RayCounters& counters, PathSignature4* signature) const;
+  template <unsigned kEffects>
+  int add_reflection_and_refraction(Hits4& h, int depth, int blend_layers, float4 throughput, RayCounters& counters,
+                                    PathSignature4* signature) const;
+  void absorb_along_segment(Hits4& h, PathSignature4* signature) const;
+  template <unsigned kEffects>
+  void blend_over_behind(Hits4& h, int refracted_lanes, int depth, int blend_layers, float4 throughput,
+                         RayCounters& counters, PathSignature4* signature, const CameraClip* clip) const;
+
   using Kernel = Rgb4 (Shader::*)(const RayPacket4&, mask4, int, int, float4, const Media&, RayCounters&,
                                   PathSignature4*, const CameraClip*) const;
   template <unsigned... kE>
