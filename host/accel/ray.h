@@ -36,6 +36,8 @@ struct alignas(16) RayPacket4 {
   float4 ox, oy, oz;
   float4 dx, dy, dz;
   float4 tmax;
+  glm::vec3 origin(int lane) const { return {ox[lane], oy[lane], oz[lane]}; }
+  glm::vec3 direction(int lane) const { return {dx[lane], dy[lane], dz[lane]}; }
 };
 
 struct alignas(16) HitPacket4 {

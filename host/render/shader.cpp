@@ -8,6 +8,7 @@
 
 #include "aa/signature.h"  // kLightSlots
 #include "render/normal_map.h"
+#include "render/see_through.h"
 #include "render/surface_material.h"
 
 namespace zz {
@@ -39,7 +40,8 @@ uint32_t hit_then(uint32_t first, uint32_t next) { return (first * 0x9E3779B1u) 
 
 int count_lanes(mask4 m) { return std::popcount(unsigned(m.bits())); }
 
-glm::vec3 lane(const float4& x, const float4& y, const float4& z, int i) { return {x[i], y[i], z[i]}; }
+// Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
+constexpr int kMaxBlendLayers = 8;
 
 // What the shader needs at one lane's hit point.
 struct SurfacePoint {
@@ -57,35 +59,6 @@ struct SurfacePoint {
   const WhittedMaterial* material = nullptr;
   WhittedMaterial local;  // the material at this point when its inputs vary per hit
 };
-
-// Where a lane's ray hit; lanes are rewritten when a ray continues past a cut-out.
-struct LaneHits {
-  float t[4], u[4], v[4];
-  int prim[4];
-  explicit LaneHits(const HitPacket4& h) {
-    for (int i = 0; i < 4; ++i) t[i] = h.t[i], u[i] = h.u[i], v[i] = h.v[i], prim[i] = h.prim[i];
-  }
-  void take(const HitPacket4& h, int i) { t[i] = h.t[i], u[i] = h.u[i], v[i] = h.v[i], prim[i] = h.prim[i]; }
-};
-
-// glTF coverage at a point: 1 opaque; MASK gives 0 or 1 by the cutoff; BLEND the alpha.
-float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
-  if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
-  float a = m.base_alpha;
-  if (m.base_color_texture.used()) a *= tc.sample(scene, m.base_color_texture).a;
-  if (m.alpha_mode == AlphaMode::Mask) return a >= m.alpha_cutoff ? 1.0f : 0.0f;
-  return std::clamp(a, 0.0f, 1.0f);
-}
-
-// The Whitted material at a hit (render/surface_material.h); untextured kernels skip the
-// lookups.
-template <bool kTextured>
-const WhittedMaterial& material_at(const Scene& scene, uint32_t index, const Texcoords* tc, WhittedMaterial& local,
-                                   glm::vec3& albedo) {
-  if constexpr (kTextured) return textured_material(scene, index, *tc, local, albedo);
-  albedo = scene.whitted[index].diffuse;
-  return scene.whitted[index];
-}
 
 // The tangent-space normal map's normal, in world space (glTF: n = 2 * texel - 1, x and y
 // scaled by normalTexture.scale; +X along the tangent, +Y along w * cross(N, T)).
@@ -143,26 +116,6 @@ glm::vec3 lift_to_smooth_surface(glm::vec3 p, const glm::vec3* vertices, const g
   return lifted;
 }
 
-// Fills a packet lane by lane, then loads it once. Unused lanes stay harmless
-// (zero origin, +z direction, tmax 0) and are masked off anyway.
-struct PacketBuilder {
-  alignas(16) float o[3][4] = {};
-  alignas(16) float d[3][4] = {{0, 0, 0, 0}, {0, 0, 0, 0}, {1, 1, 1, 1}};
-  alignas(16) float tmax[4] = {};
-
-  void set(int i, glm::vec3 origin, glm::vec3 dir, float t) {
-    for (int c = 0; c < 3; ++c) {
-      o[c][i] = origin[c];
-      d[c][i] = dir[c];
-    }
-    tmax[i] = t;
-  }
-  RayPacket4 packet() const {
-    return {float4::load(o[0]), float4::load(o[1]), float4::load(o[2]), float4::load(d[0]),
-            float4::load(d[1]), float4::load(d[2]), float4::load(tmax)};
-  }
-};
-
 // The lanes' hit points as the per-light loop needs them, SoA; lanes not shaded hold zeros
 // (cos_s = 0: never lit).
 struct LitLanes {
@@ -199,158 +152,6 @@ float4 phong_pow4(float4 cos_r, float4 shininess, mask4 lanes) {
   for (int i = 0; i < 4; ++i)
     if ((todo >> i) & 1) out[i] = std::pow(c[i], n[i]);
   return float4::load(out);
-}
-
-// Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss.
-constexpr int kMaxSeeThroughLayers = 16;
-// Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
-constexpr int kMaxBlendLayers = 8;
-
-// Where a ray going on along `dir` past the hit at barycentrics (u, v) of the triangle at
-// t3 starts: just behind the surface, on the side `dir` leaves it by.
-glm::vec3 origin_behind(const Scene& scene, size_t t3, float u, float v, const glm::vec3& dir) {
-  const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-  glm::vec3 n = triangle_normal(p0, p1, p2);
-  if (glm::dot(n, dir) < 0.0f) n = -n;
-  return offset_ray_origin(interpolate_hit(p0, p1, p2, u, v), n);
-}
-
-// Traces the `lanes` of `rays` again and takes their hits (a continuation: counted so).
-void continue_lanes(const Bvh& bvh, const PacketBuilder& rays, int lanes, LaneHits& hits, RayCounters& counters) {
-  counters.continuation += uint64_t(std::popcount(unsigned(lanes)));
-  HitPacket4 next;
-  bvh.intersect4(rays.packet(), mask4::from_bits(lanes), next);
-  for (int i = 0; i < 4; ++i)
-    if ((lanes >> i) & 1) hits.take(next, i);
-}
-
-// Lane i's hit point, interpolated on its triangle.
-glm::vec3 hit_point(const Scene& scene, const LaneHits& hits, int i) {
-  const size_t t3 = size_t(hits.prim[i]) * 3;
-  return interpolate_hit(scene.positions[t3], scene.positions[t3 + 1], scene.positions[t3 + 2], hits.u[i], hits.v[i]).p;
-}
-
-// Moves the active lanes that hit a cut-out texel (MASK below the cutoff, BLEND alpha 0)
-// on to the first surface behind it, one packet per layer; `skipped` gets the distance
-// travelled through them. Bounded: beyond kMaxSeeThroughLayers a ray escapes (a miss).
-void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int active_bits, LaneHits& hits,
-                  float skipped[4], RayCounters& counters) {
-  for (int layer = 0;; ++layer) {
-    PacketBuilder behind;
-    int again = 0;
-    for (int i = 0; i < 4; ++i) {
-      if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-      const size_t t3 = size_t(hits.prim[i]) * 3;
-      const Material& m = scene.materials[scene.material_of[size_t(hits.prim[i])]];
-      if (!m.see_through() || coverage(scene, m, Texcoords(scene, t3, hits.u[i], hits.v[i])) > 0.0f) continue;
-      if (layer == kMaxSeeThroughLayers) {
-        hits.prim[i] = -1;
-        continue;
-      }
-      const glm::vec3 dir = lane(rays.dx, rays.dy, rays.dz, i);
-      const glm::vec3 origin = origin_behind(scene, t3, hits.u[i], hits.v[i], dir);
-      skipped[i] += hits.t[i] * glm::length(dir);
-      behind.set(i, origin, dir, kInfinity);
-      again |= 1 << i;
-    }
-    if (again == 0) break;
-    continue_lanes(bvh, behind, again, hits, counters);
-  }
-}
-
-// Camera clipping (scene/camera.h CameraClip). A lane whose first hit lies nearer than the
-// near plane is traced again from where it crosses the plane (`skipped` gets the distance
-// to it); a lane moving along or away from the plane from before it sees nothing.
-void clip_near(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, int active_bits, LaneHits& hits,
-               float skipped[4], const CameraClip& clip, RayCounters& counters) {
-  if (!(clip.znear > 0.0f)) return;
-  PacketBuilder from_plane;
-  int again = 0;
-  for (int i = 0; i < 4; ++i) {
-    if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-    if (clip.depth(hit_point(scene, hits, i)) >= clip.znear) continue;
-    const glm::vec3 origin = lane(rays.ox, rays.oy, rays.oz, i), dir = lane(rays.dx, rays.dy, rays.dz, i);
-    const float along = glm::dot(dir, clip.forward);
-    if (!(along > 0.0f)) {
-      hits.prim[i] = -1;
-      continue;
-    }
-    const float s = std::max(0.0f, (clip.znear - clip.depth(origin)) / along);  // in units of |dir|
-    from_plane.set(i, origin + dir * s, dir, kInfinity);
-    skipped[i] += s * glm::length(dir);
-    again |= 1 << i;
-  }
-  if (again != 0) continue_lanes(bvh, from_plane, again, hits, counters);
-}
-
-// A lane whose hit lies beyond the far plane sees the background.
-void clip_far(const Scene& scene, int active_bits, LaneHits& hits, const CameraClip& clip) {
-  if (!(clip.zfar < kInfinity)) return;
-  for (int i = 0; i < 4; ++i) {
-    if (!((active_bits >> i) & 1) || hits.prim[i] < 0) continue;
-    if (clip.depth(hit_point(scene, hits, i)) > clip.zfar) hits.prim[i] = -1;
-  }
-}
-
-// The light arriving along each lane of a shadow packet through see-through surfaces:
-// alpha cut-outs and BLEND surfaces pass (1 - alpha) of it, transmissive non-metal
-// surfaces transmission x base colour at each crossing, and the path inside a volume
-// exp(-sigma_a d) (Beer's law). The shadow ray is not bent. A lane that hits anything
-// opaque, or more than kMaxSeeThroughLayers surfaces, gets zero.
-template <bool kTextured, bool kSeeThrough, bool kGlass>
-void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light, PacketBuilder& rays, int lanes,
-                          glm::vec3 through[4], RayCounters& counters) {
-  for (int i = 0; i < 4; ++i) through[i] = glm::vec3((lanes >> i) & 1 ? 1.0f : 0.0f);
-  for (int layer = 0; layer <= kMaxSeeThroughLayers && lanes != 0; ++layer) {
-    counters.shadow += uint64_t(std::popcount(unsigned(lanes)));
-    HitPacket4 packet_hits;
-    bvh.intersect4(rays.packet(), mask4::from_bits(lanes), packet_hits);
-    const LaneHits hits(packet_hits);
-    int next = 0;
-    for (int i = 0; i < 4; ++i) {
-      if (!((lanes >> i) & 1) || hits.prim[i] < 0) continue;  // reached the light
-      if (layer == kMaxSeeThroughLayers) {
-        through[i] = glm::vec3(0.0f);
-        continue;
-      }
-      const size_t t3 = size_t(hits.prim[i]) * 3;
-      const uint32_t index = scene.material_of[size_t(hits.prim[i])];
-      const Material& m = scene.materials[index];
-      const glm::vec3 &p0 = scene.positions[t3], &p1 = scene.positions[t3 + 1], &p2 = scene.positions[t3 + 2];
-      const glm::vec3 dir(rays.d[0][i], rays.d[1][i], rays.d[2][i]);
-      const Texcoords tc(scene, t3, hits.u[i], hits.v[i]);
-      const float alpha = kSeeThrough ? coverage(scene, m, tc) : 1.0f;
-      glm::vec3 tint(0.0f);
-      bool exits_volume = false;
-      if constexpr (kGlass) {
-        WhittedMaterial local;
-        glm::vec3 albedo;
-        const WhittedMaterial& w = material_at<kTextured>(scene, index, &tc, local, albedo);
-        tint = w.transmission;
-        const glm::vec3 ng = glm::cross(p1 - p0, p2 - p0);
-        exits_volume = w.transmits() && glm::dot(ng, dir) > 0.0f;  // hit from inside
-      }
-      glm::vec3 f = glm::vec3(1.0f - alpha) + alpha * tint;
-      if constexpr (kGlass) {
-        if (exits_volume) {
-          const glm::vec3 sigma = scene.whitted[index].absorption;
-          const float d = hits.t[i] * glm::length(dir);
-          f *= glm::exp(-sigma * d);
-        }
-      }
-      through[i] *= f;
-      if (!(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f)) {
-        through[i] = glm::vec3(0.0f);
-        continue;
-      }
-      // Continue from just behind the surface, towards the same light.
-      const glm::vec3 origin = origin_behind(scene, t3, hits.u[i], hits.v[i], dir);
-      if (light.type == Light::Type::Directional) rays.set(i, origin, dir, kInfinity);
-      else rays.set(i, origin, light.position - origin, 1.0f - kShadowEpsilon);
-      next |= 1 << i;
-    }
-    lanes = next;
-  }
 }
 
 }  // namespace
@@ -421,7 +222,7 @@ void Shader::primary4_impl(const RayPacket4& rays, PrimaryHit4& out, RayCounters
       continue;
     }
     SurfacePoint s;
-    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), hits, i, skipped[i], s);
+    glm::vec3 ns = surface_geometry(scene_, rays.direction(i), hits, i, skipped[i], s);
     const uint32_t mat_index = scene_.material_of[size_t(hits.prim[i])];
     const Material& m = scene_.materials[mat_index];
     glm::vec3 base = m.base_color;
@@ -516,7 +317,7 @@ void Shader::shade_surfaces(const RayPacket4& rays, int active_bits, const Media
     const float u = h.hits.u[i], v = h.hits.v[i];
     const size_t t3 = size_t(prim) * 3;
     SurfacePoint& s = h.sp[i];
-    glm::vec3 ns = surface_geometry(scene_, lane(rays.dx, rays.dy, rays.dz, i), h.hits, i, h.skipped[i], s);
+    glm::vec3 ns = surface_geometry(scene_, rays.direction(i), h.hits, i, h.skipped[i], s);
     const uint32_t mat_index = scene_.material_of[prim];
     if (signature) signature->object[i] = mat_index + 1;
     glm::vec3 emission = scene_.whitted[mat_index].emission;

@@ -5,6 +5,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -54,6 +55,24 @@ inline const WhittedMaterial& textured_material(const Scene& scene, uint32_t ind
   whitted_surface(local, p);
   albedo = local.diffuse;
   return local;
+}
+
+// glTF coverage at a point: 1 opaque; MASK gives 0 or 1 by the cutoff; BLEND the alpha.
+inline float coverage(const Scene& scene, const Material& m, const Texcoords& tc) {
+  if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
+  float a = m.base_alpha;
+  if (m.base_color_texture.used()) a *= tc.sample(scene, m.base_color_texture).a;
+  if (m.alpha_mode == AlphaMode::Mask) return a >= m.alpha_cutoff ? 1.0f : 0.0f;
+  return std::clamp(a, 0.0f, 1.0f);
+}
+
+// The Whitted material at a hit, as textured_material; untextured kernels skip the lookups.
+template <bool kTextured>
+const WhittedMaterial& material_at(const Scene& scene, uint32_t index, const Texcoords* tc, WhittedMaterial& local,
+                                   glm::vec3& albedo) {
+  if constexpr (kTextured) return textured_material(scene, index, *tc, local, albedo);
+  albedo = scene.whitted[index].diffuse;
+  return scene.whitted[index];
 }
 
 }  // namespace zz
