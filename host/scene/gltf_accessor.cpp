@@ -212,6 +212,10 @@ std::vector<uint32_t> read_indices(const tinygltf::Model& model, int index, cons
     if (acc.count > kMaxZeroElements) throw Error(where + ": index accessor without bufferView is too large");
     return std::vector<uint32_t>(acc.count, 0);
   }
+  if (size_t(acc.bufferView) < model.bufferViews.size() && model.bufferViews[size_t(acc.bufferView)].byteStride != 0)
+    throw Error(where + ": index accessor " + std::to_string(index) + " reads bufferView " +
+                std::to_string(acc.bufferView) +
+                ", which has a byteStride: index data must be tightly packed (glTF 2.0: byteStride is for vertex attributes only)");
   Range r = view_range(model, acc.bufferView, acc.byteOffset, acc.count, component_size(t), false, where);
   std::vector<uint32_t> out(acc.count, 0);
   for (size_t i = 0; i < acc.count; ++i) out[i] = fetch_index(r.base + i * r.stride, t);

@@ -65,13 +65,6 @@ bool file_exists(const std::string& path, void*) {
   return std::filesystem::exists(path, ec);
 }
 
-// tinygltf's reader of the .bin files and images a glTF names.
-bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
-  std::string why;
-  if (read_regular_file(path, kMaxFileBytes, out, &why)) return true;
-  if (err) *err += why + "\n";  // tinygltf names the file
-  return false;
-}
 
 // glTF 1.0 (and a future 3.x) is another format: its .glb has container version 1, which
 // tinygltf reports as an invalid binary, and its .gltf parses without a word.
@@ -143,6 +136,68 @@ std::vector<std::string> external_uris(std::string_view json_text) {
   return uris;
 }
 
+// The external buffers of a glTF's JSON with their byteLength (the valid ones only).
+std::vector<std::pair<std::string, uint64_t>> external_buffer_lengths(std::string_view json_text) {
+  std::vector<std::pair<std::string, uint64_t>> buffers;
+  if (json_nesting_depth(json_text) > kMaxJsonDepth) return buffers;
+  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return buffers;
+  for (const nlohmann::json& b : j["buffers"])
+    if (b.is_object() && b.contains("uri") && b["uri"].is_string() && names_a_file(b["uri"]) &&
+        b.contains("byteLength") && b["byteLength"].is_number_unsigned())
+      buffers.emplace_back(b["uri"].get<std::string>(), b["byteLength"].get<uint64_t>());
+  return buffers;
+}
+
+// The bytes a base64 payload decodes to, if it is strict base64 (RFC 4648 §4: the
+// alphabet, padded to a multiple of 4 characters); none otherwise.
+std::optional<uint64_t> base64_decoded_size(std::string_view payload) {
+  if (payload.size() % 4 != 0) return std::nullopt;
+  size_t pad = 0;
+  while (pad < 2 && pad < payload.size() && payload[payload.size() - 1 - pad] == '=') ++pad;
+  for (size_t i = 0; i + pad < payload.size(); ++i) {
+    const char c = payload[i];
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/')) return std::nullopt;
+  }
+  return uint64_t(payload.size() / 4 * 3 - pad);
+}
+
+// A buffer whose data: URI holds another number of bytes than its byteLength: tinygltf
+// says "Failed to decode" and quotes the whole payload, megabytes of base64.
+void check_embedded_buffers(std::string_view json_text, const std::string& file) {
+  if (json_nesting_depth(json_text) > kMaxJsonDepth) return;
+  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return;
+  for (size_t i = 0; i < j["buffers"].size(); ++i) {
+    const nlohmann::json& b = j["buffers"][i];
+    if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string() || !b.contains("byteLength") ||
+        !b["byteLength"].is_number_unsigned())
+      continue;
+    const std::string& uri = b["uri"].get_ref<const std::string&>();
+    const size_t comma = uri.find(";base64,");
+    if (uri.rfind("data:", 0) != 0 || comma == std::string::npos) continue;
+    const std::optional<uint64_t> bytes = base64_decoded_size(std::string_view(uri).substr(comma + 8));
+    const uint64_t length = b["byteLength"].get<uint64_t>();
+    if (bytes && *bytes != length)
+      throw Error(file + ": buffer " + std::to_string(i) + ": its data: URI holds " + std::to_string(*bytes) +
+                  " bytes, but its byteLength says " + std::to_string(length));
+  }
+}
+
+// `message` with each data: URI in it cut to its first characters: tinygltf quotes a URI it
+// cannot decode whole.
+std::string elide_data_uris(std::string message) {
+  constexpr size_t kKept = 48;
+  for (size_t at = message.find("data:"); at != std::string::npos; at = message.find("data:", at + 1)) {
+    size_t end = at;
+    while (end < message.size() && !std::isspace(static_cast<unsigned char>(message[end]))) ++end;
+    if (end - at <= kKept + 16) continue;
+    const std::string note = "... (" + std::to_string(end - at) + " characters)";
+    message.replace(at + kKept, end - at - kKept, note);
+  }
+  return message;
+}
+
 // tinygltf 2.7 decodes a URI with '+' as a space and then looks for the file next to the
 // glTF and, failing that, in the working directory. Its path callback is handed the path it
 // made and returns the one it reads: the file the URI names next to the glTF, and nothing
@@ -161,6 +216,15 @@ class UriResolver {
     std::error_code ec;
     if (!std::filesystem::exists(*it->second, ec)) missing_.push_back({percent_decode(first_uri_[it->first], UriReading::Tinygltf), *it->second});
     return *it->second;
+  }
+
+  // The byteLength of the external buffer stored in `file` (as resolve() returned it);
+  // none when no buffer names it, or buffers naming it disagree.
+  std::optional<uint64_t> buffer_length(const std::string& file) {
+    if (!map_) build();
+    const auto it = buffer_length_.find(file);
+    if (it == buffer_length_.end()) return std::nullopt;
+    return it->second;
   }
 
   // tinygltf's "File not found : <its decoding>" names the file the URI names.
@@ -193,6 +257,11 @@ class UriResolver {
       }
       first_uri_.emplace(key, uri);
     }
+    for (const auto& [uri, length] : external_buffer_lengths(json_)) {
+      const std::string file = external_file(gltf_, uri)->string();
+      const auto [it, fresh] = buffer_length_.emplace(file, length);
+      if (!fresh && it->second != length) it->second.reset();
+    }
   }
 
   std::filesystem::path gltf_;
@@ -201,10 +270,27 @@ class UriResolver {
   std::map<std::string, std::string> first_uri_;
   std::map<std::string, std::pair<std::string, std::string>> ambiguous_;
   std::vector<std::pair<std::string, std::string>> missing_;
+  std::map<std::string, std::optional<uint64_t>> buffer_length_;
 };
 
 std::string resolve_uri_path(const std::string& tinygltf_path, void* resolver) {
   return static_cast<UriResolver*>(resolver)->resolve(tinygltf_path);
+}
+
+// tinygltf's reader of the .bin files and images a glTF names. A .bin longer than its
+// buffer's byteLength is valid glTF (the validator only refuses a shorter one; Khronos's
+// SimpleMaterial sample pads its .bin), but tinygltf 2.7 wants the sizes equal: it is
+// handed the buffer's bytes, as a .glb's longer BIN chunk already is.
+bool read_whole_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* resolver) {
+  std::string why;
+  if (!read_regular_file(path, kMaxFileBytes, out, &why)) {
+    if (err) *err += why + "\n";  // tinygltf names the file
+    return false;
+  }
+  if (const std::optional<uint64_t> length = static_cast<UriResolver*>(resolver)->buffer_length(path);
+      length && *length < out->size())
+    out->resize(size_t(*length));
+  return true;
 }
 
 }  // namespace
@@ -220,11 +306,13 @@ std::vector<std::filesystem::path> external_files(const std::filesystem::path& g
   if (!std::filesystem::is_regular_file(gltf, ec)) return files;  // a FIFO would block the read
   std::vector<unsigned char> bytes;
   std::string_view json_text;
-  if (lowercase_extension(gltf) == ".glb") {
+  std::ifstream in(gltf, std::ios::binary);
+  char magic[4] = {};
+  if (in.read(magic, 4) && std::memcmp(magic, "glTF", 4) == 0) {  // binary by its content, as read_gltf_model
     // The header and the JSON chunk only: the buffers that follow can be hundreds of MB.
-    std::ifstream in(gltf, std::ios::binary);
     bytes.resize(20);
-    if (!in.read(reinterpret_cast<char*>(bytes.data()), 20)) return files;
+    std::memcpy(bytes.data(), magic, 4);
+    if (!in.read(reinterpret_cast<char*>(bytes.data() + 4), 16)) return files;
     const uintmax_t size = std::filesystem::file_size(gltf, ec);
     if (ec || le32(bytes, 12) > size - 20) return files;  // the header's claim, checked before any allocation
     bytes.resize(20 + size_t(le32(bytes, 12)));
@@ -251,13 +339,15 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
   const std::vector<unsigned char> bytes = read_regular_file(file, kMaxFileBytes);
   if (bytes.empty()) throw Error(file + ": empty file");
 
-  const std::string ext = lowercase_extension(path);
-  const bool binary = ext == ".glb";
+  // A .glb starts with the magic "glTF" and JSON with '{' (after blanks): the content
+  // decides, so a binary glTF saved as .gltf (or the other way round) still loads.
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (binary) require_gltf2_container(bytes, file);
   const std::string_view json =
       binary ? glb_json(bytes) : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (json_nesting_depth(json) > kMaxJsonDepth)
     throw Error(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels; not a glTF scene");
+  check_embedded_buffers(json, file);
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keep_encoded, &model);  // it checks an image's bufferView against the model's buffers
@@ -277,11 +367,12 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     throw Error(file + ": cannot parse glTF (" + e.what() + ")");
   }
   if (!ok) {
-    std::string msg = err.empty() ? "cannot parse glTF" : resolver.explain(err);
+    std::string msg = err.empty() ? "cannot parse glTF" : elide_data_uris(resolver.explain(err));
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);
   }
+  if (warning) *warning = elide_data_uris(*warning);
   require_gltf2_asset(model, file);
 }
 

@@ -40,9 +40,9 @@ std::optional<std::filesystem::path> external_file(const std::filesystem::path& 
 // never throws: whatever it cannot read is left out, and loading the file says why.
 std::vector<std::filesystem::path> external_files(const std::filesystem::path& gltf);
 
-// Reads and parses `path` (.glb by its extension, else glTF JSON); zz::Error naming the
-// file on anything wrong. Images keep their encoded bytes (gltf_image.h). Warnings from
-// tinygltf go to *warning.
+// Reads and parses `path` (binary glTF by its magic "glTF", whatever its extension, else
+// glTF JSON); zz::Error naming the file on anything wrong. Images keep their encoded bytes
+// (gltf_image.h). Warnings from tinygltf go to *warning.
 void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, std::string* warning);
 
 }  // namespace zz::gltf

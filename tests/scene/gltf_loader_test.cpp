@@ -3,8 +3,10 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <fstream>
 #include <limits>
 
 #include "core/error.h"
@@ -481,6 +483,79 @@ TEST(GltfLoader, DeeplyNestedJsonIsAnErrorNotAStackOverflow) {
   b.doc["asset"]["generator"] = std::string(1000, '[') + "\"{";
   EXPECT_EQ(load_scene(b.write(dir, "ok"), kQuiet).triangle_count(), 1u);
   EXPECT_EQ(load_scene(b.write_glb(dir, "ok"), kQuiet).triangle_count(), 1u);
+}
+
+// A .bin longer than its buffer's byteLength is valid glTF (Khronos's SimpleMaterial pads
+// its .bin); tinygltf 2.7 refused it as a "File size mismatch". A shorter one stays an error.
+TEST(GltfLoader, ExternalBufferLongerThanItsByteLengthLoads) {
+  const auto dir = test::temp_dir("longbin");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  const auto gltf = b.write(dir);
+  std::ofstream(dir / "model.bin", std::ios::binary | std::ios::app).write("padding!", 8);
+  const Scene s = load_scene(gltf, kQuiet);
+  EXPECT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.positions[1], {1, 0, 0});
+  std::filesystem::resize_file(dir / "model.bin", b.bin.size() - 4);
+  expect_error([&] { load_scene(gltf, kQuiet); }, "model.bin");
+}
+
+// An embedded buffer whose data: URI decodes to another length than its byteLength is
+// refused in one short line; tinygltf quoted the whole payload (1.4 MB of text for 1 MB).
+TEST(GltfLoader, EmbeddedBufferOfTheWrongLengthSaysSoBriefly) {
+  const auto dir = test::temp_dir("embedlen");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  b.bin.resize(30000, 0);
+  b.write(dir);
+  nlohmann::json doc = nlohmann::json::parse(std::ifstream(dir / "model.gltf"));
+  const std::string payload(40000, 'A');  // 30000 zero bytes in base64
+  doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + payload;
+  doc["buffers"][0]["byteLength"] = 30004;
+  test::write_text(dir / "bad_length.gltf", doc.dump());
+  try {
+    load_scene(dir / "bad_length.gltf", kQuiet);
+    ADD_FAILURE() << "loaded";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("buffer 0: its data: URI holds 30000 bytes, but its byteLength says 30004"),
+              std::string::npos) << e.what();
+  }
+  // Not base64 at all: tinygltf's own message, its URI cut short.
+  doc["buffers"][0]["uri"] = "data:application/octet-stream;base64,*" + payload.substr(1);
+  doc["buffers"][0]["byteLength"] = 30000;
+  test::write_text(dir / "bad_base64.gltf", doc.dump());
+  try {
+    load_scene(dir / "bad_base64.gltf", kQuiet);
+    ADD_FAILURE() << "loaded";
+  } catch (const Error& e) {
+    EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(40037 characters)"), std::string::npos) << e.what();
+  }
+}
+
+// The content decides between binary and JSON glTF, not the extension.
+TEST(GltfLoader, BinaryGltfLoadsWhateverItsExtension) {
+  const auto dir = test::temp_dir("misnamed");
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  std::filesystem::rename(b.write_glb(dir), dir / "binary.gltf");
+  EXPECT_EQ(load_scene(dir / "binary.gltf", kQuiet).triangle_count(), 1u);
+  const auto json = b.write(dir, "text");
+  std::filesystem::rename(json, dir / "text.glb");
+  EXPECT_EQ(load_scene(dir / "text.glb", kQuiet).triangle_count(), 1u);
+  EXPECT_EQ(gltf::external_files(dir / "text.glb"), std::vector<std::filesystem::path>{dir / "text.bin"});
+}
+
+// glTF 2.0: byteStride is for vertex attributes; an index view with one is named as such.
+TEST(GltfLoader, IndexViewWithAByteStrideIsRefusedByName) {
+  GltfBuilder b;
+  const int m = b.mesh("tri", kTriPos, kTriNrm);
+  const int indices = b.indices({0, 1, 2, 0});
+  b.doc["accessors"][size_t(indices)]["count"] = 3;
+  b.doc["bufferViews"][b.doc["accessors"][size_t(indices)]["bufferView"].get<size_t>()]["byteStride"] = 4;
+  b.doc["meshes"][size_t(m)]["primitives"][0]["indices"] = indices;
+  b.node({{"mesh", m}});
+  expect_error([&] { load_scene(b.write(test::temp_dir("idxstride")), kQuiet); }, "which has a byteStride");
 }
 
 TEST(GltfFile, NestingDepthCountsBracketsOutsideStrings) {
