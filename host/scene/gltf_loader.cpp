@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -133,6 +134,10 @@ std::vector<float> uv_gradient_tangents(const std::vector<float>& pos, const std
   }
   return out;
 }
+
+// Beyond this a triangle's coordinates are dropped: the watertight test multiplies two
+// of them (edge functions), and their product must stay within float's range (3.4e38).
+constexpr float kMaxCoordinate = 1e18f;
 
 struct Loader {
   const tinygltf::Model& model;
@@ -450,6 +455,10 @@ struct Loader {
       // Strips and fans to a triangle list, keeping the glTF winding (spec 3.7.2.1).
       std::vector<uint32_t> tri;
       if (mode == TINYGLTF_MODE_TRIANGLES) {
+        if (const size_t extra = index.size() % 3; extra != 0)
+          warn(mesh_name + " primitive " + std::to_string(p) + ": " + std::to_string(index.size()) +
+               (prim.indices >= 0 ? " indices" : " vertices") +
+               " for TRIANGLES, not a multiple of 3: the last " + std::to_string(extra) + " ignored");
         tri.assign(index.begin(), index.begin() + (index.size() / 3) * 3);
       } else {
         for (size_t i = 2; i < index.size(); ++i) {
@@ -477,16 +486,39 @@ struct Loader {
           const float* q = &pos[size_t(v[k]) * 3];
           w[k] = glm::vec3(world * glm::vec4(q[0], q[1], q[2], 1.0f));
         }
-        const glm::vec3 e1 = w[1] - w[0], e2 = w[2] - w[0];
-        const glm::vec3 c = glm::cross(e1, e2);
-        const float area2 = glm::dot(c, c);
-        // Zero area, also relative to the edge lengths (collinear up to float rounding).
-        if (!(area2 > 1e-14f * glm::dot(e1, e1) * glm::dot(e2, e2)) || !finite(w[0]) ||
-            !finite(w[1]) || !finite(w[2])) {
+        if (!finite(w[0]) || !finite(w[1]) || !finite(w[2])) {
           ++scene.dropped_degenerate;
           continue;
         }
-        const glm::vec3 flat = c / std::sqrt(area2);
+        const glm::vec3 extent = glm::max(glm::max(glm::abs(w[0]), glm::abs(w[1])), glm::abs(w[2]));
+        if (std::max(extent.x, std::max(extent.y, extent.z)) > kMaxCoordinate) {
+          ++scene.dropped_degenerate, ++dropped_far;
+          continue;
+        }
+        const glm::vec3 e1 = w[1] - w[0], e2 = w[2] - w[0];
+        const glm::vec3 c = glm::cross(e1, e2);
+        const float area2 = glm::dot(c, c), least = 1e-14f * glm::dot(e1, e1) * glm::dot(e2, e2);
+        glm::vec3 flat;
+        if (area2 <= std::numeric_limits<float>::max() && least <= std::numeric_limits<float>::max()) {
+          // Zero area, also relative to the edge lengths (collinear up to float rounding).
+          if (!(area2 > least)) {
+            ++scene.dropped_degenerate;
+            if (area2 == 0.0f && glm::dot(glm::cross(glm::dvec3(e1), glm::dvec3(e2)), glm::cross(glm::dvec3(e1), glm::dvec3(e2))) > 0.0)
+              ++dropped_tiny;  // a true area float's squares cannot hold
+            continue;
+          }
+          flat = c / std::sqrt(area2);
+        } else {
+          // Edges of 1e10 units and more (a planet in metres): their squares overflow float;
+          // the same test in double.
+          const glm::dvec3 d1(e1), d2(e2), dc = glm::cross(d1, d2);
+          const double darea2 = glm::dot(dc, dc);
+          if (!(darea2 > 1e-14 * glm::dot(d1, d1) * glm::dot(d2, d2))) {
+            ++scene.dropped_degenerate;
+            continue;
+          }
+          flat = glm::vec3(dc / std::sqrt(darea2));
+        }
         glm::vec3 n[3] = {flat, flat, flat};
         if (!nrm.empty()) {
           for (int k = 0; k < 3; ++k) {
@@ -538,6 +570,16 @@ struct Loader {
   }
 
   // ---- nodes ------------------------------------------------------------------------------
+  // glTF 2.0 §5.25: a node's matrix must be an affine TRS, its last row 0 0 0 1. (With a
+  // matrix, tinygltf 2.7 drops the node's translation, rotation and scale unread.)
+  void warn_about_matrix(int node_index) const {
+    const tinygltf::Node& n = model.nodes[size_t(node_index)];
+    if (n.matrix.size() != 16) return;
+    if (n.matrix[3] != 0.0 || n.matrix[7] != 0.0 || n.matrix[11] != 0.0 || n.matrix[15] != 1.0)
+      warn("node " + std::to_string(node_index) + (n.name.empty() ? "" : " '" + n.name + "'") +
+           "'s matrix is not affine (its last row is not 0 0 0 1); that row is ignored");
+  }
+
   static glm::mat4 local_matrix(const tinygltf::Node& n) {
     if (n.matrix.size() == 16) {
       glm::mat4 m;
@@ -561,6 +603,9 @@ struct Loader {
   // own stack, so a valid chain of any depth loads.
   std::vector<bool> visited;
 
+  size_t dropped_far = 0;   // triangles beyond kMaxCoordinate
+  size_t dropped_tiny = 0;  // triangles too small for float (their area's square underflows)
+
   void visit(int root, const glm::mat4& parent) {
     visited.resize(model.nodes.size(), false);
     std::vector<std::pair<int, glm::mat4>> stack = {{root, parent}};
@@ -583,6 +628,7 @@ struct Loader {
   // One node's own content at its world transform, which it returns for its children.
   glm::mat4 visit_node(int node_index, const glm::mat4& parent) {
     const tinygltf::Node& node = model.nodes[size_t(node_index)];
+    warn_about_matrix(node_index);
     const glm::mat4 world = parent * (animation.animates(node_index)
                                           ? animation.pose(node_index, gltf::rest_pose(node), float(options.time.value_or(0.0))).matrix()
                                           : local_matrix(node));
@@ -753,6 +799,10 @@ struct Loader {
     if (l.type == Light::Type::Spot) {
       l.inner_cone = float(g.spot.innerConeAngle);
       l.outer_cone = float(g.spot.outerConeAngle);
+      if (l.inner_cone >= l.outer_cone && l.outer_cone > 0.0f)
+        warn("spot light '" + l.name + "' has innerConeAngle " + std::to_string(g.spot.innerConeAngle) +
+             " >= outerConeAngle " + std::to_string(g.spot.outerConeAngle) +
+             " (glTF requires inner < outer): its cone has a hard edge at the outer angle");
     }
     if (!finite(l.intensity) || !finite(l.position)) throw Error(file + ": light '" + l.name + "' is not finite");
     if (const std::string problem = light_problem(l); !problem.empty())
@@ -808,7 +858,13 @@ void load_gltf_into(Scene& scene, const std::filesystem::path& path, const glm::
   scene.animation_end = std::max(scene.animation_end, loader.animation.end_time());
   const size_t dropped_before = scene.dropped_degenerate;
   loader.load_nodes(transform);
-  if (const size_t dropped = scene.dropped_degenerate - dropped_before; dropped > 0)
+  if (loader.dropped_far > 0)
+    loader.warn(std::to_string(loader.dropped_far) + " triangle(s) dropped: a vertex lies beyond +-1e18 units once placed, "
+                "farther than float ray intersection holds (scale the scene down)");
+  if (loader.dropped_tiny > 0)
+    loader.warn(std::to_string(loader.dropped_tiny) + " triangle(s) dropped: edges below about 1e-10 units, smaller "
+                "than float ray intersection holds (scale the scene up)");
+  if (const size_t dropped = scene.dropped_degenerate - dropped_before - loader.dropped_far - loader.dropped_tiny; dropped > 0)
     loader.warn(std::to_string(dropped) + " degenerate triangle(s) dropped (zero area, or vertices not finite once placed)");
 }
 

@@ -558,6 +558,59 @@ TEST(GltfLoader, IndexViewWithAByteStrideIsRefusedByName) {
   expect_error([&] { load_scene(b.write(test::temp_dir("idxstride")), kQuiet); }, "which has a byteStride");
 }
 
+// Float's squares overflow for edges of 1e10 and underflow below 1e-10: a huge triangle
+// was dropped as "zero area" from 1.2e13 on. Up to 1e18 it now loads with its normal; beyond
+// that, and below 1e-10, the warning says why it goes.
+TEST(GltfLoader, HugeTrianglesLoadAndOutOfRangeOnesAreDroppedWithTheReason) {
+  for (const float scale : {1e14f, 1e17f}) {
+    SCOPED_TRACE(scale);
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}, {"scale", {scale, scale, scale}}});  // flat normals
+    const Scene s = load_scene(b.write(test::temp_dir("huge")), kQuiet);
+    ASSERT_EQ(s.triangle_count(), 1u);
+    EXPECT_EQ(s.dropped_degenerate, 0u);
+    expect_vec(s.normals[0], {0, 0, 1});
+    expect_vec(s.positions[1], {scale, 0, 0}, scale * 1e-6f);
+  }
+  for (const auto& [scale, why] : {std::pair{1e19f, "beyond +-1e18 units"}, std::pair{1e-12f, "edges below about 1e-10"}}) {
+    SCOPED_TRACE(scale);
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}, {"scale", {scale, scale, scale}}});
+    b.node({{"mesh", b.mesh("kept", kTriPos, kTriNrm)}});
+    testing::internal::CaptureStderr();
+    const Scene s = load_scene(b.write(test::temp_dir("range")), LoadOptions{{}, false});
+    const std::string warned = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(s.triangle_count(), 1u);
+    EXPECT_EQ(s.dropped_degenerate, 1u);
+    EXPECT_NE(warned.find(std::string("1 triangle(s) dropped: ") + (scale > 1.0f ? "a vertex lies " : "") + why),
+              std::string::npos) << warned;
+    EXPECT_EQ(warned.find("degenerate"), std::string::npos) << warned;
+  }
+}
+
+// What the spec forbids but a file may still hold is loaded, with a warning: a matrix whose
+// last row is not 0 0 0 1, a TRIANGLES count not a multiple of 3, a spot light whose inner
+// cone is not inside its outer one.
+TEST(GltfLoader, InvalidButUsableValuesAreWarnedAbout) {
+  GltfBuilder b;
+  const int m = b.mesh("tri", {0, 0, 0, 1, 0, 0, 0, 1, 0, 5, 5, 5});
+  b.node({{"name", "plain"}, {"mesh", m}, {"matrix", {2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 1}}});
+  b.node({{"name", "projective"}, {"matrix", {1, 0, 0, 0.5, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}}});
+  b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"name", "cone"}, {"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}}};
+  b.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  testing::internal::CaptureStderr();
+  const Scene s = load_scene(b.write(test::temp_dir("invalid")), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(s.triangle_count(), 1u);
+  expect_vec(s.positions[1], {2, 0, 0});
+  EXPECT_EQ(warned.find("node 0"), std::string::npos) << warned;  // an affine matrix is fine
+  EXPECT_NE(warned.find("node 1 'projective''s matrix is not affine"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("4 vertices for TRIANGLES, not a multiple of 3: the last 1 ignored"), std::string::npos) << warned;
+  EXPECT_NE(warned.find("spot light 'cone' has innerConeAngle 0.6"), std::string::npos) << warned;
+}
+
 TEST(GltfFile, NestingDepthCountsBracketsOutsideStrings) {
   EXPECT_EQ(gltf::json_nesting_depth(""), 0);
   EXPECT_EQ(gltf::json_nesting_depth("{\"a\": [1, {\"b\": []}], \"c\": {}}"), 4);
