@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/error.h"
 
@@ -14,8 +15,16 @@ size_t find_camera(const Scene& scene, const std::string& spec) {
     throw Error("camera " + spec + " out of range (the scene has " + std::to_string(scene.cameras.size()) +
                 " camera" + (scene.cameras.size() == 1 ? "" : "s") + ")");
   }
+  std::vector<size_t> named;
   for (size_t i = 0; i < scene.cameras.size(); ++i)
-    if (scene.cameras[i].name == spec) return i;
+    if (scene.cameras[i].name == spec) named.push_back(i);
+  if (named.size() == 1) return named[0];
+  if (named.size() > 1) {
+    std::string indices;
+    for (size_t i : named) indices += (indices.empty() ? "" : ", ") + std::to_string(i);
+    throw Error("camera name '" + spec + "' is ambiguous: cameras " + indices + " have it (give an index, --camera " +
+                std::to_string(named[0]) + ")");
+  }
   std::string names;
   for (size_t i = 0; i < scene.cameras.size(); ++i)
     names += (i ? ", " : "") + std::to_string(i) + " '" + scene.cameras[i].name + "'";

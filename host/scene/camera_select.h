@@ -8,8 +8,9 @@
 
 namespace zz {
 
-// The camera `spec` names: an index ("0", "2") or a camera's name (first match). Throws a
-// zz::Error listing the cameras when nothing matches.
+// The camera `spec` names: an index ("0", "2") or a camera's name. Throws a zz::Error
+// listing the cameras when nothing matches, and one giving the indices when several
+// cameras have that name (a batch must not render another camera than it was told).
 size_t find_camera(const Scene& scene, const std::string& spec);
 
 struct FrameSize {

@@ -109,6 +109,25 @@ TEST(CameraRays, OrthographicRaysAreParallelFromThePlaneThroughThePosition) {
   EXPECT_EQ(pinhole.origin_at(17.25f, 200.0f), tilted().position);
 }
 
+// --camera NAME picks the one camera of that name; a name two cameras share is refused
+// with their indices (it used to pick the first without a word).
+TEST(FindCamera, ANameSeveralCamerasShareIsRefusedWithTheirIndices) {
+  Scene s;
+  for (const char* name : {"wide", "close", "wide"}) {
+    s.cameras.push_back(tilted());
+    s.cameras.back().name = name;
+  }
+  EXPECT_EQ(find_camera(s, "close"), 1u);
+  EXPECT_EQ(find_camera(s, "2"), 2u);
+  try {
+    find_camera(s, "wide");
+    ADD_FAILURE() << "an ambiguous name was taken";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("camera name 'wide' is ambiguous: cameras 0, 2 have it"), std::string::npos)
+        << e.what();
+  }
+}
+
 // The frame size rule (camera_select.h): the rig's sides, the camera's aspect for a side
 // it leaves out, 512 on the longer side; one side from the command line keeps that shape.
 TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {
