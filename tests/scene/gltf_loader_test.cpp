@@ -513,24 +513,13 @@ TEST(GltfLoader, EmbeddedBufferOfTheWrongLengthSaysSoBriefly) {
   doc["buffers"][0]["uri"] = "data:application/octet-stream;base64," + payload;
   doc["buffers"][0]["byteLength"] = 30004;
   test::write_text(dir / "bad_length.gltf", doc.dump());
-  try {
-    load_scene(dir / "bad_length.gltf", kQuiet);
-    ADD_FAILURE() << "loaded";
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("buffer 0: its data: URI holds 30000 bytes, but its byteLength says 30004"),
-              std::string::npos) << e.what();
-  }
+  expect_error([&] { load_scene(dir / "bad_length.gltf", kQuiet); },
+               "buffer 0: its data: URI holds 30000 bytes, but its byteLength says 30004");
   // Not base64 at all: tinygltf's own message, its URI cut short.
   doc["buffers"][0]["uri"] = "data:application/octet-stream;base64,*" + payload.substr(1);
   doc["buffers"][0]["byteLength"] = 30000;
   test::write_text(dir / "bad_base64.gltf", doc.dump());
-  try {
-    load_scene(dir / "bad_base64.gltf", kQuiet);
-    ADD_FAILURE() << "loaded";
-  } catch (const Error& e) {
-    EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
-    EXPECT_NE(std::string(e.what()).find("(40037 characters)"), std::string::npos) << e.what();
-  }
+  expect_error([&] { load_scene(dir / "bad_base64.gltf", kQuiet); }, "base64,*AAAAAAAAAA... (40037 characters) in Buffer");
 }
 
 // The content decides between binary and JSON glTF, not the extension.
