@@ -93,7 +93,13 @@ std::vector<FactorProblem> out_of_range_factors(const Material& m) {
   unit_colour("attenuation colour", m.attenuation_color);
   if (glm::any(glm::lessThan(m.emissive, glm::vec3(0.0f))))
     found.push_back({"emissive " + colour_text(m.emissive) + " below 0", "clamped"});
-  if (!(m.ior >= 1.0f)) found.push_back({"ior " + text(m.ior) + " below 1", "1.5 used"});
+  // KHR_materials_ior allows 0, a Fresnel term of 1 for converted specular-glossiness
+  // materials, whose KHR_materials_specular zigzag does not read: 0 alone would make every
+  // such material a white mirror.
+  if (m.ior == 0.0f)
+    found.push_back({"ior 0 (specular-glossiness's full Fresnel, for KHR_materials_specular, which zigzag does not support)",
+                     "1.5 used"});
+  else if (!(m.ior >= 1.0f)) found.push_back({"ior " + text(m.ior) + " below 1", "1.5 used"});
   if (!(m.attenuation_distance > 0.0f))
     found.push_back({"attenuation distance " + text(m.attenuation_distance) + " not > 0", "no absorption"});
   return found;

@@ -189,6 +189,18 @@ TEST(OutOfRangeFactors, NameEachFactorGltfForbids) {
   EXPECT_EQ(got, want);
 }
 
+// KHR_materials_ior's ior 0 (a Fresnel of 1, for specular-glossiness conversions that
+// KHR_materials_specular completes) is named as such, not as a value below 1.
+TEST(OutOfRangeFactors, IorZeroIsNamedAsTheSpecularGlossinessConvention) {
+  Material m;
+  m.ior = 0.0f;
+  const std::vector<FactorProblem> found = out_of_range_factors(m);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].text(),
+            "ior 0 (specular-glossiness's full Fresnel, for KHR_materials_specular, which zigzag does not support), 1.5 used");
+  EXPECT_EQ(whitted_from_gltf(m).ior, 1.5f);
+}
+
 // Each colour is checked at both ends, and a NaN ior or attenuation distance (which
 // whitted_from_gltf replaces too) is named like one out of range.
 TEST(OutOfRangeFactors, NameNegativeColoursAndNaNs) {
