@@ -198,6 +198,28 @@ std::string elide_data_uris(std::string message) {
   return message;
 }
 
+// tinygltf's warnings without those about an image file it could not read ("File not
+// found : x.png", then "Failed to load external 'uri' for image[0]"): the image loader
+// reports the same image with its path, as an error or, with --allow-missing-textures, a
+// warning of its own.
+std::string without_image_read_warnings(const std::string& warning) {
+  std::vector<std::string> lines;
+  size_t start = 0;
+  while (start < warning.size()) {
+    const size_t end = std::min(warning.find('\n', start), warning.size());
+    lines.push_back(warning.substr(start, end - start));
+    start = end + 1;
+  }
+  std::string kept;
+  for (size_t i = 0; i < lines.size(); ++i) {
+    const bool image_unread = lines[i].rfind("Failed to load external 'uri' for image[", 0) == 0;
+    const bool reason = i + 1 < lines.size() && lines[i + 1].rfind("Failed to load external 'uri' for image[", 0) == 0 &&
+                        (lines[i].rfind("File not found : ", 0) == 0 || lines[i].rfind("File read error : ", 0) == 0);
+    if (!image_unread && !reason) kept += lines[i] + "\n";
+  }
+  return kept;
+}
+
 // tinygltf 2.7 decodes a URI with '+' as a space and then looks for the file next to the
 // glTF and, failing that, in the working directory. Its path callback is handed the path it
 // made and returns the one it reads: the file the URI names next to the glTF, and nothing
@@ -372,7 +394,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);
   }
-  if (warning) *warning = elide_data_uris(*warning);
+  if (warning) *warning = elide_data_uris(without_image_read_warnings(*warning));
   require_gltf2_asset(model, file);
 }
 

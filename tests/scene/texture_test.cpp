@@ -499,6 +499,17 @@ TEST(Texture, AMissingImageIsAnErrorUnlessAllowed) {
     EXPECT_EQ(s.materials[0].base_color_texture.index, -1);
     EXPECT_TRUE(s.textures.empty());
   }
+  // Said once, by the loader with the image's path: tinygltf's "File not found : absent.png"
+  // and "Failed to load external 'uri' for image[0]" are not repeated before it.
+  LoadOptions told = allowed;
+  told.quiet = false;
+  testing::internal::CaptureStderr();
+  load_scene(file(0, 0, "absent.png"), told);
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find("absent.png: cannot open (No such file or directory), rendered without it"), std::string::npos)
+      << warned;
+  EXPECT_EQ(warned.find("File not found"), std::string::npos) << warned;
+  EXPECT_EQ(warned.find("Failed to load external"), std::string::npos) << warned;
 }
 
 }  // namespace
