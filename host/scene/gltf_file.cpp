@@ -198,6 +198,32 @@ std::string elide_data_uris(std::string message) {
   return message;
 }
 
+// tinygltf's "Spot light description not found." names no light: the first spot light
+// of the file's KHR_lights_punctual without its "spot" object, and what is missing.
+std::string explain_spot_light(std::string message, std::string_view json_text) {
+  const std::string said = "Spot light description not found.";
+  const size_t at = message.find(said);
+  if (at == std::string::npos || json_nesting_depth(json_text) > kMaxJsonDepth) return message;
+  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
+  const nlohmann::json* lights = nullptr;
+  if (j.is_object() && j.contains("extensions") && j["extensions"].is_object() &&
+      j["extensions"].contains("KHR_lights_punctual") && j["extensions"]["KHR_lights_punctual"].is_object() &&
+      j["extensions"]["KHR_lights_punctual"].contains("lights"))
+    lights = &j["extensions"]["KHR_lights_punctual"]["lights"];
+  if (!lights || !lights->is_array()) return message;
+  for (size_t i = 0; i < lights->size(); ++i) {
+    const nlohmann::json& l = (*lights)[i];
+    if (!l.is_object() || l.value("type", nlohmann::json()) != "spot" || (l.contains("spot") && l["spot"].is_object()))
+      continue;
+    const std::string name = l.contains("name") && l["name"].is_string() ? " '" + l["name"].get<std::string>() + "'" : "";
+    message.replace(at, said.size(), "light " + std::to_string(i) + name +
+                                         " is a spot light without its \"spot\" object (KHR_lights_punctual requires "
+                                         "it; its cone angles may be left out)");
+    break;
+  }
+  return message;
+}
+
 // tinygltf's warnings without those about an image file it could not read ("File not
 // found : x.png", then "Failed to load external 'uri' for image[0]"): the image loader
 // reports the same image with its path, as an error or, with --allow-missing-textures, a
@@ -389,7 +415,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     throw Error(file + ": cannot parse glTF (" + e.what() + ")");
   }
   if (!ok) {
-    std::string msg = err.empty() ? "cannot parse glTF" : elide_data_uris(resolver.explain(err));
+    std::string msg = err.empty() ? "cannot parse glTF" : explain_spot_light(elide_data_uris(resolver.explain(err)), json);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);

@@ -600,6 +600,19 @@ TEST(GltfLoader, InvalidButUsableValuesAreWarnedAbout) {
   EXPECT_NE(warned.find("spot light 'cone' has innerConeAngle 0.6"), std::string::npos) << warned;
 }
 
+// KHR_lights_punctual requires a spot light's "spot" object; tinygltf's refusal named no
+// light ("Spot light description not found.").
+TEST(GltfLoader, ASpotLightWithoutItsSpotObjectIsNamed) {
+  GltfBuilder b;
+  b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm)}});
+  b.doc["extensionsUsed"] = {"KHR_lights_punctual"};
+  b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}},
+                                                         {{"name", "lamp"}, {"type", "spot"}}};
+  b.node({{"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}});
+  expect_error([&] { load_scene(b.write(test::temp_dir("spotless")), kQuiet); },
+               "light 1 'lamp' is a spot light without its \"spot\" object");
+}
+
 TEST(GltfFile, NestingDepthCountsBracketsOutsideStrings) {
   EXPECT_EQ(gltf::json_nesting_depth(""), 0);
   EXPECT_EQ(gltf::json_nesting_depth("{\"a\": [1, {\"b\": []}], \"c\": {}}"), 4);
