@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/file_io.h"
 #include "scene/gltf_image.h"
+#include "scene/gltf_json.h"
 
 namespace zz::gltf {
 
@@ -117,135 +118,6 @@ std::string percent_decode(const std::string& uri, UriReading reading) {
   return decoded;
 }
 
-bool names_a_file(const std::string& uri) { return !uri.empty() && uri.rfind("data:", 0) != 0; }
-
-// The external URIs of a glTF's JSON ("buffers" and "images"), in order; empty when the
-// JSON cannot be read (tinygltf then says what is wrong).
-std::vector<std::string> external_uris(std::string_view json_text) {
-  std::vector<std::string> uris;
-  if (json_nesting_depth(json_text) > kMaxJsonDepth) return uris;
-  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  if (!j.is_object()) return uris;
-  for (const char* array : {"buffers", "images"}) {
-    const auto it = j.find(array);
-    if (it == j.end() || !it->is_array()) continue;
-    for (const nlohmann::json& item : *it)
-      if (item.is_object() && item.contains("uri") && item["uri"].is_string() && names_a_file(item["uri"]))
-        uris.push_back(item["uri"].get<std::string>());
-  }
-  return uris;
-}
-
-// The external buffers of a glTF's JSON with their byteLength (the valid ones only).
-std::vector<std::pair<std::string, uint64_t>> external_buffer_lengths(std::string_view json_text) {
-  std::vector<std::pair<std::string, uint64_t>> buffers;
-  if (json_nesting_depth(json_text) > kMaxJsonDepth) return buffers;
-  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return buffers;
-  for (const nlohmann::json& b : j["buffers"])
-    if (b.is_object() && b.contains("uri") && b["uri"].is_string() && names_a_file(b["uri"]) &&
-        b.contains("byteLength") && b["byteLength"].is_number_unsigned())
-      buffers.emplace_back(b["uri"].get<std::string>(), b["byteLength"].get<uint64_t>());
-  return buffers;
-}
-
-// The bytes a base64 payload decodes to, if it is strict base64 (RFC 4648 §4: the
-// alphabet, padded to a multiple of 4 characters); none otherwise.
-std::optional<uint64_t> base64_decoded_size(std::string_view payload) {
-  if (payload.size() % 4 != 0) return std::nullopt;
-  size_t pad = 0;
-  while (pad < 2 && pad < payload.size() && payload[payload.size() - 1 - pad] == '=') ++pad;
-  for (size_t i = 0; i + pad < payload.size(); ++i) {
-    const char c = payload[i];
-    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '/')) return std::nullopt;
-  }
-  return uint64_t(payload.size() / 4 * 3 - pad);
-}
-
-// A buffer whose data: URI holds another number of bytes than its byteLength: tinygltf
-// says "Failed to decode" and quotes the whole payload, megabytes of base64.
-void check_embedded_buffers(std::string_view json_text, const std::string& file) {
-  if (json_nesting_depth(json_text) > kMaxJsonDepth) return;
-  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  if (!j.is_object() || !j.contains("buffers") || !j["buffers"].is_array()) return;
-  for (size_t i = 0; i < j["buffers"].size(); ++i) {
-    const nlohmann::json& b = j["buffers"][i];
-    if (!b.is_object() || !b.contains("uri") || !b["uri"].is_string() || !b.contains("byteLength") ||
-        !b["byteLength"].is_number_unsigned())
-      continue;
-    const std::string& uri = b["uri"].get_ref<const std::string&>();
-    const size_t comma = uri.find(";base64,");
-    if (uri.rfind("data:", 0) != 0 || comma == std::string::npos) continue;
-    const std::optional<uint64_t> bytes = base64_decoded_size(std::string_view(uri).substr(comma + 8));
-    const uint64_t length = b["byteLength"].get<uint64_t>();
-    if (bytes && *bytes != length)
-      throw Error(file + ": buffer " + std::to_string(i) + ": its data: URI holds " + std::to_string(*bytes) +
-                  " bytes, but its byteLength says " + std::to_string(length));
-  }
-}
-
-// `message` with each data: URI in it cut to its first characters: tinygltf quotes a URI it
-// cannot decode whole.
-std::string elide_data_uris(std::string message) {
-  constexpr size_t kKept = 48;
-  for (size_t at = message.find("data:"); at != std::string::npos; at = message.find("data:", at + 1)) {
-    size_t end = at;
-    while (end < message.size() && !std::isspace(static_cast<unsigned char>(message[end]))) ++end;
-    if (end - at <= kKept + 16) continue;
-    const std::string note = "... (" + std::to_string(end - at) + " characters)";
-    message.replace(at + kKept, end - at - kKept, note);
-  }
-  return message;
-}
-
-// tinygltf's "Spot light description not found." names no light: the first spot light
-// of the file's KHR_lights_punctual without its "spot" object, and what is missing.
-std::string explain_spot_light(std::string message, std::string_view json_text) {
-  const std::string said = "Spot light description not found.";
-  const size_t at = message.find(said);
-  if (at == std::string::npos || json_nesting_depth(json_text) > kMaxJsonDepth) return message;
-  const nlohmann::json j = nlohmann::json::parse(json_text, nullptr, false);
-  const nlohmann::json* lights = nullptr;
-  if (j.is_object() && j.contains("extensions") && j["extensions"].is_object() &&
-      j["extensions"].contains("KHR_lights_punctual") && j["extensions"]["KHR_lights_punctual"].is_object() &&
-      j["extensions"]["KHR_lights_punctual"].contains("lights"))
-    lights = &j["extensions"]["KHR_lights_punctual"]["lights"];
-  if (!lights || !lights->is_array()) return message;
-  for (size_t i = 0; i < lights->size(); ++i) {
-    const nlohmann::json& l = (*lights)[i];
-    if (!l.is_object() || l.value("type", nlohmann::json()) != "spot" || (l.contains("spot") && l["spot"].is_object()))
-      continue;
-    const std::string name = l.contains("name") && l["name"].is_string() ? " '" + l["name"].get<std::string>() + "'" : "";
-    message.replace(at, said.size(), "light " + std::to_string(i) + name +
-                                         " is a spot light without its \"spot\" object (KHR_lights_punctual requires "
-                                         "it; its cone angles may be left out)");
-    break;
-  }
-  return message;
-}
-
-// tinygltf's warnings without those about an image file it could not read ("File not
-// found : x.png", then "Failed to load external 'uri' for image[0]"): the image loader
-// reports the same image with its path, as an error or, with --allow-missing-textures, a
-// warning of its own.
-std::string without_image_read_warnings(const std::string& warning) {
-  std::vector<std::string> lines;
-  size_t start = 0;
-  while (start < warning.size()) {
-    const size_t end = std::min(warning.find('\n', start), warning.size());
-    lines.push_back(warning.substr(start, end - start));
-    start = end + 1;
-  }
-  std::string kept;
-  for (size_t i = 0; i < lines.size(); ++i) {
-    const bool image_unread = lines[i].rfind("Failed to load external 'uri' for image[", 0) == 0;
-    const bool reason = i + 1 < lines.size() && lines[i + 1].rfind("Failed to load external 'uri' for image[", 0) == 0 &&
-                        (lines[i].rfind("File not found : ", 0) == 0 || lines[i].rfind("File read error : ", 0) == 0);
-    if (!image_unread && !reason) kept += lines[i] + "\n";
-  }
-  return kept;
-}
-
 // tinygltf 2.7 decodes a URI with '+' as a space and then looks for the file next to the
 // glTF and, failing that, in the working directory. Its path callback is handed the path it
 // made and returns the one it reads: the file the URI names next to the glTF, and nothing
@@ -253,7 +125,7 @@ std::string without_image_read_warnings(const std::string& warning) {
 // another file or none.
 class UriResolver {
  public:
-  UriResolver(const std::filesystem::path& gltf, std::string_view json_text) : gltf_(gltf), json_(json_text) {}
+  UriResolver(const std::filesystem::path& gltf, const nlohmann::json& doc) : gltf_(gltf), doc_(doc) {}
 
   std::string resolve(const std::string& tinygltf_path) {
     if (!map_) build();
@@ -295,7 +167,7 @@ class UriResolver {
 
   void build() {
     map_.emplace();
-    for (const std::string& uri : external_uris(json_)) {
+    for (const std::string& uri : external_uris(doc_)) {
       const std::string key = tinygltf_key(uri);
       const std::string file = external_file(gltf_, uri)->string();
       const auto [it, fresh] = map_->emplace(key, file);
@@ -305,7 +177,7 @@ class UriResolver {
       }
       first_uri_.emplace(key, uri);
     }
-    for (const auto& [uri, length] : external_buffer_lengths(json_)) {
+    for (const auto& [uri, length] : external_buffer_lengths(doc_)) {
       const std::string file = external_file(gltf_, uri)->string();
       const auto [it, fresh] = buffer_length_.emplace(file, length);
       if (!fresh && it->second != length) it->second.reset();
@@ -313,7 +185,7 @@ class UriResolver {
   }
 
   std::filesystem::path gltf_;
-  std::string_view json_;
+  const nlohmann::json& doc_;
   std::optional<std::map<std::string, std::optional<std::string>>> map_;
   std::map<std::string, std::string> first_uri_;
   std::map<std::string, std::pair<std::string, std::string>> ambiguous_;
@@ -371,7 +243,7 @@ std::vector<std::filesystem::path> external_files(const std::filesystem::path& g
     if (!read_regular_file(gltf.string(), kMaxFileBytes, &bytes, &why)) return files;
     json_text = std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
-  for (const std::string& uri : external_uris(json_text)) files.push_back(*external_file(gltf, uri));
+  for (const std::string& uri : external_uris(parse_json(json_text))) files.push_back(*external_file(gltf, uri));
   return files;
 }
 
@@ -395,11 +267,12 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
       binary ? glb_json(bytes) : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   if (json_nesting_depth(json) > kMaxJsonDepth)
     throw Error(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels; not a glTF scene");
-  check_embedded_buffers(json, file);
+  const nlohmann::json doc = parse_json(json);
+  check_embedded_buffers(doc, file);
 
   tinygltf::TinyGLTF gltf;
   gltf.SetImageLoader(keep_encoded, &model);  // it checks an image's bufferView against the model's buffers
-  UriResolver resolver(path, json);
+  UriResolver resolver(path, doc);
   gltf.SetFsCallbacks({file_exists, resolve_uri_path, read_whole_file, tinygltf::WriteWholeFile, &resolver});
   std::string err;
   // Relative URIs resolve against the file's folder, as tinygltf's *FromFile calls do.
@@ -415,7 +288,7 @@ void read_gltf_model(const std::filesystem::path& path, tinygltf::Model& model, 
     throw Error(file + ": cannot parse glTF (" + e.what() + ")");
   }
   if (!ok) {
-    std::string msg = err.empty() ? "cannot parse glTF" : explain_spot_light(elide_data_uris(resolver.explain(err)), json);
+    std::string msg = err.empty() ? "cannot parse glTF" : explain_spot_light(elide_data_uris(resolver.explain(err)), doc);
     std::replace(msg.begin(), msg.end(), '\n', ' ');
     while (!msg.empty() && msg.back() == ' ') msg.pop_back();
     throw Error(file + ": " + msg);
