@@ -212,13 +212,17 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
   // the parts (it would be replaced by the frame), no name, no format to write.
   const std::string a_bytes = bytes(a);
   const std::vector<std::pair<std::string, const char*>> outputs = {
-      {a, "one of the parts"}, {"''", "must not be empty"}, {(dir / "d").string(), "no file extension"}};
+      {a, "one of the parts"}, {"''", "must not be empty"}, {(dir / "d").string(), "no file extension"},
+      // render's placeholders are not merge's: m_{scene}.png was written under that name
+      {"'" + (dir / "m_{scene}.png").string() + "'", "merge writes one file, named in full"},
+      {"'" + (dir / "m_{bogus}.png").string() + "'", "merge writes one file, named in full"}};
   for (const auto& [output, message] : outputs) {
     const auto r = test::run_command(test::zigzag_binary() + " merge " + a + " " + b + " -o " + output);
     EXPECT_EQ(r.exit_code, kUsageExit) << message << ": " << r.output;
     EXPECT_NE(r.output.find(message), std::string::npos) << r.output;
   }
   EXPECT_EQ(bytes(a), a_bytes);
+  EXPECT_FALSE(fs::exists(dir / "m_{scene}.png"));
 }
 
 // A job is one camera of one scene: a region that does not fit one camera's frame fails
