@@ -100,13 +100,28 @@ MemoryBudget memory_budget() {
   return budget;
 }
 
+namespace {
+
+// "1.50 GiB", "240.00 MiB", "100.00 KiB": the unit in which `bytes` is at least 1 (a
+// ZIGZAG_MEMORY_LIMIT of 100K printed as "0.00 GiB").
+std::string bytes_text(uint64_t bytes) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  int unit = 0;
+  double value = double(bytes);
+  while (unit < 4 && value >= 1024.0) value /= 1024.0, ++unit;
+  char text[48];
+  if (unit == 0) std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+  else std::snprintf(text, sizeof text, "%.2f %s", value, units[unit]);
+  return text;
+}
+
+}  // namespace
+
 void check_memory(uint64_t needed, const char* what) {
   const MemoryBudget budget = memory_budget();
   if (budget.bytes == 0 || needed <= budget.bytes) return;
-  char msg[256];
-  std::snprintf(msg, sizeof msg, "%s needs about %.2f GiB of memory but only %.2f GiB is available", what,
-                double(needed) / double(1ull << 30), double(budget.bytes) / double(1ull << 30));
-  throw Error(std::string(msg) + " (" + budget.bound_by + ")");
+  throw Error(std::string(what) + " needs about " + bytes_text(needed) + " of memory but only " +
+              bytes_text(budget.bytes) + " is available (" + budget.bound_by + ")");
 }
 
 }  // namespace zz

@@ -55,6 +55,15 @@ TEST(MemoryLimit, TheRefusalSaysWhatSetsTheBudget) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("(ZIGZAG_MEMORY_LIMIT=1M)"), std::string::npos) << e.what();
   }
+  // In a unit the numbers show in: a 100K limit was "0.00 GiB ... only 0.00 GiB".
+  setenv("ZIGZAG_MEMORY_LIMIT", "100K", 1);
+  try {
+    check_memory(3u << 19, "merging these parts");
+    ADD_FAILURE() << "a need over the budget passed";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("merging these parts needs about 1.50 MiB of memory but only 100.00 KiB is available"),
+              std::string::npos) << e.what();
+  }
   setenv("ZIGZAG_MEMORY_LIMIT", "4GB", 1);
   EXPECT_THROW((void)memory_budget(), UsageError);
   // Set empty (VAR=, as docker -e and Kubernetes leave it) or 0: no limit of its own.
