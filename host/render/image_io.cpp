@@ -271,9 +271,13 @@ std::unique_ptr<OIIO::ImageInput> open_film(const std::string& file, FilmFile* f
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.nchannels < 3) throw Error(file + ": not an RGB image");
   if (spec.depth > 1) throw Error(file + ": volume images are not films");
-  const float exposure = spec.get_float_attribute(std::string(kAttributePrefix) + "exposure", -1.0f);
-  if (!(exposure > 0.0f) || !std::isfinite(exposure))
+  const std::string exposure_key = std::string(kAttributePrefix) + "exposure";
+  if (!spec.find_attribute(exposure_key))
     throw Error(file + ": no zigzag:exposure attribute (not an EXR written by zigzag render)");
+  const float exposure = spec.get_float_attribute(exposure_key, -1.0f);
+  if (!(exposure > 0.0f) || !std::isfinite(exposure))
+    throw Error(file + ": its zigzag:exposure attribute is not a positive float (" +
+                spec.metadata_val(*spec.find_attribute(exposure_key)) + "; zigzag render writes one)");
   if (spec.width <= 0 || spec.height <= 0 || spec.full_width <= 0 || spec.full_height <= 0 || spec.full_x != 0 ||
       spec.full_y != 0 || spec.x < 0 || spec.y < 0 || int64_t(spec.x) + spec.width > spec.full_width ||
       int64_t(spec.y) + spec.height > spec.full_height)

@@ -211,6 +211,29 @@ TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
   EXPECT_EQ(f.film.channels.size(), 2u);  // the float part reads
 }
 
+// An exposure attribute that is there but unusable (NaN, a string) is named as such, not
+// as missing.
+TEST_F(FilmMergeTest, AnUnusableExposureIsNamedNotCalledMissing) {
+  for (const bool as_text : {false, true}) {
+    OIIO::ImageSpec spec(4, 3, 3, OIIO::TypeDesc::FLOAT);
+    if (as_text) spec.attribute("zigzag:exposure", "bright");
+    else spec.attribute("zigzag:exposure", std::nanf(""));
+    std::vector<float> pixels(4 * 3 * 3, 0.5f);
+    const fs::path p = dir / "exposure.exr";
+    auto out = OIIO::ImageOutput::create(p.string());
+    ASSERT_TRUE(out && out->open(p.string(), spec));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    out->close();
+    try {
+      (void)read_film_header(p);
+      ADD_FAILURE() << "read";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("its zigzag:exposure attribute is not a positive float"), std::string::npos)
+          << e.what();
+    }
+  }
+}
+
 // The EXR writer's other names (.sxr, .mxr) get the radiance, as .exr does, and its layers;
 // Radiance's .rgbe gets radiance too. They took the 8-bit display image.
 TEST_F(FilmMergeTest, EveryNameOfAnHdrWriterGetsRadiance) {
