@@ -27,6 +27,7 @@
 #include "core/error.h"
 #include "core/interrupt.h"
 #include "scene/camera_select.h"
+#include "scene/scene_files.h"
 #include "gpu/device.h"
 #include "gpu/visibility.h"
 #include "render/aov.h"
@@ -375,6 +376,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   t = std::chrono::steady_clock::now();
   FilmAttributes attributes{{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}};
   if (map_made) attributes[kDeviceAttribute] = job.map->vulkan().device_name();  // merge says when parts' differ
+  if (holds_extra_channels(output)) attributes[kSceneFilesAttribute] = files_fingerprint(scene.source_files);
   write_film(output, film, settings.tonemap, attributes, &outputs);
   std::string written = output.string();  // for the summary line: the image, then the AOV images
   for (const AovRequest& a : o.aovs)

@@ -86,6 +86,10 @@ void check_film_parts(const std::vector<FilmPart>& parts) {
         if (auto it = theirs.find(k); it == theirs.end() || it->second != v) key = k;
       for (const auto& [k, v] : theirs)
         if (!mine.count(k)) key = k;
+      if (key == kSceneFilesAttribute)
+        throw Error("merge: " + p.name + " and " + parts.front().name +
+                    " were rendered from different versions of the scene's files (zigzag:" + key +
+                    " differs); render them again from the same files");
       throw Error("merge: " + p.name + " and " + parts.front().name + " come from different renders (zigzag:" + key +
                   " differs" + setting_difference(p, parts.front(), key) + ")");
     }

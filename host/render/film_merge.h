@@ -17,6 +17,9 @@ namespace zz {
 // rounding), which moves rays, not what the render is, so parts of a farm with GPU and
 // lavapipe workers still merge; `devices_of` names them for a warning.
 inline constexpr const char* kDeviceAttribute = "vulkan_device";
+// The fingerprint of the scene's files (scene/scene_files.h): parts rendered from another
+// version of the scene (a light moved between two regions' renders) do not merge.
+inline constexpr const char* kSceneFilesAttribute = "scene_files";
 
 struct FilmPart {
   std::string name;  // for messages (the file)

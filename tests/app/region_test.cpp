@@ -225,6 +225,38 @@ TEST_F(RegionTest, MergeRefusesOverlapGapsAndMismatchedParts) {
   EXPECT_FALSE(fs::exists(dir / "m_{scene}.png"));
 }
 
+// Each part records a fingerprint of the scene's files: a region rendered again after the
+// scene was edited (a light made brighter) is refused, where it merged with a step in the
+// image; the same files in another folder (another worker's copy) merge.
+TEST_F(RegionTest, PartsOfDifferentVersionsOfTheSceneAreRefused) {
+  const fs::path shot = dir / "shot", copy = dir / "copy";
+  fs::create_directories(shot);
+  for (const char* f : {"default.json", "default.gltf", "default.bin"})
+    fs::copy_file(test::source_path(std::string("scenes/") + f), shot / f);
+  auto part = [&](const fs::path& folder, const char* region, const char* output) {
+    const std::string command = test::zigzag_binary() + " render " + (folder / "default.json").string() +
+                                " --width 48 --height 32 --edges off -q --region " + region + " -o " +
+                                (dir / output).string();
+    const auto r = test::run_command(command);
+    EXPECT_EQ(r.exit_code, 0) << command << "\n" << r.output;
+    return (dir / output).string();
+  };
+  const std::string top = part(shot, "0,0,48,16", "top.exr");
+  nlohmann::json rig = nlohmann::json::parse(std::ifstream(shot / "default.json"));
+  rig["lights"][0]["intensity"] = rig["lights"][0]["intensity"].get<double>() * 3.0;
+  std::ofstream(shot / "default.json") << rig.dump(2);
+  const std::string bottom = part(shot, "0,16,48,32", "bottom.exr");
+  const auto refused = merge({top, bottom}, "m.png");
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("were rendered from different versions of the scene's files (zigzag:scene_files differs)"),
+            std::string::npos) << refused.output;
+  EXPECT_FALSE(fs::exists(dir / "m.png"));
+  fs::copy(shot, copy);
+  const std::string top_again = part(copy, "0,0,48,16", "top_again.exr");
+  const auto merged = merge({top_again, bottom}, "m.png");
+  EXPECT_EQ(merged.exit_code, 0) << merged.output;
+}
+
 // A job is one camera of one scene: a region that does not fit one camera's frame fails
 // that job, named with its scene and camera, and the scene's other cameras still render.
 TEST_F(RegionTest, ARegionOutsideOneCamerasFrameFailsOnlyThatJob) {
