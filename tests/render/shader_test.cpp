@@ -300,6 +300,24 @@ TEST(Shader, NanRadianceIsCountedAndLeavesAsZero) {
   EXPECT_GE(counters.nan_radiance, 1u);
 }
 
+// glTF MASK: a coverage equal to alphaCutoff is opaque ("greater than or equal to" the
+// cutoff), one ULP below it is cut out.
+TEST(Shader, AlphaMaskAtExactlyTheCutoffIsOpaque) {
+  for (const float alpha : {0.5f, std::nextafter(0.5f, 0.0f)}) {
+    SCOPED_TRACE(alpha);
+    Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
+    s.lights.clear();
+    s.background = glm::vec3(0.0f);
+    s.materials[0].emissive = glm::vec3(1.0f);
+    s.materials[0].alpha_mode = AlphaMode::Mask;
+    s.materials[0].alpha_cutoff = 0.5f;
+    s.materials[0].base_alpha = alpha;
+    s.finalize_materials();
+    ASSERT_TRUE(s.effects().alpha_mask);
+    EXPECT_EQ(centre_radiance(s), glm::vec3(alpha >= 0.5f ? 1.0f : 0.0f));
+  }
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
