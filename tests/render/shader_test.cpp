@@ -318,6 +318,17 @@ TEST(Shader, AlphaMaskAtExactlyTheCutoffIsOpaque) {
   }
 }
 
+// A shading normal facing away from the viewer (vertex normals against the winding) shades
+// as the geometric normal does; it never turns the lit side black.
+TEST(Shader, AShadingNormalFacingAwayFromTheViewerShadesAsTheGeometricNormal) {
+  const Scene flat = test::lit_floor(0.5f, 100.0f, 3.0f);
+  Scene inverted = flat;
+  for (glm::vec3& n : inverted.normals) n = -n;
+  const glm::vec3 expected = centre_radiance(flat);
+  ASSERT_GT(expected.r, 0.0f);
+  EXPECT_EQ(centre_radiance(inverted), expected);
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
