@@ -150,5 +150,38 @@ TEST(ShadowTerminator, FlatMeshShadowsAreUnchanged) {
   EXPECT_EQ(d.g[3], 0.0f);  // the box top, the light below its plane
 }
 
+// Concave smooth meshes keep the hit point: the lift moves shadow origins only outward
+// (min(0, height)), so on a trough whose valley normal points straight up the slopes, which
+// lie above the valley vertex's tangent plane, are not pushed into themselves and stay lit.
+TEST(ShadowTerminator, ConcaveTroughIsNotLiftedIntoItsOwnShadow) {
+  Scene s;
+  s.materials.push_back(test::diffuse_material(glm::vec3(0.8f)));
+  test::add_quad(s, {-2, -1, 1}, {0, -1, 0}, {0, 1, 0}, {-2, 1, 1}, 0);  // normal (1, 0, 2) / sqrt 5
+  test::add_quad(s, {0, -1, 0}, {2, -1, 1}, {2, 1, 1}, {0, 1, 0}, 0);    // normal (-1, 0, 2) / sqrt 5
+  for (size_t i = 0; i < s.positions.size(); ++i)
+    if (s.positions[i].x == 0.0f) s.normals[i] = {0, 0, 1};  // smooth across the valley
+  Light sun;
+  sun.type = Light::Type::Directional;
+  sun.direction = {0, 0, -1};
+  sun.intensity = glm::vec3(kPi);
+  s.lights.push_back(sun);
+  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f));
+  s.max_depth = 0;
+  s.finalize_materials();
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  RayPacket4 rays{};
+  rays.ox = float4(-0.6f, -0.3f, 0.3f, 0.6f);
+  rays.oy = float4(0.1f);
+  rays.oz = float4(4.0f);
+  rays.dx = rays.dy = float4(0.0f);
+  rays.dz = float4(-1.0f);
+  rays.tmax = float4(kInfinity);
+  RayCounters counters;
+  const Rgb4 c = shader.trace4(rays, mask4(true), 0, counters);
+  // Lambert alone at the slope's own normal (cos 0.894) is a lower bound of the smooth shading.
+  for (int i = 0; i < 4; ++i) EXPECT_GT(c.g[i], 0.8f * 0.89f) << i;
+}
+
 }  // namespace
 }  // namespace zz
