@@ -183,5 +183,44 @@ TEST(ShadowTerminator, ConcaveTroughIsNotLiftedIntoItsOwnShadow) {
   for (int i = 0; i < 4; ++i) EXPECT_GT(c.g[i], 0.8f * 0.89f) << i;
 }
 
+// Shadow rays leave from Hanika's lifted point p' = sum b_i (p - min(0, (p - p_i).n_i) n_i),
+// vertex i's lift weighed by its own barycentric b_i. One triangle whose vertex 0 normal
+// leans over it: at b = (0.6, 0.2, 0.2) the lift is 0.08 (-1, -1, 1), so the shadow ray
+// starts above a sheet at z = 0.05 and passes it (weighing by another vertex's barycentric
+// starts it at z = 0.027, under the sheet), but not a sheet at z = 0.1.
+TEST(ShadowTerminator, TheLiftWeighsEachVertexsPlaneByItsBarycentric) {
+  for (const float sheet : {0.05f, 0.1f}) {
+    SCOPED_TRACE(sheet);
+    Scene s;
+    s.materials.push_back(test::diffuse_material(glm::vec3(0.8f)));
+    test::add_triangle(s, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0);
+    s.normals[0] = glm::normalize(glm::vec3(-1, -1, 1));
+    test::add_quad(s, {0, 0, sheet}, {0.4f, 0, sheet}, {0.4f, 0.4f, sheet}, {0, 0.4f, sheet}, 0);
+    Light sun;
+    sun.type = Light::Type::Directional;
+    sun.direction = {0, 0, -1};
+    sun.intensity = glm::vec3(kPi);
+    s.lights.push_back(sun);
+    s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f));
+    s.max_depth = 0;
+    s.finalize_materials();
+    const Bvh bvh = Bvh::build(s.positions);
+    const Shader shader(s, bvh);
+    // A grazing ray under the sheet onto (0.2, 0.2, 0): barycentrics (0.6, 0.2, 0.2).
+    RayPacket4 rays{};
+    rays.ox = float4(-1.8f);
+    rays.oy = float4(0.2f);
+    rays.oz = float4(0.04f);
+    rays.dx = float4(1.0f);
+    rays.dy = float4(0.0f);
+    rays.dz = float4(-0.02f);
+    rays.tmax = float4(kInfinity);
+    RayCounters counters;
+    const Rgb4 c = shader.trace4(rays, mask4(true, false, false, false), 0, counters);
+    if (sheet < 0.08f) EXPECT_GT(c.g[0], 0.5f);
+    else EXPECT_EQ(c.g[0], 0.0f);
+  }
+}
+
 }  // namespace
 }  // namespace zz
