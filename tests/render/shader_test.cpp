@@ -329,6 +329,28 @@ TEST(Shader, AShadingNormalFacingAwayFromTheViewerShadesAsTheGeometricNormal) {
   EXPECT_EQ(centre_radiance(inverted), expected);
 }
 
+// A camera ray passes up to kMaxSeeThroughLayers (16) cut-out surfaces; behind a 17th it
+// counts as a miss and sees the background.
+TEST(Shader, ACameraRayPassesSixteenCutOutLayersAndMissesBehindSeventeen) {
+  for (const int sheets : {16, 17}) {
+    SCOPED_TRACE(sheets);
+    Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
+    s.lights.clear();
+    s.background = glm::vec3(0.25f);
+    s.materials[0].emissive = glm::vec3(1.0f);
+    Material cut_out = test::diffuse_material(glm::vec3(1.0f));
+    cut_out.alpha_mode = AlphaMode::Mask;
+    cut_out.base_alpha = 0.0f;
+    s.materials.push_back(cut_out);
+    for (int k = 1; k <= sheets; ++k) {
+      const float z = 0.1f * float(k);
+      test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
+    }
+    s.finalize_materials();
+    EXPECT_EQ(centre_radiance(s), glm::vec3(sheets <= 16 ? 1.0f : 0.25f));
+  }
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
