@@ -351,6 +351,31 @@ TEST(Shader, ACameraRayPassesSixteenCutOutLayersAndMissesBehindSeventeen) {
   }
 }
 
+// A shadow ray passes up to kMaxSeeThroughLayers (16) cut-out surfaces on its way to the
+// light; a 17th blocks it.
+TEST(Shader, AShadowRayPassesSixteenCutOutLayersAndIsBlockedBySeventeen) {
+  Scene plain = test::lit_floor(0.5f, 100.0f, 3.0f);
+  plain.lights[0].position = {2.0f, 0.0f, 3.0f};
+  const glm::vec3 lit = centre_radiance(plain);
+  ASSERT_GT(lit.r, 0.0f);
+  for (const int sheets : {16, 17}) {
+    SCOPED_TRACE(sheets);
+    Scene s = plain;
+    Material cut_out = test::diffuse_material(glm::vec3(1.0f));
+    cut_out.alpha_mode = AlphaMode::Mask;
+    cut_out.base_alpha = 0.0f;
+    s.materials.push_back(cut_out);
+    // Small sheets across the shadow ray from the floor's centre to the light (x = 2 z / 3),
+    // clear of the camera ray straight down at x = 0.
+    for (int k = 0; k < sheets; ++k) {
+      const float z = 0.2f + 0.1f * float(k), x = 2.0f * z / 3.0f;
+      test::add_quad(s, {x - 0.1f, -0.1f, z}, {x + 0.1f, -0.1f, z}, {x + 0.1f, 0.1f, z}, {x - 0.1f, 0.1f, z}, 1);
+    }
+    s.finalize_materials();
+    EXPECT_EQ(centre_radiance(s), sheets <= 16 ? lit : glm::vec3(0.0f));
+  }
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
