@@ -265,6 +265,16 @@ TEST(Fresnel, NoInterfaceAtRatioOneAndNoTotalReflectionIntoADenserMedium) {
   EXPECT_EQ(cos_transmitted(0.1f, 1.5f), -1.0f);  // beyond glass -> air's critical angle
 }
 
+// Total internal reflection needs a denser medium behind (eta > 1): at ratio 1 a ray at
+// exactly grazing incidence (cos_i = 0, or a cos_i whose square underflows) goes on at
+// cos_t = 0, not reflected.
+TEST(Fresnel, NoTotalReflectionAtRatioOneEvenAtGrazing) {
+  for (const float c : {0.0f, 1e-30f}) {
+    SCOPED_TRACE(c);
+    EXPECT_EQ(cos_transmitted(c, 1.0f), 0.0f);
+  }
+}
+
 TEST(Fresnel, TotalInternalReflectionBeyondTheCriticalAngle) {
   const float eta = 1.5f;  // glass -> air
   const float critical = std::asin(1.0f / eta);
