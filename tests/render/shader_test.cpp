@@ -244,6 +244,38 @@ TEST(Shader, AnInterfaceBetweenMediaOfOneIndexIsNone) {
   }
 }
 
+// Hit points on a volume's own faces count as inside its bounds, however the barycentric
+// interpolation rounds them (a margin of a few ULPs): a ray leaving an inner cube of the
+// outer glass's medium through any point of its faces goes on in the outer glass, so
+// the inner cube stays invisible for rays through all of it, not only the centre's.
+TEST(Shader, AVolumesOwnFacesCountAsInsideItsBoundsEverywhere) {
+  Material empty = test::glass_material(1.5f);
+  empty.transmission = 0.0f;
+  Scene without = glass_block_around(empty, {0, 0, 5});
+  without.positions.resize(without.positions.size() - 36);  // drop the inner cube
+  without.normals.resize(without.normals.size() - 36);
+  without.uvs.resize(without.uvs.size() - 36);
+  without.material_of.resize(without.material_of.size() - 12);
+  const Scene with = glass_block_around(red_absorbing_glass(0.5f), {0, 0, 5});
+  auto trace = [](const Scene& s, float4 x, float4 y) {
+    const Bvh bvh = Bvh::build(s.positions);
+    const Shader shader(s, bvh);
+    const CameraRays rays(s.cameras[0], 9, 9);
+    SceneSource source(shader, rays);
+    return source.sample4(x, y);
+  };
+  for (int row = 0; row < 6; ++row) {
+    const float4 x(3.3f, 3.9f, 4.6f, 5.3f), y(3.4f + 0.43f * float(row));
+    const Rgb4 a = trace(without, x, y), b = trace(with, x, y);
+    for (int i = 0; i < 4; ++i) {
+      SCOPED_TRACE(testing::Message() << "row " << row << " lane " << i);
+      ASSERT_GT(a.g[i], 0.1f);
+      EXPECT_NEAR(b.r[i], a.r[i], 1e-5f * a.g[i]);
+      EXPECT_NEAR(b.g[i], a.g[i], 1e-5f * a.g[i]);
+    }
+  }
+}
+
 TEST(Fresnel, NormalIncidence) {
   // ((n1 - n2) / (n1 + n2))^2 = 0.04 for air/glass 1.5, either direction.
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
