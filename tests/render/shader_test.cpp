@@ -276,6 +276,23 @@ TEST(Shader, AVolumesOwnFacesCountAsInsideItsBoundsEverywhere) {
   }
 }
 
+// Where the shading normal's mirror direction points below the surface (a normal leaning
+// far from the geometric one at a grazing view), the ray reflects about the geometric
+// normal: a metal mirror shows the sky at F0, not its own surface.
+TEST(Shader, AMirrorDirectionBelowTheSurfaceReflectsAboutTheGeometricNormal) {
+  Scene s;
+  s.materials.push_back(test::mirror_material(glm::vec3(0.9f)));
+  test::add_quad(s, {-50, -50, 0}, {50, -50, 0}, {50, 50, 0}, {-50, 50, 0}, 0);
+  for (glm::vec3& n : s.normals) n = glm::normalize(glm::vec3(-0.4f, 0.0f, 0.9165f));
+  // wo = (0.866, 0, 0.5): ns . wo = 0.11 > 0, but 2 (ns . wo) ns - wo points down.
+  s.cameras.push_back(Camera::look_at({std::sqrt(3.0f), 0, 1}, {0, 0, 0}, {0, 0, 1}, 0.3f));
+  s.background = glm::vec3(1.0f);
+  s.max_depth = 2;
+  s.finalize_materials();
+  const glm::vec3 l = centre_radiance(s);
+  EXPECT_NEAR(l.r, 0.9f, 1e-5f);
+}
+
 TEST(Fresnel, NormalIncidence) {
   // ((n1 - n2) / (n1 + n2))^2 = 0.04 for air/glass 1.5, either direction.
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
