@@ -293,6 +293,19 @@ TEST(Shader, AMirrorDirectionBelowTheSurfaceReflectsAboutTheGeometricNormal) {
   EXPECT_NEAR(l.r, 0.9f, 1e-5f);
 }
 
+// A reflection whose path keeps less than kMinThroughput (1/1024) of the light is not traced.
+TEST(Shader, AMirrorWeakerThanTheThroughputCutoffSpawnsNoReflection) {
+  for (const float f0 : {0.9f / 1024.0f, 1.1f / 1024.0f}) {
+    SCOPED_TRACE(f0);
+    Scene s = test::lit_floor(0.5f, 100.0f, 3.0f);
+    s.materials[0] = test::mirror_material(glm::vec3(f0));
+    s.finalize_materials();
+    RayCounters counters;
+    centre_radiance(s, &counters);
+    EXPECT_EQ(counters.reflection, f0 >= Shader::kMinThroughput ? 4u : 0u);
+  }
+}
+
 TEST(Fresnel, NormalIncidence) {
   // ((n1 - n2) / (n1 + n2))^2 = 0.04 for air/glass 1.5, either direction.
   EXPECT_NEAR(fresnel_dielectric(1.0f, 1.0f / 1.5f), 0.04f, 1e-6f);
