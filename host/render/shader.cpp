@@ -166,6 +166,7 @@ float cos_transmitted(float cos_i, float eta) {
 }
 
 float fresnel_dielectric(float cos_i, float eta) {
+  if (eta == 1.0f) return 0.0f;  // no interface; at cos_i = 0 the terms below are 0 / 0
   cos_i = std::clamp(cos_i, 0.0f, 1.0f);
   const float cos_t = cos_transmitted(cos_i, eta);
   if (cos_t < 0.0f) return 1.0f;  // total internal reflection

@@ -362,6 +362,16 @@ TEST(Fresnel, NoTotalReflectionAtRatioOneEvenAtGrazing) {
   }
 }
 
+// Index ratio 1 is no interface at exactly grazing incidence too: Fresnel's terms there
+// are 0 / 0 (cos_i = cos_t = 0, or a cos_i whose square underflows), which gave NaN, and a
+// NaN reflectance dropped both the reflection and the refraction of the ray.
+TEST(Fresnel, NoReflectionAtRatioOneEvenAtGrazing) {
+  for (const float c : {0.0f, 1e-30f}) {
+    SCOPED_TRACE(c);
+    EXPECT_EQ(fresnel_dielectric(c, 1.0f), 0.0f);
+  }
+}
+
 TEST(Fresnel, TotalInternalReflectionBeyondTheCriticalAngle) {
   const float eta = 1.5f;  // glass -> air
   const float critical = std::asin(1.0f / eta);
