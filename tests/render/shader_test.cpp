@@ -483,6 +483,29 @@ TEST(Shader, AShadowRayPassesSixteenCutOutLayersAndIsBlockedBySeventeen) {
   }
 }
 
+// A ray blends up to kMaxBlendLayers (8) BLEND surfaces over what lies behind them; a 9th
+// is shaded as opaque. Black sheets of alpha 0.5 over a floor that emits 1: 0.5^n of it
+// through n <= 8 sheets, none through 9.
+TEST(Shader, EightBlendLayersPassTheirShareAndTheNinthIsOpaque) {
+  for (const int sheets : {3, 8, 9}) {
+    SCOPED_TRACE(sheets);
+    Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
+    s.lights.clear();
+    s.background = glm::vec3(0.0f);
+    s.materials[0].emissive = glm::vec3(1.0f);
+    Material pane = test::diffuse_material(glm::vec3(0.0f));
+    pane.alpha_mode = AlphaMode::Blend;
+    pane.base_alpha = 0.5f;
+    s.materials.push_back(pane);
+    for (int k = 1; k <= sheets; ++k) {
+      const float z = 0.1f * float(k);
+      test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
+    }
+    s.finalize_materials();
+    EXPECT_EQ(centre_radiance(s), glm::vec3(sheets <= 8 ? std::ldexp(1.0f, -sheets) : 0.0f));
+  }
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
