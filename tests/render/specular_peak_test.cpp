@@ -719,5 +719,17 @@ TEST(SpecularPeak, RendererRefinesAHighlightLitThroughABlendPane) {
   expect_hidden_peak_found(floor_under_a_blend_pane(1.5f));
 }
 
+// What a probe sees through a BLEND pane carries the share the pane passes, 1 - alpha
+// (0.7 here), not alpha.
+TEST(SpecularPeak, ProbesThroughABlendPaneCarryTheShareItPasses) {
+  const Scene s = floor_under_a_blend_pane(3.0f);
+  const SceneSource::Probe probe = centre_probe(s);
+  EXPECT_EQ(probe.surface().material, 1u);
+  const SurfaceProbe& floor = probe.node[probe_slot(refracted_node(0))];
+  EXPECT_EQ(floor.material, 0u);
+  EXPECT_NEAR(floor.position.z, 0.0f, 1e-4f);
+  EXPECT_NEAR(floor.specular.r, s.whitted[0].specular.r * 0.7f, 1e-5f * s.whitted[0].specular.r);
+}
+
 }  // namespace
 }  // namespace zz
