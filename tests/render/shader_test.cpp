@@ -506,6 +506,15 @@ TEST(Shader, EightBlendLayersPassTheirShareAndTheNinthIsOpaque) {
   }
 }
 
+// Radiance never leaves the shader negative: a negative emission (which loading would not
+// give) leaves as 0, as NaN does.
+TEST(Shader, NegativeRadianceLeavesAsZero) {
+  Scene s = test::lit_floor(0.5f, 1.0f, 3.0f);
+  s.lights.clear();
+  s.whitted[0].emission = glm::vec3(-1.0f, 0.5f, -2.0f);
+  EXPECT_EQ(centre_radiance(s), glm::vec3(0.0f, 0.5f, 0.0f));
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
