@@ -515,6 +515,29 @@ TEST(Shader, NegativeRadianceLeavesAsZero) {
   EXPECT_EQ(centre_radiance(s), glm::vec3(0.0f, 0.5f, 0.0f));
 }
 
+// A black corner (no albedo, no highlight) traces no shadow ray, but the texture footprint
+// takes the light as reaching it (its neighbours in the texture may be lit): its
+// irradiance is the light's, I cos / (pi d^2), as at a lit corner.
+TEST(Shader, AFootprintAtABlackCornerTakesTheLightAsReachingIt) {
+  for (const bool black : {false, true}) {
+    SCOPED_TRACE(black);
+    Scene s = test::lit_floor(0.5f, 100.0f, 3.0f);
+    if (black) s.whitted[0].diffuse = s.whitted[0].specular = glm::vec3(0.0f);
+    const Bvh bvh = Bvh::build(s.positions);
+    const Shader shader(s, bvh);
+    const CameraRays rays(s.cameras[0], 9, 9);
+    HiddenDetail detail;
+    detail.footprint = true;
+    SceneSource source(shader, rays, kSignatureNone, &detail);
+    SceneSource::Probe probes[4];
+    int4 signature;
+    source.sample4(float4(4.5f), float4(4.5f), signature, probes);
+    const float expected = 100.0f / (9.0f * kPi);
+    EXPECT_NEAR(probes[0].footprint[0].irradiance.r, expected, 1e-5f * expected);
+    EXPECT_EQ(source.counters.shadow, black ? 0u : 4u);
+  }
+}
+
 TEST(Shader, ExtremeLightsStayFinite) {
   for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
     RayCounters counters;
