@@ -432,6 +432,19 @@ TEST(SpecularPeak, SecondDifferencesAtRightAnglesAreNoStep) {
   EXPECT_NEAR(normal_interpolation_error(bent.view()), along_x / 8.0f, 1e-6f);
 }
 
+// Nor are second differences at 135 degrees (cosine -0.7, above -kStepCosine = -0.9):
+// an obtuse bend is still no step, only a nearly opposite one is.
+TEST(SpecularPeak, SecondDifferencesAtAnObtuseAngleAreNoStep) {
+  Ridge bent;
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i)  // the first column tilted towards +y, the last towards (+x, -y)
+      bent.stencil[j * 4 + i].normal =
+          glm::normalize(glm::vec3(i == 3 ? 0.0707f : 0.0f, i == 0 ? 0.1f : (i == 3 ? -0.0707f : 0.0f), 1.0f));
+  const float left = glm::length(bent.stencil[4].normal - 2.0f * bent.stencil[5].normal + bent.stencil[6].normal);
+  const float right = glm::length(bent.stencil[5].normal - 2.0f * bent.stencil[6].normal + bent.stencil[7].normal);
+  EXPECT_NEAR(normal_interpolation_error(bent.view()), std::max(left, right) / 8.0f, 1e-6f);
+}
+
 TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   const Ridge ridge;
   SurfaceProbe c[4];
