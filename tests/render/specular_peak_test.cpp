@@ -198,6 +198,17 @@ TEST(SpecularPeak, ALightBlockedAtSomeCornersIsStillExamined) {
   EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-3f)), open);
 }
 
+// The pixel's extent around corner 0 reaches its farthest corner, whichever it is: here the
+// BR corner, right under the light (1 from it; corner 0 5.1, the other two within 2.83 of
+// corner 0). The light is not culled by an inverse-square bound from corner 0, and the
+// highlight between the corners (the peak at the origin) is found.
+TEST(SpecularPeak, ThePixelsExtentReachesEveryCorner) {
+  const GlossyFloor f;
+  const SurfaceProbe c[4] = {f.probe({-4, 0, 0}), f.probe({-2, 2, 0}), f.probe({-2, -2, 0}), f.probe({1, 0, 0})};
+  const glm::vec3 visible = 0.5f * 0.04f * phong_normalisation(f.shininess) * f.scene.lights[0].intensity;
+  EXPECT_GT(hidden_highlight(f.scene, c, visible).r, 0.0f);
+}
+
 // A light within the pixel's own reach (nearer corner 0 than the farthest corner is) has no
 // inverse-square bound there: it is examined, however large the pixel.
 TEST(SpecularPeak, ALightWithinThePixelsReachIsNotCulledByItsDistance) {
