@@ -114,6 +114,26 @@ TEST(TextureDetail, AStrokeBetweenTheCornersIsFound) {
   EXPECT_EQ(hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f)).r, 0.0f);
 }
 
+// A base colour texture's miss is weighed by the corners' radiance per unit albedo, the
+// albedo taken as at least 0.02: corners on black texels (albedo 0) around a white stroke
+// give a finite estimate, corner_mean / 0.02 times what the texture misses.
+TEST(TextureDetail, CornersOnBlackTexelsWeighTheirRadianceByAnAlbedoOfAtLeast2Percent) {
+  StrokeScene s;
+  Material base;
+  base.base_color = glm::vec3(1.0f);
+  base.base_color_texture.index = 0;
+  s.scene.materials[1] = base;
+  s.scene.finalize_materials();
+  s.pyramids = texture_pyramids(s.scene);
+  SurfaceProbe c[4];
+  s.corners(28.0f / 64, 37.0f / 64, c);  // all four on black texels
+  const glm::vec3 emitted = hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.0f));
+  ASSERT_GT(emitted.r, 0.05f);
+  for (SurfaceProbe& p : c) p.material = 1;
+  const glm::vec3 lit = hidden_texture_detail(s.scene, s.pyramids, c, glm::vec3(0.01f));
+  EXPECT_NEAR(lit.r, (0.01f / 0.02f) * emitted.r, 1e-6f);
+}
+
 TEST(TextureDetail, NoEstimateAcrossMaterialsOrSeams) {
   const StrokeScene s;
   SurfaceProbe c[4];
