@@ -209,6 +209,24 @@ TEST(SpecularPeak, ThePixelsExtentReachesEveryCorner) {
   EXPECT_GT(hidden_highlight(f.scene, c, visible).r, 0.0f);
 }
 
+// The narrow lobe's estimate, its Gaussian tail spread over the pixel, is capped by the
+// lobe's largest value in the pixel: where every half vector lies beyond the lobe's reach
+// (|n - h| >= 0.78 turns the mirror direction past 90 degrees, lobe_at = 0) nothing is
+// hidden, however small `visible`. One point, h = +z, four normals with |n_xy| = 0.9 or 1
+// at +-30 degrees about the light's side.
+TEST(SpecularPeak, NothingHiddenWhereTheLobeIsZeroAcrossThePixel) {
+  const GlossyFloor f;
+  const glm::vec3 normals[4] = {{0.9f * 0.866f, 0.45f, 0.436f}, {0.866f, 0.5f, 0.0f},
+                                {0.9f * 0.866f, -0.45f, 0.436f}, {0.866f, -0.5f, 0.0f}};
+  SurfaceProbe c[4];
+  for (int k = 0; k < 4; ++k) {
+    c[k] = f.probe({0, 0, 0});
+    c[k].normal = glm::normalize(normals[k]);
+    c[k].shininess = 50.0f;
+  }
+  EXPECT_EQ(hidden_highlight(f.scene, c, glm::vec3(1e-37f)), glm::vec3(0.0f));
+}
+
 // A light within the pixel's own reach (nearer corner 0 than the farthest corner is) has no
 // inverse-square bound there: it is examined, however large the pixel.
 TEST(SpecularPeak, ALightWithinThePixelsReachIsNotCulledByItsDistance) {
