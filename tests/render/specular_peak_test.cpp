@@ -474,6 +474,33 @@ TEST(SpecularPeak, SecondDifferencesAtAnObtuseAngleAreNoStep) {
   EXPECT_NEAR(normal_interpolation_error(bent.view()), std::max(left, right) / 8.0f, 1e-6f);
 }
 
+// The cheap curvature test widens the corners' spread of half vectors by the normals'
+// interpolation error on either side, 2 e: four equal corners (spread 0) whose ring bends
+// the normals (e = 0.0125 from the second differences) keep a light whose s (2 e)^2 / 2
+// error reaches `visible` (s e^2 / 2 would not), and the grid's estimate finds what the
+// corners miss.
+TEST(SpecularPeak, TheCurvatureTestWidensTheSpreadByTheNormalErrorOnBothSides) {
+  Ridge bent;
+  const float shininess = 3840.0f;  // s e^2 / 2 = 0.3, s (2 e)^2 / 2 = 1.2
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 4; ++i) {
+      SurfaceProbe& p = bent.stencil[j * 4 + i];
+      p = bent.floor.probe({0.01f, 0.0f, 0.0f});
+      p.shininess = shininess;
+      if (i == 0 || i == 3) p.normal = glm::normalize(glm::vec3(0.0f, 0.1f, 1.0f));  // the ring's columns bend alike
+    }
+  SurfaceProbe c[4];
+  bent.corners(c);
+  const ProbeStencil view = bent.view();
+  const float e = normal_interpolation_error(view);
+  ASSERT_NEAR(e, 0.0125f, 1e-4f);
+  glm::vec3 wi, scale;
+  float distance;
+  light_towards(bent.floor.scene.lights[0], c[0].position, wi, distance, scale);
+  const glm::vec3 amplitude = c[0].specular * phong_normalisation(shininess) * scale * glm::dot(c[0].normal, wi);
+  EXPECT_GT(hidden_highlight(bent.floor.scene, c, 0.6f * amplitude, &view).r, 0.0f);
+}
+
 TEST(SpecularPeak, AStreakOnARidgeBetweenTheCornersIsFound) {
   const Ridge ridge;
   SurfaceProbe c[4];
