@@ -258,6 +258,29 @@ TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   EXPECT_EQ(black.delta, glm::vec3(0.0f));
 }
 
+// A metal that also transmits: its transmission is what the metal leaves, transmission x
+// (1 - metallic), as whitted_surface takes it; so the diffuse albedo the samples see is the
+// corners' own, base x 0.5 x (1 - 0.25) here, and a uniform texture adds exactly nothing.
+TEST(TextureFootprint, ATransmittingMetalsSamplesSeeTheCornersAlbedo) {
+  StrokeScene s([](int, int) { return 1.0f; });
+  with_triangle(s.scene);
+  Material& m = s.scene.materials[0];
+  m.emissive = glm::vec3(0.0f);
+  m.emissive_texture = TextureRef{};
+  m.base_color = glm::vec3(0.8f, 0.6f, 0.4f);
+  m.metallic = 0.5f;
+  m.transmission = 0.5f;
+  m.transmission_texture.index = 0;  // R: 1 everywhere
+  s.scene.finalize_materials();
+  ASSERT_TRUE(m.varies_per_hit());
+  FootprintCorners k;
+  s.corners(30.5f / 64, 33.5f / 64, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
+  const FootprintDelta d = k.delta(s.scene);
+  ASSERT_TRUE(d.applies);
+  EXPECT_EQ(d.delta, glm::vec3(0.0f));
+}
+
 // A material whose metallic texture (B channel) is 0 but for the stroke's column, lit by a
 // light of irradiance 1: the diffuse albedo is base x (1 - metallic), so the stroke darkens
 // the pixel by base x the stroke's third of the footprint, and a transmission texture the
