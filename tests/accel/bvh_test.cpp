@@ -130,6 +130,19 @@ TEST(Bvh, SahCostOfTrivialTrees) {
   EXPECT_EQ(s.max_depth, 4u);
 }
 
+// The collapse fills each 4-wide node with up to four children, opening interior
+// children until there are four. The 50 copies' binary tree (15 interior nodes, 16
+// leaves: SahCostOfTrivialTrees) collapses into 7 four-wide nodes; three-wide nodes would
+// take 10.
+TEST(Bvh, TheCollapseFillsFourWideNodes) {
+  std::vector<glm::vec3> copies;
+  for (int k = 0; k < 50; ++k) test::add_tri(copies, {-1, -1, 1}, {1, -1, 1}, {0, 1, 1});
+  BvhBuildStats s;
+  Bvh::build(copies, &s);
+  EXPECT_EQ(s.leaf_count, 16u);
+  EXPECT_EQ(s.node_count, 7u);
+}
+
 TEST(Bvh, BuildIsDeterministic) {
   std::mt19937 rng(11);
   auto tris = test::random_soup(rng, 3000, 0.1f);
