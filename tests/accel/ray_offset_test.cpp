@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "accel/bvh.h"
@@ -49,6 +50,17 @@ TEST(RayOffset, MovesStrictlyToTheNormalSide) {
   const glm::vec3 tilted = offset_ray_origin(hit, glm::normalize(glm::vec3(-1e-6f, 1.0f, 0.0f)));
   EXPECT_LT(tilted.x, hit.p.x);
   EXPECT_GT(tilted.y, hit.p.y);
+}
+
+// A point with an error bound of exactly 0 on a plane at 0 still leaves it, to the smallest
+// denormal on the normal's side (stepping from +-0), and never stays on the plane.
+TEST(RayOffset, APointAtZeroWithNoErrorLeavesThePlane) {
+  const SurfacePosition at_zero{glm::vec3(0.0f), glm::vec3(0.0f)};
+  const float denorm_min = std::numeric_limits<float>::denorm_min();
+  EXPECT_EQ(offset_ray_origin(at_zero, {0, 0, 1}).z, denorm_min);
+  EXPECT_EQ(offset_ray_origin(at_zero, {0, 0, -1}).z, -denorm_min);
+  const SurfacePosition at_minus_zero{glm::vec3(0.0f, 0.0f, -0.0f), glm::vec3(0.0f)};
+  EXPECT_EQ(offset_ray_origin(at_minus_zero, {0, 0, 1}).z, denorm_min);
 }
 
 // A triangle in a plane z = +-Z far along z (1e2 to 1e6) but small in x and y: its error
