@@ -63,6 +63,16 @@ TEST(RayOffset, APointAtZeroWithNoErrorLeavesThePlane) {
   EXPECT_EQ(offset_ray_origin(at_minus_zero, {0, 0, 1}).z, denorm_min);
 }
 
+// A coordinate the offset carries past FLT_MAX is +-inf and stays so, never NaN: the step
+// away from the surface keeps an infinity in its own direction.
+TEST(RayOffset, AnOverflowingCoordinateStaysInfiniteNotNan) {
+  const float big = std::numeric_limits<float>::max();
+  const SurfacePosition far{glm::vec3(big, -big, 0.0f), glm::vec3(1e38f)};
+  const glm::vec3 po = offset_ray_origin(far, glm::normalize(glm::vec3(1.0f, -1.0f, 0.0f)));
+  EXPECT_EQ(po.x, std::numeric_limits<float>::infinity());
+  EXPECT_EQ(po.y, -std::numeric_limits<float>::infinity());
+}
+
 // A triangle in a plane z = +-Z far along z (1e2 to 1e6) but small in x and y: its error
 // bound is all in z, so the offset must follow that component (mutation testing: an offset
 // from the x and y bounds alone stayed inside the z bound every time, and 40 of 160 000
