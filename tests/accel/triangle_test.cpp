@@ -2,6 +2,8 @@
 // closed meshes without cracks, degenerate and grazing cases.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "accel/bvh.h"
 #include "test_meshes.h"
 
@@ -26,6 +28,27 @@ TEST(Triangle, KnownHitAndBarycentrics) {
   EXPECT_TRUE(bvh.intersect1(Ray{{0.25f, 0.5f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f}).hit());
   // Outside the triangle: miss.
   EXPECT_FALSE(bvh.intersect1(Ray{{0.6f, 0.6f, 0.0f}, {0.0f, 0.0f, 1.0f}}).hit());
+}
+
+// An edge function whose float products cancel to exactly 0 is redone in double (the
+// paper's fallback): a ray along z through the origin passes 2^-46 (in edge-function units)
+// outside the edge from (-(1 + e), -1) to (1 + 2e, 1 + e), e = 2^-23, where float gives
+// (1 + 2e) - (1 + e)^2 = 0. It misses; a ray well inside the triangle hits, in single rays
+// and packets alike.
+TEST(Triangle, AnEdgeFunctionThatCancelsToZeroInFloatIsSettledInDouble) {
+  const float e = std::ldexp(1.0f, -23);
+  std::vector<glm::vec3> p;
+  test::add_tri(p, {-1, 1, 1}, {-(1 + e), -1, 1}, {1 + 2 * e, 1 + e, 1});
+  const Bvh bvh = Bvh::build(p);
+  EXPECT_FALSE(bvh.intersect1(Ray{{0, 0, 0}, {0, 0, 1}}).hit());
+  EXPECT_EQ(bvh.intersect1(Ray{{-0.5f, 0.2f, 0}, {0, 0, 1}}).prim, 0);
+  RayPacket4 r{};
+  r.ox = float4(0.0f, -0.5f, 0.0f, -0.5f), r.oy = float4(0.0f, 0.2f, 0.0f, 0.2f), r.oz = float4(0.0f);
+  r.dx = r.dy = float4(0.0f), r.dz = float4(1.0f), r.tmax = float4(kInfinity);
+  HitPacket4 h;
+  bvh.intersect4(r, mask4(true), h);
+  EXPECT_EQ(h.prim[0], -1);
+  EXPECT_EQ(h.prim[1], 0);
 }
 
 // A floor up to 1e7 across, hit at 0.2-2 units from origins near the world's origin (a
