@@ -185,6 +185,16 @@ TEST_F(FilmMergeTest, PartsWithDifferentChannelsAreRefused) {
   }
 }
 
+// Parts must have the very same channels: a part whose channels are only the first part's
+// first few (rays of rays, depth) is refused too, not only one whose names differ.
+TEST(FilmMerge, APartWithFewerOfTheSameChannelsIsRefused) {
+  FilmFile a, b;
+  a.film = frame_film({0, 0, 7, 2});
+  b.film = frame_film({0, 2, 7, 5});
+  b.film.channels.pop_back();  // rays only
+  EXPECT_THROW(check_film_parts({{"a.exr", a}, {"b.exr", b}}), Error);
+}
+
 // A part converted to half floats (oiiotool -d half) no longer holds the render's values:
 // refused by name before anything merges.
 TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
