@@ -195,6 +195,20 @@ TEST(FilmMerge, APartWithFewerOfTheSameChannelsIsRefused) {
   EXPECT_THROW(check_film_parts({{"a.exr", a}, {"b.exr", b}}), Error);
 }
 
+// Parts that overlap are refused, also where the later one starts below the earlier one's
+// top (rows 0-2 and 2-3 overlap on row 2; their areas still add up to the frame's).
+TEST(FilmMerge, PartsOverlappingAcrossTheirTopEdgesAreRefused) {
+  FilmFile a, b;
+  a.film = frame_film({0, 0, 7, 3});
+  b.film = frame_film({0, 2, 7, 4});
+  try {
+    check_film_parts({{"a.exr", a}, {"b.exr", b}});
+    FAIL() << "merged overlapping parts";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("overlap"), std::string::npos) << e.what();
+  }
+}
+
 // A part converted to half floats (oiiotool -d half) no longer holds the render's values:
 // refused by name before anything merges.
 TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
