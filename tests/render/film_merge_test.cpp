@@ -209,6 +209,18 @@ TEST(FilmMerge, PartsOverlappingAcrossTheirTopEdgesAreRefused) {
   }
 }
 
+// Parts that leave a region of the frame uncovered are refused.
+TEST(FilmMerge, PartsThatLeaveARegionUncoveredAreRefused) {
+  FilmFile a;
+  a.film = frame_film({0, 0, 7, 2});
+  try {
+    check_film_parts({{"a.exr", a}});
+    FAIL() << "merged a part that covers 14 of 35 pixels";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("a region is missing"), std::string::npos) << e.what();
+  }
+}
+
 // A part converted to half floats (oiiotool -d half) no longer holds the render's values:
 // refused by name before anything merges.
 TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
