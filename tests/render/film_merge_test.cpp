@@ -209,6 +209,22 @@ TEST(FilmMerge, PartsOverlappingAcrossTheirTopEdgesAreRefused) {
   }
 }
 
+// The overlap scan visits the parts by their top edge: a part starting lower but further
+// left (q, rows 3-4) does not hide the overlap of the first (p, rows 0-1) with one that
+// starts on p's second row (r).
+TEST(FilmMerge, AnOverlapBehindALowerPartFurtherLeftIsFound) {
+  FilmFile p, q, r;
+  p.film = frame_film({0, 0, 3, 2});
+  q.film = frame_film({1, 3, 7, 5});
+  r.film = frame_film({2, 1, 7, 3});  // column 2 of row 1 is p's too
+  try {
+    check_film_parts({{"p.exr", p}, {"q.exr", q}, {"r.exr", r}});
+    FAIL() << "merged overlapping parts";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("p.exr (0,0,3,2) and r.exr (2,1,7,3) overlap"), std::string::npos) << e.what();
+  }
+}
+
 // Parts that leave a region of the frame uncovered are refused.
 TEST(FilmMerge, PartsThatLeaveARegionUncoveredAreRefused) {
   FilmFile a;
