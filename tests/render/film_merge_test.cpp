@@ -225,6 +225,22 @@ TEST(FilmMerge, AnOverlapBehindALowerPartFurtherLeftIsFound) {
   }
 }
 
+// Parts of frames of another height are refused, even where their regions would tile
+// the first part's frame.
+TEST(FilmMerge, PartsOfFramesOfAnotherHeightAreRefused) {
+  FilmFile a, b;
+  a.film = frame_film({0, 0, 7, 2});
+  b.film = Film(7, 6, TileRect{0, 2, 7, 5});
+  for (const FilmChannel& c : a.film.channels) b.film.channels.push_back({c.name, std::vector<float>(b.film.radiance.size())});
+  try {
+    check_film_parts({{"a.exr", a}, {"b.exr", b}});
+    FAIL() << "merged parts of a 7x5 and a 7x6 frame";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("b.exr is part of a 7x6 frame but a.exr of a 7x5 frame"), std::string::npos)
+        << e.what();
+  }
+}
+
 // Parts that leave a region of the frame uncovered are refused.
 TEST(FilmMerge, PartsThatLeaveARegionUncoveredAreRefused) {
   FilmFile a;
