@@ -25,7 +25,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct FilmMergeTest : test::ScratchDirTest {};
+struct FilmMergeTest : test::ScratchDirTest {
+  // An EXR that zigzag did not write: `spec`'s size, channels and attributes, every value 0.5.
+  fs::path foreign_exr(const std::string& name, const OIIO::ImageSpec& spec) const {
+    std::vector<float> pixels(size_t(spec.width) * size_t(spec.height) * size_t(spec.nchannels), 0.5f);
+    const fs::path p = dir / name;
+    auto out = OIIO::ImageOutput::create(p.string());
+    EXPECT_TRUE(out && out->open(p.string(), spec));
+    EXPECT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
+    out->close();
+    return p;
+  }
+};
 
 // A film of `window` in a 7 x 5 frame whose values are a function of the frame position,
 // so the parts of one frame agree with the whole.
@@ -262,12 +273,7 @@ TEST_F(FilmMergeTest, PartsNotInFloatAreRefused) {
   OIIO::ImageSpec spec(7, 5, 5, OIIO::TypeDesc::HALF);
   spec.channelnames = {"R", "G", "B", "rays", "depth"};
   spec.attribute("zigzag:exposure", 1.0f);
-  std::vector<float> pixels(7 * 5 * 5, 0.5f);
-  const fs::path half = dir / "half.exr";
-  auto out = OIIO::ImageOutput::create(half.string());
-  ASSERT_TRUE(out && out->open(half.string(), spec));
-  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-  out->close();
+  const fs::path half = foreign_exr("half.exr", spec);
   for (auto read : {&read_film, &read_film_header}) {
     try {
       (void)read(half);
@@ -286,14 +292,8 @@ TEST_F(FilmMergeTest, AnUnusableExposureIsNamedNotCalledMissing) {
     OIIO::ImageSpec spec(4, 3, 3, OIIO::TypeDesc::FLOAT);
     if (as_text) spec.attribute("zigzag:exposure", "bright");
     else spec.attribute("zigzag:exposure", std::nanf(""));
-    std::vector<float> pixels(4 * 3 * 3, 0.5f);
-    const fs::path p = dir / "exposure.exr";
-    auto out = OIIO::ImageOutput::create(p.string());
-    ASSERT_TRUE(out && out->open(p.string(), spec));
-    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, pixels.data()));
-    out->close();
     try {
-      (void)read_film_header(p);
+      (void)read_film_header(foreign_exr("exposure.exr", spec));
       ADD_FAILURE() << "read";
     } catch (const Error& e) {
       EXPECT_NE(std::string(e.what()).find("its zigzag:exposure attribute is not a positive float"), std::string::npos)

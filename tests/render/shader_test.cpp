@@ -183,6 +183,18 @@ Scene glass_block_around(const Material& inner, glm::vec3 camera) {
   return s;
 }
 
+// glass_block_around's scene with the inner cube's triangles dropped (its material kept).
+Scene glass_block_without_its_inner_cube() {
+  Material empty = test::glass_material(1.5f);
+  empty.transmission = 0.0f;
+  Scene s = glass_block_around(empty, {0, 0, 5});
+  s.positions.resize(s.positions.size() - 36);
+  s.normals.resize(s.normals.size() - 36);
+  s.uvs.resize(s.uvs.size() - 36);
+  s.material_of.resize(s.material_of.size() - 12);
+  return s;
+}
+
 TEST(Shader, AbsorptionTintsWhatLiesInsideAVolume) {
   // Straight in: through 0.8 units of the tinted glass to the glowing cube inside it.
   const glm::vec3 l = centre_radiance(glass_block_around(glow_material(), {0, 0, 5}));
@@ -249,13 +261,7 @@ TEST(Shader, AnInterfaceBetweenMediaOfOneIndexIsNone) {
 // outer glass's medium through any point of its faces goes on in the outer glass, so
 // the inner cube stays invisible for rays through all of it, not only the centre's.
 TEST(Shader, AVolumesOwnFacesCountAsInsideItsBoundsEverywhere) {
-  Material empty = test::glass_material(1.5f);
-  empty.transmission = 0.0f;
-  Scene without = glass_block_around(empty, {0, 0, 5});
-  without.positions.resize(without.positions.size() - 36);  // drop the inner cube
-  without.normals.resize(without.normals.size() - 36);
-  without.uvs.resize(without.uvs.size() - 36);
-  without.material_of.resize(without.material_of.size() - 12);
+  Scene without = glass_block_without_its_inner_cube();
   const Scene with = glass_block_around(red_absorbing_glass(0.5f), {0, 0, 5});
   auto trace = [](const Scene& s, float4 x, float4 y) {
     const Bvh bvh = Bvh::build(s.positions);
@@ -310,13 +316,7 @@ TEST(Shader, AMirrorWeakerThanTheThroughputCutoffSpawnsNoReflection) {
 // open sheet of it) stays in the medium it is in: with the same index that sheet is no
 // interface, and what lies behind is seen as without it.
 TEST(Shader, ABackFaceOfAVolumeNotEnteredLeavesTheRayInItsMedium) {
-  Material empty = test::glass_material(1.5f);
-  empty.transmission = 0.0f;
-  Scene without = glass_block_around(empty, {0, 0, 5});
-  without.positions.resize(without.positions.size() - 36);  // drop the inner cube
-  without.normals.resize(without.normals.size() - 36);
-  without.uvs.resize(without.uvs.size() - 36);
-  without.material_of.resize(without.material_of.size() - 12);
+  Scene without = glass_block_without_its_inner_cube();
   without.finalize_materials();
   Scene with = without;
   with.materials[2] = red_absorbing_glass(0.5f);  // the outer glass's medium, a volume of its own
@@ -436,25 +436,31 @@ TEST(Shader, AShadingNormalFacingAwayFromTheViewerShadesAsTheGeometricNormal) {
   EXPECT_EQ(centre_radiance(inverted), expected);
 }
 
+// An unlit floor that emits 1 under `sheets` sheets of `sheet` (z = 0.1, 0.2, ...), seen
+// from above against a background of `background`.
+Scene emitting_floor_under(const Material& sheet, int sheets, float background) {
+  Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
+  s.lights.clear();
+  s.background = glm::vec3(background);
+  s.materials[0].emissive = glm::vec3(1.0f);
+  s.materials.push_back(sheet);
+  for (int k = 1; k <= sheets; ++k) {
+    const float z = 0.1f * float(k);
+    test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
+  }
+  s.finalize_materials();
+  return s;
+}
+
 // A camera ray passes up to kMaxSeeThroughLayers (16) cut-out surfaces; behind a 17th it
 // counts as a miss and sees the background.
 TEST(Shader, ACameraRayPassesSixteenCutOutLayersAndMissesBehindSeventeen) {
+  Material cut_out = test::diffuse_material(glm::vec3(1.0f));
+  cut_out.alpha_mode = AlphaMode::Mask;
+  cut_out.base_alpha = 0.0f;
   for (const int sheets : {16, 17}) {
     SCOPED_TRACE(sheets);
-    Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
-    s.lights.clear();
-    s.background = glm::vec3(0.25f);
-    s.materials[0].emissive = glm::vec3(1.0f);
-    Material cut_out = test::diffuse_material(glm::vec3(1.0f));
-    cut_out.alpha_mode = AlphaMode::Mask;
-    cut_out.base_alpha = 0.0f;
-    s.materials.push_back(cut_out);
-    for (int k = 1; k <= sheets; ++k) {
-      const float z = 0.1f * float(k);
-      test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
-    }
-    s.finalize_materials();
-    EXPECT_EQ(centre_radiance(s), glm::vec3(sheets <= 16 ? 1.0f : 0.25f));
+    EXPECT_EQ(centre_radiance(emitting_floor_under(cut_out, sheets, 0.25f)), glm::vec3(sheets <= 16 ? 1.0f : 0.25f));
   }
 }
 
@@ -487,22 +493,13 @@ TEST(Shader, AShadowRayPassesSixteenCutOutLayersAndIsBlockedBySeventeen) {
 // is shaded as opaque. Black sheets of alpha 0.5 over a floor that emits 1: 0.5^n of it
 // through n <= 8 sheets, none through 9.
 TEST(Shader, EightBlendLayersPassTheirShareAndTheNinthIsOpaque) {
+  Material pane = test::diffuse_material(glm::vec3(0.0f));
+  pane.alpha_mode = AlphaMode::Blend;
+  pane.base_alpha = 0.5f;
   for (const int sheets : {3, 8, 9}) {
     SCOPED_TRACE(sheets);
-    Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
-    s.lights.clear();
-    s.background = glm::vec3(0.0f);
-    s.materials[0].emissive = glm::vec3(1.0f);
-    Material pane = test::diffuse_material(glm::vec3(0.0f));
-    pane.alpha_mode = AlphaMode::Blend;
-    pane.base_alpha = 0.5f;
-    s.materials.push_back(pane);
-    for (int k = 1; k <= sheets; ++k) {
-      const float z = 0.1f * float(k);
-      test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
-    }
-    s.finalize_materials();
-    EXPECT_EQ(centre_radiance(s), glm::vec3(sheets <= 8 ? std::ldexp(1.0f, -sheets) : 0.0f));
+    EXPECT_EQ(centre_radiance(emitting_floor_under(pane, sheets, 0.0f)),
+              glm::vec3(sheets <= 8 ? std::ldexp(1.0f, -sheets) : 0.0f));
   }
 }
 

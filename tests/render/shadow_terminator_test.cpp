@@ -118,36 +118,51 @@ TEST(ShadowTerminator, LowPolySphereLitSideHasNoDarkSpecklesAndMatchesTheReferen
   }
 }
 
+// What four rays straight down from z = 4 at (x, y) see in `s`.
+Rgb4 trace_down(const Scene& s, float4 x, float4 y) {
+  const Bvh bvh = Bvh::build(s.positions);
+  const Shader shader(s, bvh);
+  RayPacket4 rays{};
+  rays.ox = x;
+  rays.oy = y;
+  rays.oz = float4(4.0f);
+  rays.dx = rays.dy = float4(0.0f);
+  rays.dz = float4(-1.0f);
+  rays.tmax = float4(kInfinity);
+  RayCounters counters;
+  return shader.trace4(rays, mask4(true), 0, counters);
+}
+
 TEST(ShadowTerminator, FlatMeshShadowsAreUnchanged) {
   // Flat shading (vertex normals = face normals): the lift is zero, so a box still casts
   // its hard shadow and its faces turned from the light stay dark.
   Scene s = test::lit_floor(0.5f, 100.0f, 3.0f);
   test::add_box(s, {-0.5f, -0.5f, 0.0f}, {0.5f, 0.5f, 1.0f}, 0);
   s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  RayPacket4 rays{};
   // Straight down onto the floor under the box's edge from above: one lane in the
   // shadow-free floor, three on the box top (lit).
-  rays.ox = float4(2.0f, 0.0f, 0.2f, -0.2f);
-  rays.oy = float4(2.0f, 0.0f, 0.2f, -0.2f);
-  rays.oz = float4(4.0f);
-  rays.dx = rays.dy = float4(0.0f);
-  rays.dz = float4(-1.0f);
-  rays.tmax = float4(kInfinity);
-  RayCounters counters;
-  const Rgb4 c = shader.trace4(rays, mask4(true), 0, counters);
+  const Rgb4 c = trace_down(s, float4(2.0f, 0.0f, 0.2f, -0.2f), float4(2.0f, 0.0f, 0.2f, -0.2f));
   for (int i = 0; i < 4; ++i) EXPECT_GT(c.g[i], 0.0f);
   // A light low on the side: the floor behind the box is in its shadow.
   s.lights[0].position = {3.0f, 0.0f, 0.5f};
-  const Shader low(s, bvh);
-  rays.ox = float4(-1.0f, -1.5f, 2.0f, 0.0f);
-  rays.oy = float4(0.0f);
-  const Rgb4 d = low.trace4(rays, mask4(true), 0, counters);
+  const Rgb4 d = trace_down(s, float4(-1.0f, -1.5f, 2.0f, 0.0f), float4(0.0f));
   EXPECT_EQ(d.g[0], 0.0f);  // right behind the box
   EXPECT_EQ(d.g[1], 0.0f);
   EXPECT_GT(d.g[2], 0.0f);  // in front of it, lit
   EXPECT_EQ(d.g[3], 0.0f);  // the box top, the light below its plane
+}
+
+// A sun straight down (irradiance pi: Lambert's radiance is the albedo x cos), a camera
+// above, no secondary rays; the scene's materials finalised.
+void light_from_overhead(Scene& s) {
+  Light sun;
+  sun.type = Light::Type::Directional;
+  sun.direction = {0, 0, -1};
+  sun.intensity = glm::vec3(kPi);
+  s.lights.push_back(sun);
+  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f));
+  s.max_depth = 0;
+  s.finalize_materials();
 }
 
 // Concave smooth meshes keep the hit point: the lift moves shadow origins only outward
@@ -160,25 +175,8 @@ TEST(ShadowTerminator, ConcaveTroughIsNotLiftedIntoItsOwnShadow) {
   test::add_quad(s, {0, -1, 0}, {2, -1, 1}, {2, 1, 1}, {0, 1, 0}, 0);    // normal (-1, 0, 2) / sqrt 5
   for (size_t i = 0; i < s.positions.size(); ++i)
     if (s.positions[i].x == 0.0f) s.normals[i] = {0, 0, 1};  // smooth across the valley
-  Light sun;
-  sun.type = Light::Type::Directional;
-  sun.direction = {0, 0, -1};
-  sun.intensity = glm::vec3(kPi);
-  s.lights.push_back(sun);
-  s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f));
-  s.max_depth = 0;
-  s.finalize_materials();
-  const Bvh bvh = Bvh::build(s.positions);
-  const Shader shader(s, bvh);
-  RayPacket4 rays{};
-  rays.ox = float4(-0.6f, -0.3f, 0.3f, 0.6f);
-  rays.oy = float4(0.1f);
-  rays.oz = float4(4.0f);
-  rays.dx = rays.dy = float4(0.0f);
-  rays.dz = float4(-1.0f);
-  rays.tmax = float4(kInfinity);
-  RayCounters counters;
-  const Rgb4 c = shader.trace4(rays, mask4(true), 0, counters);
+  light_from_overhead(s);
+  const Rgb4 c = trace_down(s, float4(-0.6f, -0.3f, 0.3f, 0.6f), float4(0.1f));
   // Lambert alone at the slope's own normal (cos 0.894) is a lower bound of the smooth shading.
   for (int i = 0; i < 4; ++i) EXPECT_GT(c.g[i], 0.8f * 0.89f) << i;
 }
@@ -196,14 +194,7 @@ TEST(ShadowTerminator, TheLiftWeighsEachVertexsPlaneByItsBarycentric) {
     test::add_triangle(s, {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, 0);
     s.normals[0] = glm::normalize(glm::vec3(-1, -1, 1));
     test::add_quad(s, {0, 0, sheet}, {0.4f, 0, sheet}, {0.4f, 0.4f, sheet}, {0, 0.4f, sheet}, 0);
-    Light sun;
-    sun.type = Light::Type::Directional;
-    sun.direction = {0, 0, -1};
-    sun.intensity = glm::vec3(kPi);
-    s.lights.push_back(sun);
-    s.cameras.push_back(Camera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f));
-    s.max_depth = 0;
-    s.finalize_materials();
+    light_from_overhead(s);
     const Bvh bvh = Bvh::build(s.positions);
     const Shader shader(s, bvh);
     // A grazing ray under the sheet onto (0.2, 0.2, 0): barycentrics (0.6, 0.2, 0.2).

@@ -228,6 +228,15 @@ Scene& with_triangle(Scene& scene) {
   return scene;
 }
 
+// The correction for corners at u0 .. u1 (by default around the stroke), all on the
+// triangle and lit with irradiance 1.
+FootprintDelta lit_delta(const StrokeScene& s, float u0 = 30.5f / 64, float u1 = 33.5f / 64) {
+  FootprintCorners k;
+  s.corners(u0, u1, k.c);
+  for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
+  return k.delta(s.scene);
+}
+
 TEST(TextureFootprint, AStrokeBetweenTheCornersIsAveragedIn) {
   StrokeScene s;
   with_triangle(s.scene);
@@ -273,10 +282,7 @@ TEST(TextureFootprint, ATransmittingMetalsSamplesSeeTheCornersAlbedo) {
   m.transmission_texture.index = 0;  // R: 1 everywhere
   s.scene.finalize_materials();
   ASSERT_TRUE(m.varies_per_hit());
-  FootprintCorners k;
-  s.corners(30.5f / 64, 33.5f / 64, k.c);
-  for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
-  const FootprintDelta d = k.delta(s.scene);
+  const FootprintDelta d = lit_delta(s);
   ASSERT_TRUE(d.applies);
   EXPECT_EQ(d.delta, glm::vec3(0.0f));
 }
@@ -305,18 +311,14 @@ TEST(TextureFootprint, AMetallicOrTransmissionStrokeBetweenTheCornersDarkensTheD
     }
     s.scene.finalize_materials();
     ASSERT_TRUE(m.varies_per_hit());
-    FootprintCorners k;
-    s.corners(30.5f / 64, 33.5f / 64, k.c);
-    for (FootprintProbe& f : k.f) f.prim = 0, f.irradiance = glm::vec3(1.0f);
-    const FootprintDelta d = k.delta(s.scene);
+    const FootprintDelta d = lit_delta(s);
     ASSERT_TRUE(d.applies) << transmission;
     // The corners see no stroke: albedo = base; the pixel a third less of it.
     EXPECT_NEAR(d.delta.r, -0.8f / 3.0f, 0.02f) << transmission;
     EXPECT_NEAR(d.delta.g, -0.6f / 3.0f, 0.02f) << transmission;
     EXPECT_NEAR(d.delta.b, -0.4f / 3.0f, 0.02f) << transmission;
     // Far from the stroke the lanes' albedo is the corners' own: exactly nothing to add.
-    s.corners(2.0f / 64, 5.0f / 64, k.c);
-    const FootprintDelta flat = k.delta(s.scene);
+    const FootprintDelta flat = lit_delta(s, 2.0f / 64, 5.0f / 64);
     EXPECT_TRUE(flat.applies);
     EXPECT_EQ(flat.delta, glm::vec3(0.0f)) << transmission;
   }
