@@ -503,8 +503,10 @@ struct Loader {
           // Zero area, also relative to the edge lengths (collinear up to float rounding).
           if (!(area2 > least)) {
             ++scene.dropped_degenerate;
-            if (area2 == 0.0f && glm::dot(glm::cross(glm::dvec3(e1), glm::dvec3(e2)), glm::cross(glm::dvec3(e1), glm::dvec3(e2))) > 0.0)
-              ++dropped_tiny;  // a true area float's squares cannot hold
+            if (area2 == 0.0f) {  // an area too small for float's squares, or none at all
+              const glm::dvec3 dc = glm::cross(glm::dvec3(e1), glm::dvec3(e2));
+              if (glm::dot(dc, dc) > 0.0) ++dropped_tiny;
+            }
             continue;
           }
           flat = c / std::sqrt(area2);
