@@ -66,7 +66,6 @@ bool file_exists(const std::string& path, void*) {
   return std::filesystem::exists(path, ec);
 }
 
-
 // glTF 1.0 (and a future 3.x) is another format: its .glb has container version 1, which
 // tinygltf reports as an invalid binary, and its .gltf parses without a word.
 void require_gltf2_container(const std::vector<unsigned char>& bytes, const std::string& file) {
