@@ -169,11 +169,22 @@ def write_protected(path: str) -> bool:
     return not os.access(path, os.W_OK)
 
 
-def _refuse_protected(final: str) -> None:
-    """A job's image the user write-protected is refused, not replaced, as zigzag render
-    refuses one (the rename needs only the folder's permission)."""
+def _temporary_beside(final: str) -> tuple[str, str]:
+    """A fresh temporary beside the file `final` writes (a link's target: one file system for
+    the rename), its folder made -> (temporary, the attempt's tag)."""
+    target = written_path(final)
+    os.makedirs(os.path.dirname(target) or ".", exist_ok=True)
+    tag = temporary_tag()
+    return temporary_name(target, tag), tag
+
+
+def _publish_job_output(tmp: str, final: str) -> dict:
+    """A job's finished image published over `final`, unless the user write-protected it:
+    then refused, not replaced, as zigzag render refuses one (the rename needs only the
+    folder's permission)."""
     if write_protected(final):
         raise UsageFailure(f"{final}: the file is write-protected (make it writable to let the farm replace it)")
+    return _publish(tmp, final)
 
 
 def _publish(tmp: str, final: str) -> dict:
@@ -222,10 +233,7 @@ def _fail(code: int, stderr: str) -> JobError:
 def render(spec: dict, cancelled=lambda: False) -> dict:
     """Run one `zigzag render` job described by spec (see runner.render_spec)."""
     final = spec["output"]
-    target = written_path(final)
-    os.makedirs(os.path.dirname(target) or ".", exist_ok=True)
-    tag = temporary_tag()
-    tmp = temporary_name(target, tag)  # beside what is replaced: one file system
+    tmp, tag = _temporary_beside(final)
     tmp_stats = tmp + ".stats.json"
     cmd = [spec["zigzag"], "render", spec["scene"], "-o", tmp, "--stats", tmp_stats,
            "--camera", str(spec["camera"]), "-q"]
@@ -245,8 +253,7 @@ def render(spec: dict, cancelled=lambda: False) -> dict:
         if os.path.exists(tmp_stats):
             with open(tmp_stats) as f:
                 stats = json.load(f)
-        _refuse_protected(final)
-        result = _publish(tmp, final)
+        result = _publish_job_output(tmp, final)
     finally:
         _remove(tmp, tmp_stats)
         _remove_attempt_files(os.path.dirname(tmp), tag)
@@ -260,18 +267,14 @@ def merge(spec: dict, cancelled=lambda: False) -> dict:
     """`zigzag merge PARTS... -o OUTPUT` for one frame; the parts stay (the driver removes
     them once the frame is recorded, so a merge that runs twice still finds them)."""
     final = spec["output"]
-    target = written_path(final)
-    os.makedirs(os.path.dirname(target) or ".", exist_ok=True)
-    tag = temporary_tag()
-    tmp = temporary_name(target, tag)
+    tmp, tag = _temporary_beside(final)
     cmd = [spec["zigzag"], "merge", *spec["parts"], "-o", tmp]
     start = time.monotonic()
     try:
         code, err = run_child(cmd, timeout=spec.get("timeout"), cancelled=cancelled)
         if code != 0:
             raise _fail(code, err)
-        _refuse_protected(final)
-        result = _publish(tmp, final)
+        result = _publish_job_output(tmp, final)
     finally:
         _remove(tmp)
         _remove_attempt_files(os.path.dirname(tmp), tag)
