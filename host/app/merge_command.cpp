@@ -52,14 +52,9 @@ void add_merge_command(CLI::App& app) {
   cmd->callback([o] {
     as_usage_checks([&] {  // before the parts are read: a bad invocation costs nothing
       (void)environment_memory_limit();  // a malformed $ZIGZAG_MEMORY_LIMIT
-      // A file name, not a pattern: `merge -o m_{scene}.png` wrote a file of that name.
-      bool pattern = false;
-      try {
-        pattern = expand_output_pattern(o->output, OutputKey{"s", "0", 0, false}) != o->output;
-      } catch (const Error&) {
-        pattern = true;
-      }
-      if (pattern)
+      // A file name, not a pattern: `merge -o m_{scene}.png` wrote a file of that name. Any
+      // '{' is one, as render's -o reads it: a placeholder, or an unknown one it refuses.
+      if (o->output.find('{') != std::string::npos)
         throw UsageError("-o " + o->output + ": merge writes one file, named in full ({scene}, {camera} and {frame} "
                          "are placeholders of zigzag render's -o)");
       preflight_output("-o", o->output, true);
