@@ -40,6 +40,31 @@ uint32_t hit_then(uint32_t first, uint32_t next) { return (first * 0x9E3779B1u) 
 
 int count_lanes(mask4 m) { return std::popcount(unsigned(m.bits())); }
 
+// The signature a camera packet's child ray, at path-tree node to_child(parent->node),
+// fills: made where the parent records one and the child is signed (`sign`), probed or
+// footprinted, with the parent's probes and footprints where the tree follows that node.
+std::optional<PathSignature4> child_signature(const PathSignature4* parent, int (*to_child)(int), bool sign) {
+  if (!parent) return std::nullopt;
+  const int node = to_child(parent->node);
+  const bool probe = parent->probes && probed(node), footprint = parent->footprint && footprinted(node);
+  if (!sign && !probe && !footprint) return std::nullopt;
+  std::optional<PathSignature4> child(std::in_place);
+  child->node = node;
+  if (probe) child->probes = parent->probes;
+  if (footprint) child->footprint = parent->footprint;
+  return child;
+}
+
+// out += weight * c on the lanes `on` (out in SoA, one row per channel).
+void add_weighted(float out[3][4], const bool on[4], const glm::vec3 weight[4], const Rgb4& c) {
+  for (int i = 0; i < 4; ++i)
+    if (on[i]) {
+      out[0][i] += weight[i].r * c.r[i];
+      out[1][i] += weight[i].g * c.g[i];
+      out[2][i] += weight[i].b * c.b[i];
+    }
+}
+
 // Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
 constexpr int kMaxBlendLayers = 8;
 
@@ -549,22 +574,9 @@ int Shader::add_reflection_and_refraction(Hits4& h, int depth, int blend_layers,
   }
   const mask4 reflect_lanes(do_reflect[0], do_reflect[1], do_reflect[2], do_reflect[3]);
   // The secondary rays' first hits, for a camera packet's signature and probes.
-  // Made only for a packet that records a signature.
-  std::optional<PathSignature4> seen_reflected, seen_refracted;
-  const bool probing = signature && signature->probes;
-  const bool probe_reflected = probing && probed(reflected_node(signature->node));
-  const bool probe_refracted = probing && probed(refracted_node(signature->node));
-  const bool footprinting = signature && signature->footprint;
-  const bool footprint_reflected = footprinting && footprinted(reflected_node(signature->node));
-  const bool footprint_refracted = footprinting && footprinted(refracted_node(signature->node));
   if (reflect_lanes.any()) {
     counters.reflection += uint64_t(count_lanes(reflect_lanes));
-    if ((signature && depth <= 1) || probe_reflected || footprint_reflected) {
-      seen_reflected.emplace();
-      seen_reflected->node = reflected_node(signature->node);
-    }
-    if (probe_reflected) seen_reflected->probes = signature->probes;
-    if (footprint_reflected) seen_reflected->footprint = signature->footprint;
+    std::optional<PathSignature4> seen_reflected = child_signature(signature, reflected_node, depth <= 1);
     const Rgb4 c = trace4_impl<kEffects>(reflected.packet(), reflect_lanes, depth + 1, blend_layers,
                                          float4::load(reflect_path), h.crossed, counters,
                                          seen_reflected ? &*seen_reflected : nullptr);
@@ -576,12 +588,7 @@ int Shader::add_reflection_and_refraction(Hits4& h, int depth, int blend_layers,
                                   : reflect_path[i] >= kSignedMirrorPath ? seen.object[i]
                                                                          : 0u;
     }
-    for (int i = 0; i < 4; ++i)
-      if (do_reflect[i]) {
-        h.out[0][i] += reflect_weight[i].r * c.r[i];
-        h.out[1][i] += reflect_weight[i].g * c.g[i];
-        h.out[2][i] += reflect_weight[i].b * c.b[i];
-      }
+    add_weighted(h.out, do_reflect, reflect_weight, c);
   }
   if constexpr ((kEffects & kRefraction) != 0) {
     const mask4 refract_lanes(do_refract[0], do_refract[1], do_refract[2], do_refract[3]);
@@ -590,13 +597,7 @@ int Shader::add_reflection_and_refraction(Hits4& h, int depth, int blend_layers,
       refracted_lanes = refract_lanes.bits();
       // A refracted ray's first hit is mostly the far side of the same glass; what the
       // glass shows is the hit after that, so a camera packet's signature keeps both.
-      const bool sign = signature && depth <= 1;
-      if (sign || probe_refracted || footprint_refracted) {
-        seen_refracted.emplace();
-        seen_refracted->node = refracted_node(signature->node);
-      }
-      if (probe_refracted) seen_refracted->probes = signature->probes;
-      if (footprint_refracted) seen_refracted->footprint = signature->footprint;
+      std::optional<PathSignature4> seen_refracted = child_signature(signature, refracted_node, depth <= 1);
       const Rgb4 c = trace4_impl<kEffects>(refracted.packet(), refract_lanes, depth + 1, blend_layers,
                                            float4::load(refract_path), refracted_media, counters,
                                            seen_refracted ? &*seen_refracted : nullptr);
@@ -606,16 +607,11 @@ int Shader::add_reflection_and_refraction(Hits4& h, int depth, int blend_layers,
           signature->refracted[i] =
               !do_refract[i] ? 0u : depth == 0 ? hit_then(seen.object[i], seen.refracted[i]) : seen.object[i];
       }
-      for (int i = 0; i < 4; ++i)
-        if (do_refract[i]) {
-          h.out[0][i] += refract_weight[i].r * c.r[i];
-          h.out[1][i] += refract_weight[i].g * c.g[i];
-          h.out[2][i] += refract_weight[i].b * c.b[i];
-        }
+      add_weighted(h.out, do_refract, refract_weight, c);
     }
   }
   // The children's probes carry the weight of the ray that reached them.
-  if (probing || footprinting)
+  if (signature && (signature->probes || signature->footprint))
     for (int i = 0; i < 4; ++i) {
       if (do_reflect[i]) scale_path(*signature, reflected_node(signature->node), i, reflect_weight[i]);
       if (do_refract[i]) scale_path(*signature, refracted_node(signature->node), i, refract_weight[i]);
@@ -664,17 +660,8 @@ void Shader::blend_over_behind(Hits4& h, int refracted_lanes, int depth, int ble
   // A lane that refracts here too (a BLEND glass) keeps the node for its refraction and
   // traces what is behind unprobed, in a packet of its own: whether a lane is probed must
   // not depend on the other lanes of its packet.
-  std::optional<PathSignature4> seen_behind;
-  const int behind_node = signature ? refracted_node(signature->node) : 0;
-  const bool probe_behind = signature && signature->probes && probed(behind_node);
-  const bool footprint_behind = signature && signature->footprint && footprinted(behind_node);
-  const int probed_lanes = probe_behind || footprint_behind ? blend & ~refracted_lanes : 0;
-  if (probed_lanes != 0) {
-    seen_behind.emplace();
-    seen_behind->node = behind_node;
-    if (probe_behind) seen_behind->probes = signature->probes;
-    if (footprint_behind) seen_behind->footprint = signature->footprint;
-  }
+  std::optional<PathSignature4> seen_behind = child_signature(signature, refracted_node, false);
+  const int probed_lanes = seen_behind ? blend & ~refracted_lanes : 0;
   Rgb4 c{float4(0.0f), float4(0.0f), float4(0.0f)};  // recursion bounded by kMaxBlendLayers
   if (probed_lanes != 0)
     c = trace4_impl<kEffects>(behind.packet(), mask4::from_bits(probed_lanes), depth, blend_layers + 1, throughput,
@@ -687,7 +674,7 @@ void Shader::blend_over_behind(Hits4& h, int refracted_lanes, int depth, int ble
   for (int i = 0; i < 4; ++i) {
     if (!((blend >> i) & 1)) continue;
     const float a = h.sp[i].alpha;
-    if ((probed_lanes >> i) & 1) scale_path(*signature, behind_node, i, glm::vec3(1.0f - a));  // what the pane passes
+    if ((probed_lanes >> i) & 1) scale_path(*signature, seen_behind->node, i, glm::vec3(1.0f - a));  // what the pane passes
     h.out[0][i] = a * h.out[0][i] + (1.0f - a) * c.r[i];
     h.out[1][i] = a * h.out[1][i] + (1.0f - a) * c.g[i];
     h.out[2][i] = a * h.out[2][i] + (1.0f - a) * c.b[i];
