@@ -211,6 +211,7 @@ struct SceneJob {
   double device_wait_s;          // the wait for the device that the load and BVH did not hide (idem)
   const std::vector<std::string>& batch_inputs;  // every scene's files, listed before the first loaded
   OutputClaims& claims;                          // the files the batch's jobs so far write
+  std::string files_fingerprint;                 // of the files as loaded, for EXR outputs; empty without
 };
 
 void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index, bool first_camera);
@@ -223,6 +224,10 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   auto t = std::chrono::steady_clock::now();
   Scene scene = load_scene(scene_path, load);
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
+  // Hashed now, not as each camera's EXR is written: a file saved anew during a long
+  // render must not stamp the parts rendered from its old version with its new bytes.
+  const std::string fingerprint =
+      holds_extra_channels(o.output_pattern()) ? files_fingerprint(scene.source_files) : std::string();
   const double load_s = seconds_since(t);
   const std::string scene_name = scene_path.stem().string();
   const std::vector<int> cameras = select_cameras(o, scene, scene_path);
@@ -240,7 +245,8 @@ void render_job(const BatchOptions& o, const std::filesystem::path& scene_path, 
   std::optional<SceneMap> map;
   if (vulkan) map.emplace(*vulkan, scene);
 
-  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s, inputs, claims};
+  const SceneJob job{scene, scene_name, frame, shader, bvh_stats, map ? &*map : nullptr, load_s, bvh_s, device_wait_s, inputs, claims,
+                     fingerprint};
   for (int camera_index : cameras) {
     ++tally.jobs;
     try {
@@ -376,7 +382,9 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
   t = std::chrono::steady_clock::now();
   FilmAttributes attributes{{"scene", job.name}, {"camera", key.camera}, {"settings", image_settings(o, scene)}};
   if (map_made) attributes[kDeviceAttribute] = job.map->vulkan().device_name();  // merge says when parts' differ
-  if (holds_extra_channels(output)) attributes[kSceneFilesAttribute] = files_fingerprint(scene.source_files);
+  if (holds_extra_channels(output))  // (a pattern whose extension is a placeholder is hashed here)
+    attributes[kSceneFilesAttribute] =
+        job.files_fingerprint.empty() ? files_fingerprint(scene.source_files) : job.files_fingerprint;
   write_film(output, film, settings.tonemap, attributes, &outputs);
   std::string written = output.string();  // for the summary line: the image, then the AOV images
   for (const AovRequest& a : o.aovs)
