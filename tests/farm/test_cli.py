@@ -3,6 +3,8 @@ usage error a clean one-line message with exit code 2 (nothing rendered, no trac
 import argparse
 import json
 import os
+import subprocess
+import sys
 import time
 
 import pytest
@@ -246,3 +248,24 @@ def test_the_check_skips_a_frame_the_user_write_protected(capsys, workdir, monke
     runs = [json.loads(line) for line in open(log)]
     assert len(runs) == 1
     assert any(runs[0][i:i + 2] == ["--frame", "3"] for i in range(len(runs[0]))), runs[0]
+
+
+def test_ctrl_c_while_the_driver_imports_is_one_line_and_exit_130(tmp_path):
+    # The SIGINT arrives as zigzag_farm.cli starts importing (a finder sends it), where a
+    # real Ctrl-C lands in the first 0.1 s of a run: no traceback, the run's own exit code.
+    script = tmp_path / "start.py"
+    script.write_text(
+        "import importlib.abc, os, signal, sys\n"
+        "class Interrupt(importlib.abc.MetaPathFinder):\n"
+        "    def find_spec(self, name, path, target=None):\n"
+        "        if name == 'zigzag_farm.cli':\n"
+        "            os.kill(os.getpid(), signal.SIGINT)\n"
+        "        return None\n"
+        "sys.meta_path.insert(0, Interrupt())\n"
+        "from zigzag_farm.launch import main\n"
+        "sys.exit(main())\n")
+    env = {**os.environ, "PYTHONPATH": os.path.join(ROOT, "farm")}
+    p = subprocess.run([sys.executable, str(script), "render", "x.json", "-o", "x.png"], env=env,
+                       capture_output=True, text=True, timeout=60)
+    assert p.returncode == 130, p.stderr
+    assert p.stderr == "zigzag-farm: interrupted; nothing was started\n", p.stderr
