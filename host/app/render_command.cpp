@@ -36,6 +36,7 @@
 #include "render/memory_budget.h"
 #include "render/primary_hits.h"
 #include "render/renderer.h"
+#include "render/see_through.h"  // the layer limits the warning names
 #include "scene/loader.h"
 
 namespace zz {
@@ -430,6 +431,12 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  "zigzag: warning: %s camera %d: %llu traced samples came out NaN and were set to black; "
                  "this is a renderer bug, please report it with the scene\n",
                  job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.nan_radiance));
+  if (stats.rays.layer_limit > 0 && !o.quiet)
+    std::fprintf(stderr,
+                 "zigzag: warning: %s camera %d: %llu rays met more than %d alpha cut-outs or %d blended surfaces one "
+                 "behind another; what lay further behind is left out of them\n",
+                 job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.layer_limit),
+                 kMaxSeeThroughLayers, kMaxBlendLayers);
   if (!o.stats.empty())
     write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
   outputs.commit();

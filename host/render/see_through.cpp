@@ -47,6 +47,7 @@ void pass_cutouts(const Scene& scene, const Bvh& bvh, const RayPacket4& rays, in
       if (!m.see_through() || coverage(scene, m, Texcoords(scene, t3, hits.u[i], hits.v[i])) > 0.0f) continue;
       if (layer == kMaxSeeThroughLayers) {
         hits.prim[i] = -1;
+        ++counters.layer_limit;
         continue;
       }
       const glm::vec3 dir = rays.direction(i);
@@ -104,6 +105,7 @@ void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light
       if (!((lanes >> i) & 1) || hits.prim[i] < 0) continue;  // reached the light
       if (layer == kMaxSeeThroughLayers) {
         through[i] = glm::vec3(0.0f);
+        ++counters.layer_limit;
         continue;
       }
       const size_t t3 = size_t(hits.prim[i]) * 3;

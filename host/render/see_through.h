@@ -13,8 +13,14 @@
 
 namespace zz {
 
-// Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss.
-inline constexpr int kMaxSeeThroughLayers = 16;
+// Beyond this many see-through layers a ray counts as blocked (shadow) or as a miss, and
+// RayCounters::layer_limit counts it (the render warns). Each layer costs a traversal only
+// where there are layers; stacked foliage cards and decals reach tens, not hundreds.
+inline constexpr int kMaxSeeThroughLayers = 256;
+// Beyond this many BLEND surfaces along a camera, mirror or refraction ray (each a level of
+// the shader's recursion, about 2 kB of stack), the next one is weighed by its alpha over
+// nothing: what lies behind it is left out (and counted in layer_limit too).
+inline constexpr int kMaxBlendLayers = 64;
 
 // Where a lane's ray hit; lanes are rewritten when a ray continues past a cut-out.
 struct LaneHits {

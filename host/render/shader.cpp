@@ -65,8 +65,6 @@ void add_weighted(float out[3][4], const bool on[4], const glm::vec3 weight[4], 
     }
 }
 
-// Beyond this many BLEND surfaces along a ray, the next one is shaded as opaque.
-constexpr int kMaxBlendLayers = 8;
 
 // What the shader needs at one lane's hit point.
 struct SurfacePoint {
@@ -647,7 +645,12 @@ void Shader::blend_over_behind(Hits4& h, int refracted_lanes, int depth, int ble
   PacketBuilder behind;
   int blend = 0;
   for (int i = 0; i < 4; ++i) {
-    if (!h.shaded[i] || !(h.sp[i].alpha < 1.0f) || blend_layers >= kMaxBlendLayers) continue;
+    if (!h.shaded[i] || !(h.sp[i].alpha < 1.0f)) continue;
+    if (blend_layers >= kMaxBlendLayers) {
+      for (int c = 0; c < 3; ++c) h.out[c][i] *= h.sp[i].alpha;
+      ++counters.layer_limit;
+      continue;
+    }
     behind.set(i, offset_ray_origin(h.sp[i].hit, -h.sp[i].ng), h.sp[i].dir, kInfinity);
     blend |= 1 << i;
   }

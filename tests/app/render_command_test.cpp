@@ -17,6 +17,7 @@
 #include "cli.h"
 #include "core/error.h"
 #include "render/image_io.h"
+#include "render/see_through.h"
 
 namespace zz {
 namespace {
@@ -284,6 +285,56 @@ TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
   const nlohmann::json j = read_json(stats);
   EXPECT_GT(j["geo_fraction"].get<double>(), 0.0) << "the map flags the squares' outlines";
   EXPECT_LT(j["rays_per_pixel"].get<double>(), 4.0);
+  fs::remove_all(dir);
+}
+
+// A ray that meets more cut-outs one behind another than the shader passes
+// (kMaxSeeThroughLayers) is cut short there: the run says so with the count, which
+// --stats holds as layer_limit, and stays quiet about a stack within the limit. Fully
+// cut-out MASK quads over an emissive floor, no lights: the floor shows through the limit's
+// worth and not through one more.
+TEST(RenderCommand, RaysCutShortBehindTooManyCutOutsAreCountedAndWarnedAbout) {
+  const fs::path dir = temp_dir() / "layers";
+  fs::create_directories(dir);
+  const auto render = [&](int sheets) {
+    test::GltfBuilder b;
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}}, {"emissiveFactor", {1, 1, 1}}},
+                          {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 0, 0, 0}}}},
+                           {"alphaMode", "MASK"}, {"alphaCutoff", 0.5}}};
+    std::vector<float> pos = {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
+    b.node({{"mesh", b.mesh("floor", pos, {}, {0, 1, 2, 0, 2, 3}, 4, 0)}});
+    std::vector<float> sheet_pos;
+    std::vector<uint16_t> sheet_idx;
+    for (int k = 0; k < sheets; ++k) {
+      const float z = 0.01f * float(k + 1);
+      const auto v = uint16_t(sheet_pos.size() / 3);
+      sheet_pos.insert(sheet_pos.end(), {-2, -2, z, 2, -2, z, 2, 2, z, -2, 2, z});
+      sheet_idx.insert(sheet_idx.end(), {v, uint16_t(v + 1), uint16_t(v + 2), v, uint16_t(v + 2), uint16_t(v + 3)});
+    }
+    b.node({{"mesh", b.mesh("sheets", sheet_pos, {}, sheet_idx, 4, 1)}});
+    const std::string name = "stack" + std::to_string(sheets);
+    b.write(dir, name);
+    test::write_text(dir / (name + ".json"), R"({"model": ")" + name + R"(.gltf", "lights": [], "background": [0, 0, 1],
+                         "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "yfov_deg": 10}})");
+    const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
+    const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
+                                     " --width 16 --height 16 --aa none --edges off -o " + exr.string() + " --stats " +
+                                     stats.string() + " 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return std::tuple(read_film(exr).film.radiance[8 * 16 + 8], read_json(stats)["layer_limit"].get<uint64_t>(), r.output);
+  };
+  const auto [within, within_cut, within_log] = render(kMaxSeeThroughLayers);
+  EXPECT_EQ(within, glm::vec3(1.0f));  // the floor
+  EXPECT_EQ(within_cut, 0u);
+  EXPECT_EQ(within_log.find("warning"), std::string::npos) << within_log;
+  const auto [beyond, beyond_cut, beyond_log] = render(kMaxSeeThroughLayers + 1);
+  EXPECT_EQ(beyond, glm::vec3(0.0f, 0.0f, 1.0f));  // the background: what lay behind was left out
+  EXPECT_EQ(beyond_cut, 16u * 16u);               // every camera ray, one per pixel
+  EXPECT_NE(beyond_log.find("warning: stack" + std::to_string(kMaxSeeThroughLayers + 1) + " camera 0: 256 rays met " +
+                            "more than " + std::to_string(kMaxSeeThroughLayers) + " alpha cut-outs or " +
+                            std::to_string(kMaxBlendLayers) + " blended surfaces"),
+            std::string::npos)
+      << beyond_log;
   fs::remove_all(dir);
 }
 

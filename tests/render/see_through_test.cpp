@@ -11,14 +11,15 @@
 namespace zz {
 namespace {
 
-// Panes at z = 1, 2, ... (facing +z, 4 x 4 about the z axis) of the given materials, an
-// opaque floor at z = 0 when `floor` is set; rays come down the -z axis from z = 30.
+// Panes at z = 1, 1 + pitch, ... (facing +z, 4 x 4 about the z axis) of the given
+// materials, an opaque floor at z = 0 when `floor` is set; rays come down the -z axis from
+// z = 30.
 struct Stack {
   Scene scene;
   Bvh bvh;
-  Stack(const std::vector<Material>& panes, bool floor) {
+  Stack(const std::vector<Material>& panes, bool floor, float pitch = 1.0f) {
     for (size_t k = 0; k < panes.size(); ++k) {
-      const float z = float(k + 1);
+      const float z = 1.0f + float(k) * pitch;
       scene.materials.push_back(panes[k]);
       test::add_quad(scene, {-2, -2, z}, {2, -2, z}, {2, 2, z}, {-2, 2, z}, uint32_t(k));
     }
@@ -95,16 +96,22 @@ TEST(SeeThrough, PassCutoutsSkipsMaskedPanesAndCountsTheDistance) {
 }
 
 TEST(SeeThrough, PassCutoutsGivesUpAfterTheLayerLimit) {
-  // kMaxSeeThroughLayers cut-out panes are passed, one more makes the ray a miss.
+  // kMaxSeeThroughLayers cut-out panes are passed, one more makes the ray a miss, counted.
+  static_assert(kMaxSeeThroughLayers >= 64, "foliage cards stack by the tens");
   for (const int panes : {kMaxSeeThroughLayers, kMaxSeeThroughLayers + 1}) {
-    const Stack s(std::vector<Material>(size_t(panes), mask(0.0f, 0.5f)), true);
+    const Stack s(std::vector<Material>(size_t(panes), mask(0.0f, 0.5f)), true, 0.1f);
     const RayPacket4 rays = rays_down();
     LaneHits hits = first_hits(s, rays);
     float skipped[4] = {};
     RayCounters counters;
     pass_cutouts(s.scene, s.bvh, rays, 0b1111, hits, skipped, counters);
-    if (panes == kMaxSeeThroughLayers) EXPECT_EQ(int(s.scene.material_of[size_t(hits.prim[0])]), s.floor_material());
-    else EXPECT_LT(hits.prim[0], 0) << panes << " cut-out layers";
+    if (panes == kMaxSeeThroughLayers) {
+      EXPECT_EQ(int(s.scene.material_of[size_t(hits.prim[0])]), s.floor_material());
+      EXPECT_EQ(counters.layer_limit, 0u);
+    } else {
+      EXPECT_LT(hits.prim[0], 0) << panes << " cut-out layers";
+      EXPECT_EQ(counters.layer_limit, 4u);
+    }
   }
 }
 
@@ -144,11 +151,17 @@ TEST(SeeThrough, ShadowRaysPassBlendPanesByOneMinusAlphaEach) {
 TEST(SeeThrough, ShadowRaysStopAtOpaqueSurfacesAndAfterTheLayerLimit) {
   EXPECT_EQ(light_through(Stack({blend(0.25f), test::diffuse_material(glm::vec3(1.0f))}, false), 0b1111, 0),
             glm::vec3(0.0f));
-  const float clear = std::pow(0.5f, float(kMaxSeeThroughLayers));
-  EXPECT_NEAR(light_through(Stack(std::vector<Material>(size_t(kMaxSeeThroughLayers), blend(0.5f)), false), 0b1111, 1).g,
-              clear, clear * 1e-5f);
-  EXPECT_EQ(light_through(Stack(std::vector<Material>(size_t(kMaxSeeThroughLayers + 1), blend(0.5f)), false), 0b1111, 1),
+  // Panes passing 99 % each: the light through the limit's worth is far from negligible.
+  const float clear = std::pow(0.99f, float(kMaxSeeThroughLayers));
+  RayCounters counters;
+  EXPECT_NEAR(light_through(Stack(std::vector<Material>(size_t(kMaxSeeThroughLayers), blend(0.01f)), false, 0.1f),
+                            0b1111, 1, &counters).g,
+              clear, clear * 1e-4f);
+  EXPECT_EQ(counters.layer_limit, 0u);
+  EXPECT_EQ(light_through(Stack(std::vector<Material>(size_t(kMaxSeeThroughLayers + 1), blend(0.01f)), false, 0.1f),
+                          0b1111, 1, &counters),
             glm::vec3(0.0f));
+  EXPECT_EQ(counters.layer_limit, 4u);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "render/scene_source.h"
+#include "render/see_through.h"
 #include "test_scenes.h"
 
 namespace zz {
@@ -438,69 +439,82 @@ TEST(Shader, AShadingNormalFacingAwayFromTheViewerShadesAsTheGeometricNormal) {
 
 // An unlit floor that emits 1 under `sheets` sheets of `sheet` (z = 0.1, 0.2, ...), seen
 // from above against a background of `background`.
-Scene emitting_floor_under(const Material& sheet, int sheets, float background) {
+Scene emitting_floor_under(const Material& sheet, int sheets, float background, float pitch = 0.1f) {
   Scene s = test::lit_floor(0.0f, 100.0f, 3.0f);
   s.lights.clear();
   s.background = glm::vec3(background);
   s.materials[0].emissive = glm::vec3(1.0f);
   s.materials.push_back(sheet);
   for (int k = 1; k <= sheets; ++k) {
-    const float z = 0.1f * float(k);
+    const float z = pitch * float(k);
     test::add_quad(s, {-10, -10, z}, {10, -10, z}, {10, 10, z}, {-10, 10, z}, 1);
   }
   s.finalize_materials();
   return s;
 }
 
-// A camera ray passes up to kMaxSeeThroughLayers (16) cut-out surfaces; behind a 17th it
-// counts as a miss and sees the background.
-TEST(Shader, ACameraRayPassesSixteenCutOutLayersAndMissesBehindSeventeen) {
+Material cut_out_sheet() {
   Material cut_out = test::diffuse_material(glm::vec3(1.0f));
   cut_out.alpha_mode = AlphaMode::Mask;
   cut_out.base_alpha = 0.0f;
-  for (const int sheets : {16, 17}) {
+  return cut_out;
+}
+
+// A camera ray passes up to kMaxSeeThroughLayers cut-out surfaces; behind one more it
+// counts as a miss and sees the background.
+TEST(Shader, ACameraRayPassesTheLimitsCutOutLayersAndMissesBehindOneMore) {
+  static_assert(kMaxSeeThroughLayers >= 64, "foliage cards stack by the tens");
+  for (const int sheets : {kMaxSeeThroughLayers, kMaxSeeThroughLayers + 1}) {
     SCOPED_TRACE(sheets);
-    EXPECT_EQ(centre_radiance(emitting_floor_under(cut_out, sheets, 0.25f)), glm::vec3(sheets <= 16 ? 1.0f : 0.25f));
+    EXPECT_EQ(centre_radiance(emitting_floor_under(cut_out_sheet(), sheets, 0.25f, 2.8f / float(sheets))),
+              glm::vec3(sheets <= kMaxSeeThroughLayers ? 1.0f : 0.25f));
   }
 }
 
-// A shadow ray passes up to kMaxSeeThroughLayers (16) cut-out surfaces on its way to the
-// light; a 17th blocks it.
-TEST(Shader, AShadowRayPassesSixteenCutOutLayersAndIsBlockedBySeventeen) {
+// A shadow ray passes up to kMaxSeeThroughLayers cut-out surfaces on its way to the
+// light; one more blocks it.
+TEST(Shader, AShadowRayPassesTheLimitsCutOutLayersAndIsBlockedByOneMore) {
   Scene plain = test::lit_floor(0.5f, 100.0f, 3.0f);
   plain.lights[0].position = {2.0f, 0.0f, 3.0f};
   const glm::vec3 lit = centre_radiance(plain);
   ASSERT_GT(lit.r, 0.0f);
-  for (const int sheets : {16, 17}) {
+  for (const int sheets : {kMaxSeeThroughLayers, kMaxSeeThroughLayers + 1}) {
     SCOPED_TRACE(sheets);
     Scene s = plain;
-    Material cut_out = test::diffuse_material(glm::vec3(1.0f));
-    cut_out.alpha_mode = AlphaMode::Mask;
-    cut_out.base_alpha = 0.0f;
-    s.materials.push_back(cut_out);
+    s.materials.push_back(cut_out_sheet());
     // Small sheets across the shadow ray from the floor's centre to the light (x = 2 z / 3),
-    // clear of the camera ray straight down at x = 0.
+    // clear of the camera ray straight down at x = 0, between z = 0.2 and 2.7.
     for (int k = 0; k < sheets; ++k) {
-      const float z = 0.2f + 0.1f * float(k), x = 2.0f * z / 3.0f;
+      const float z = 0.2f + 2.5f * float(k) / float(sheets), x = 2.0f * z / 3.0f;
       test::add_quad(s, {x - 0.1f, -0.1f, z}, {x + 0.1f, -0.1f, z}, {x + 0.1f, 0.1f, z}, {x - 0.1f, 0.1f, z}, 1);
     }
     s.finalize_materials();
-    EXPECT_EQ(centre_radiance(s), sheets <= 16 ? lit : glm::vec3(0.0f));
+    EXPECT_EQ(centre_radiance(s), sheets <= kMaxSeeThroughLayers ? lit : glm::vec3(0.0f));
   }
 }
 
-// A ray blends up to kMaxBlendLayers (8) BLEND surfaces over what lies behind them; a 9th
-// is shaded as opaque. Black sheets of alpha 0.5 over a floor that emits 1: 0.5^n of it
-// through n <= 8 sheets, none through 9.
-TEST(Shader, EightBlendLayersPassTheirShareAndTheNinthIsOpaque) {
+// A ray blends up to kMaxBlendLayers BLEND surfaces over what lies behind them: black
+// sheets of alpha 0.5 over a floor that emits 1 pass 0.5^n of it. One surface more is
+// weighed by its alpha over nothing (it used to be shaded as opaque): a last sheet that
+// emits 2^64 under the limit's black sheets gives 0.5^64 x 0.5 x 2^64 = 0.5, not 1.
+TEST(Shader, BlendLayersPassTheirShareUpToTheLimitAndOneMoreIsWeighedByItsAlpha) {
   Material pane = test::diffuse_material(glm::vec3(0.0f));
   pane.alpha_mode = AlphaMode::Blend;
   pane.base_alpha = 0.5f;
-  for (const int sheets : {3, 8, 9}) {
+  static_assert(kMaxBlendLayers >= 32, "decals and glazing stack beyond 8");
+  const float pitch = 2.8f / float(kMaxBlendLayers + 1);
+  for (const int sheets : {3, kMaxBlendLayers}) {
     SCOPED_TRACE(sheets);
-    EXPECT_EQ(centre_radiance(emitting_floor_under(pane, sheets, 0.0f)),
-              glm::vec3(sheets <= 8 ? std::ldexp(1.0f, -sheets) : 0.0f));
+    EXPECT_EQ(centre_radiance(emitting_floor_under(pane, sheets, 0.0f, pitch)), glm::vec3(std::ldexp(1.0f, -sheets)));
   }
+  Scene s = emitting_floor_under(pane, kMaxBlendLayers, 0.0f, pitch);
+  Material bright = pane;
+  bright.emissive = glm::vec3(std::ldexp(1.0f, kMaxBlendLayers));
+  s.materials.push_back(bright);
+  test::add_quad(s, {-10, -10, 0.5f * pitch}, {10, -10, 0.5f * pitch}, {10, 10, 0.5f * pitch}, {-10, 10, 0.5f * pitch},
+                 2);
+  s.finalize_materials();
+  EXPECT_EQ(centre_radiance(s), glm::vec3(0.5f));
 }
 
 // Radiance never leaves the shader negative: a negative emission (which loading would not
