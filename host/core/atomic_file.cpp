@@ -237,6 +237,9 @@ void OutputSet::stage(const fs::path& given, const std::function<void(const fs::
 }
 
 void OutputSet::commit() {
+  // Streams first: writing to a pipe or device can fail (no reader, a full /dev/full, a
+  // closed pipe), a rename hardly ever, and a failed stream must leave the files unreplaced.
+  std::stable_partition(staged_.begin(), staged_.end(), [](const auto& s) { return s->stream; });
   std::vector<fs::path> dirs;
   {
     const CancellableScope publishing;  // a first SIGINT / SIGTERM waits for every rename

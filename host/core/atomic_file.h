@@ -47,8 +47,9 @@ class OutputSet {
 
   void stage(const std::filesystem::path& target,
              const std::function<void(const std::filesystem::path& temporary)>& write);
-  // Renames every staged temporary over its target, in the order staged; throws
-  // Interrupted afterwards if a signal arrived meanwhile.
+  // Writes the staged streams' bytes to them, then renames every other staged temporary
+  // over its target, each in the order staged (a stream that fails so leaves every file
+  // target as it was); throws Interrupted afterwards if a signal arrived meanwhile.
   void commit();
 
  private:

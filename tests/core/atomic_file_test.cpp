@@ -192,5 +192,23 @@ TEST_F(AtomicFile, AStreamIsWrittenToNotReplaced) {
   EXPECT_EQ(files(), 2u);
 }
 
+// A job's streams are written before its files are renamed: a stream that fails (here
+// /dev/full, as a --stats sent to a full device or a closed pipe) leaves the image it was
+// staged after as it was (review: the image was replaced, then the job failed).
+TEST_F(AtomicFile, AFailedStreamLeavesTheFilesOfItsSetAsTheyWere) {
+  ASSERT_TRUE(output_is_stream("/dev/full"));
+  put(path("image.png"), "old image");
+  OutputSet set;
+  write_atomically(path("image.png"), [](const fs::path& t) { put(t, "new image"); }, &set);
+  write_text_atomically("/dev/full", "stats", &set);
+  try {
+    set.commit();
+    ADD_FAILURE() << "/dev/full took the bytes";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(read(path("image.png")), "old image");
+}
+
 }  // namespace
 }  // namespace zz
