@@ -1,5 +1,6 @@
 #include "viewer/script.h"
 
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 
@@ -39,6 +40,14 @@ float number(std::string_view s, std::string_view command) {
 
 }  // namespace
 
+std::string script_key_name(std::string_view given) {
+  std::string upper(given);
+  for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
+  if (upper == "ESC" || upper == "ESCAPE") return "Esc";
+  if (upper.size() == 1 && std::string_view("RSFE1234[]").find(upper[0]) != std::string_view::npos) return upper;
+  return "";
+}
+
 std::vector<ScriptEvent> parse_script(std::string_view script) {
   std::vector<ScriptEvent> events;
   for (std::string_view command : split(script, ';')) {
@@ -72,7 +81,9 @@ std::vector<ScriptEvent> parse_script(std::string_view script) {
       e.steps = number(args(1, 1)[0], command);
     } else if (name == "key") {
       e.kind = ScriptEvent::Kind::Key;
-      e.text = std::string(args(1, 1)[0]);
+      e.text = script_key_name(args(1, 1)[0]);
+      if (e.text.empty())  // here, not when played: a typo must not leave the window open
+        throw Error("--script: '" + std::string(command) + "': unknown key (R S F E 1 2 3 4 [ ] Esc)");
     } else if (name == "resize") {
       const auto a = args(2, 2);
       e.kind = ScriptEvent::Kind::Resize;

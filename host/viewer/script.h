@@ -3,7 +3,7 @@
 // camera without an X input tool. Grammar (commands separated by ';'):
 //   drag:x0,y0,x1,y1[,button]   button: left (default) | right | middle
 //   scroll:steps                wheel steps (positive = zoom in)
-//   key:K                       one key: R S F E 1 2 3 4 [ ] or ESC
+//   key:K                       one key: R S F E 1 2 3 4 [ ] or Esc (any case; Escape)
 //   resize:w,h                  resize the window
 //   wait                        until the current frame is fully rendered
 //   sleep:seconds               let the viewer run that long (e.g. to act mid-frame)
@@ -27,5 +27,9 @@ struct ScriptEvent {
 
 // Throws zz::Error naming the bad command.
 std::vector<ScriptEvent> parse_script(std::string_view script);
+
+// The viewer's name of a key a script may press ("r" -> "R", "escape" -> "Esc"); empty
+// for a key the viewer has no use for. A Key event's text is always such a name.
+std::string script_key_name(std::string_view given);
 
 }  // namespace zz

@@ -62,6 +62,7 @@ class Viewer {
   void save_screenshot(const std::filesystem::path& path);
   void update_title(bool force);
   bool frame_done() const;
+  bool view_shown() const;
   // A scripted resize the window manager did not grant within 5 s is given up on.
   void expire_pending_resize();
   // Runs script events until one must wait; false once the viewer should close.
@@ -244,6 +245,10 @@ void Viewer::on_key(int key) {
       if (tweaks_.adaptive) tweaks_.edges = !tweaks_.edges, restart();
       break;
     case GLFW_KEY_S: {
+      if (!view_shown()) {  // an S pressed as the window opens, before there is an image
+        std::fprintf(stderr, "zigzag view: nothing to save yet (the preview is being made); press S again\n");
+        break;
+      }
       // The next number no file has yet: an earlier session's screenshots stay.
       std::filesystem::path path;
       std::error_code ec;
@@ -328,6 +333,13 @@ bool Viewer::frame_done() const {
   return s.completed == request_ && pending_width_ == 0;
 }
 
+// Whether the window shows this request's image: its preview finished (tiles may still be
+// coming over it). Before that, the frame may not even have its size yet.
+bool Viewer::view_shown() const {
+  const ProgressStatus s = renderer_->status();
+  return frame_done() || (s.request == request_ && !s.preview && pending_width_ == 0);
+}
+
 void Viewer::expire_pending_resize() {
   if (pending_width_ == 0 || since(pending_since_) <= 5.0) return;
   int fb_w = 0, fb_h = 0;
@@ -340,6 +352,18 @@ void Viewer::expire_pending_resize() {
 void Viewer::step_script() {
   while (!script_.empty()) {
     ScriptEvent& e = script_.front();
+    // A script's screenshot (S too) waits for the first image the window shows: straight
+    // after the window opened it came out empty or black, as the race went.
+    const bool saves = e.kind == ScriptEvent::Kind::Screenshot || (e.kind == ScriptEvent::Kind::Key && e.text == "S");
+    if (saves && !view_shown()) {
+      if (script_waited() > options_.script_timeout_seconds) {
+        std::fprintf(stderr, "zigzag view: script screenshot timed out after %.0f s\n", options_.script_timeout_seconds);
+        exit_code_ = 1;
+        glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+      }
+      return;
+    }
+    if (saves) script_waiting_since_.reset();
     if (e.kind == ScriptEvent::Kind::Wait) {
       if (!frame_done()) {
         if (script_waited() > options_.script_timeout_seconds) {
@@ -370,18 +394,9 @@ void Viewer::step_script() {
       static const std::pair<const char*, int> keys[] = {
           {"R", GLFW_KEY_R}, {"S", GLFW_KEY_S}, {"F", GLFW_KEY_F}, {"E", GLFW_KEY_E}, {"1", GLFW_KEY_1},
           {"2", GLFW_KEY_2}, {"3", GLFW_KEY_3}, {"4", GLFW_KEY_4}, {"[", GLFW_KEY_LEFT_BRACKET},
-          {"]", GLFW_KEY_RIGHT_BRACKET}, {"ESC", GLFW_KEY_ESCAPE}};
-      int key = -1;
-      for (const auto& [name, code] : keys)
-        if (e.text == name ||
-            (e.text.size() == 1 && std::toupper(static_cast<unsigned char>(e.text[0])) == name[0] && name[1] == 0))
-          key = code;
-      if (key < 0) {
-        std::fprintf(stderr, "zigzag view: script key '%s' is unknown\n", e.text.c_str());
-        exit_code_ = 1;
-      } else {
-        on_key(key);
-      }
+          {"]", GLFW_KEY_RIGHT_BRACKET}, {"Esc", GLFW_KEY_ESCAPE}};
+      for (const auto& [name, code] : keys)  // parse_script gave one of these names
+        if (e.text == name) on_key(code);
     } else if (e.kind == ScriptEvent::Kind::Resize) {
       // X11 reports a framebuffer size only when it changes: asking for the current size
       // must not wait for a report that never comes (it hung --exit-after-frame).

@@ -65,5 +65,21 @@ TEST(Script, EachValueIsCheckedOnItsOwn) {
   }
 }
 
+// Keys are checked when the script is read, not when played (a typo left the window
+// open until killed), in any case, with the README's spelling of Escape.
+TEST(Script, KeysAreNamedAsTheViewerKnowsThem) {
+  EXPECT_EQ(parse_script("key:r")[0].text, "R");
+  EXPECT_EQ(parse_script("key:]")[0].text, "]");
+  for (const char* esc : {"key:Esc", "key:ESC", "key:esc", "key:Escape"}) EXPECT_EQ(parse_script(esc)[0].text, "Esc") << esc;
+  for (const char* bad : {"key:Q", "key:Enter", "key:RS", "key:1.5"}) {
+    try {
+      parse_script(std::string("wait;") + bad + ";quit");
+      ADD_FAILURE() << bad << " was accepted";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("unknown key"), std::string::npos) << bad << ": " << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace zz

@@ -1,6 +1,7 @@
 // The real `zigzag view` under a private Xvfb: its screenshot against `zigzag render`,
 // a scripted camera drag, AOV views, closing mid-render, and the no-display error.
 // Validation layers are on in every windowed run and must stay silent.
+#include <algorithm>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <unistd.h>
@@ -238,6 +239,22 @@ TEST_F(Window, ScreenshotKeyNeverOverwritesAnEarlierOne) {
   EXPECT_EQ(read_png(dir_ / "default_zigzag_image_002.png", w, h).size(), size_t(64 * 48 * 3));
   EXPECT_NE(v.output.find("default_zigzag_image_002.png\n"), std::string::npos)  // a finished frame: no note
       << v.output;
+}
+
+// A script's first command a screenshot: it waits for the window's first image (the
+// preview), where it used to save an empty or a black image as the race went (review:
+// 4 runs of 8 failed with "the image is empty"). Three runs, each a non-black image.
+TEST_F(Window, AScreenshotStraightAfterOpeningSavesThePreview) {
+  for (int run = 0; run < 3; ++run) {
+    const std::string name = "at_once_" + std::to_string(run) + ".png";
+    const test::CommandResult v = view("--width 64 --height 48 --script \"screenshot:" + file(name) + ";quit\"");
+    SKIP_IF_NO_VULKAN();
+    expect_clean(v);
+    int w, h;
+    const std::vector<float> rgb = read_png(dir_ / name, w, h);
+    ASSERT_EQ(rgb.size(), size_t(64 * 48 * 3)) << v.output;
+    EXPECT_GT(*std::max_element(rgb.begin(), rgb.end()), 0.0f) << "run " << run << ": a black image";
+  }
 }
 
 TEST_F(Window, ClosingMidRenderExitsCleanly) {
