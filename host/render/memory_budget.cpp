@@ -70,6 +70,23 @@ uint64_t environment_memory_limit() {
   return env && *env ? parse_memory_limit(env) : 0;
 }
 
+namespace {
+
+// "1.50 GiB", "240.00 MiB", "100.00 KiB": the unit in which `bytes` is at least 1 (a
+// ZIGZAG_MEMORY_LIMIT of 100K printed as "0.00 GiB").
+std::string bytes_text(uint64_t bytes) {
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  int unit = 0;
+  double value = double(bytes);
+  while (unit < 4 && value >= 1024.0) value /= 1024.0, ++unit;
+  char text[48];
+  if (unit == 0) std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
+  else std::snprintf(text, sizeof text, "%.2f %s", value, units[unit]);
+  return text;
+}
+
+}  // namespace
+
 MemoryBudget memory_budget() {
   MemoryBudget budget;
   auto tighten = [&](uint64_t b, const std::string& by) {
@@ -95,33 +112,23 @@ MemoryBudget memory_budget() {
     if (statm >> mapped) mapped *= uint64_t(sysconf(_SC_PAGESIZE));
     tighten(limit > mapped ? limit - mapped : 1, "the address-space limit, ulimit -v, less what is mapped");
   }
-  if (const uint64_t limit = environment_memory_limit(); limit > 0)
-    tighten(limit, std::string("ZIGZAG_MEMORY_LIMIT=") + std::getenv("ZIGZAG_MEMORY_LIMIT"));
+  if (const uint64_t limit = environment_memory_limit(); limit > 0) {
+    // A limit for the process (a farm worker's share), not for the frame alone: what the
+    // process holds already (libraries, Vulkan, the scene, its BVH) counts against it.
+    const uint64_t held = resident_bytes();
+    tighten(limit > held ? limit - held : 1, std::string("ZIGZAG_MEMORY_LIMIT=") + std::getenv("ZIGZAG_MEMORY_LIMIT") +
+                                                 ", less the " + bytes_text(held) + " the process holds");
+  }
   return budget;
 }
 
-namespace {
-
-// "1.50 GiB", "240.00 MiB", "100.00 KiB": the unit in which `bytes` is at least 1 (a
-// ZIGZAG_MEMORY_LIMIT of 100K printed as "0.00 GiB").
-std::string bytes_text(uint64_t bytes) {
-  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB"};
-  int unit = 0;
-  double value = double(bytes);
-  while (unit < 4 && value >= 1024.0) value /= 1024.0, ++unit;
-  char text[48];
-  if (unit == 0) std::snprintf(text, sizeof text, "%llu bytes", static_cast<unsigned long long>(bytes));
-  else std::snprintf(text, sizeof text, "%.2f %s", value, units[unit]);
-  return text;
-}
-
-}  // namespace
 
 void check_memory(uint64_t needed, const char* what) {
   const MemoryBudget budget = memory_budget();
   if (budget.bytes == 0 || needed <= budget.bytes) return;
-  throw Error(std::string(what) + " needs about " + bytes_text(needed) + " of memory but only " +
-              bytes_text(budget.bytes) + " is available (" + budget.bound_by + ")");
+  const std::string left = budget.bytes <= 1 ? "none" : "only " + bytes_text(budget.bytes);  // 1: a limit used up
+  throw Error(std::string(what) + " needs about " + bytes_text(needed) + " of memory but " + left + " is available (" +
+              budget.bound_by + ")");
 }
 
 }  // namespace zz

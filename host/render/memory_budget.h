@@ -33,8 +33,8 @@ uint64_t parse_memory_limit(const std::string& text);
 uint64_t environment_memory_limit();
 
 // Memory the process may still use: the smallest of MemAvailable (/proc/meminfo), RLIMIT_AS
-// headroom and $ZIGZAG_MEMORY_LIMIT, if set and not empty or 0 (bytes 0 if unknown), and
-// which of them it is.
+// headroom and $ZIGZAG_MEMORY_LIMIT less the process's resident memory, if set and not
+// empty or 0 (bytes 0 if unknown, at least 1 otherwise), and which of them it is.
 struct MemoryBudget {
   uint64_t bytes = 0;
   std::string bound_by;
