@@ -193,5 +193,26 @@ TEST_F(FlagSemanticsTest, ACoplanarGridWithMixedWindingFlagsNothing) {
   EXPECT_EQ(broken.gpu.flags, broken.reference.flags);
 }
 
+// Both thresholds are strict ("more than ... apart"): a pair exactly at one does not flag.
+// Along the axis camera's rays (z component exactly -1) planes z = -3 and z = -4.5 are hit
+// at t = 3 and 4.5 exactly, so their gap 1.5 equals 0.5 * min(t) to the last bit; and with
+// a threshold of 0 degrees (limits.x = cos 0 = 1) the quads' own diagonals join triangles
+// whose normals are exactly (0, 0, 1), a dot product of exactly 1. Mutation testing: `<=`
+// for `<` in the shader's and the SSE rule's depth or angle test changed no test.
+TEST_F(FlagSemanticsTest, APairExactlyAtAThresholdDoesNotFlag) {
+  const Scene planes = parallel_planes(0.5);
+  ASSERT_EQ(planes.positions[6].z, -4.5f);
+  VisibilitySettings s;
+  s.depth_rel = 0.5f;
+  s.normal_angle_deg = 0.0f;
+  ASSERT_EQ(make_flag_push(axis_camera(), kW, kH, s).limits.x, 1.0f);
+  const Maps at = all_maps(context(), planes, s);
+  expect_no_background(at);
+  expect_flagged_columns(at, {}, "gap exactly depth_rel, normals exactly equal");
+  // One float below the depth limit the step flags, as its two columns only.
+  s.depth_rel = std::nextafter(0.5f, 0.0f);
+  expect_flagged_columns(all_maps(context(), planes, s), {15, 16}, "depth_rel one float below the gap");
+}
+
 }  // namespace
 }  // namespace zz::test
