@@ -80,6 +80,17 @@ TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderOrthographic) {
   expect_all_agree(context(), camera, 53, 41, s, busy_checker_scene());
 }
 
+// S = 5 (and 10, 15): pair midpoints and sample rows fall on zone boundaries (u = 0.2,
+// 0.4, ...), where a zone bit names both neighbouring zones (the second line of zone_at in
+// the shader, map_zone_at on the host). At S = 4, 6 and 12 no pair lies on one. Mutation
+// testing: the shader's boundary line removed, or its k < 5 made k < 4, changed no test.
+TEST_F(GeoFlagsCpuTest, MatchesReferenceAndShaderS5WhereZoneBoundariesFallOnPairs) {
+  const Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  VisibilitySettings s;
+  s.supersample = 5;
+  expect_all_agree(context(), camera, 48, 36, s);
+}
+
 // One pixel at S = 4 whose samples (and ring) lie on triangle 1 where `inside` says so and
 // on the background elsewhere: the flag byte names the way the edge runs and its zones.
 uint8_t one_pixel_byte(bool (*inside)(int gx, int gy)) {
