@@ -136,6 +136,18 @@ TEST(GeoMap, ZoneBitsOnABoundaryNameBothNeighbours) {
   EXPECT_EQ(geo_flag_byte(1, 2, 0b00110, 0b10000), kGeoEdge | kGeoAlongX | 0b10000 << kGeoZoneShift);
 }
 
+// h = n.(v0 - origin) at the triangle's FIRST vertex, as triangle_planes.comp computes it
+// from its first_vertices buffer: the oracle then divides the same floats as the shader
+// where rounding leaves the other vertices a little off the plane. With a normal given that
+// is not the triangle's own, each vertex gives another offset. Mutation testing: the
+// second vertex for the first changed no test.
+TEST(GeoFlagsCpu, TrianglePlanesTakeTheOffsetAtTheFirstVertex) {
+  const std::vector<glm::vec3> positions = {{0.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -2.0f}, {0.0f, 1.0f, -3.0f}};
+  const std::vector<glm::vec4> planes = triangle_planes(positions, {glm::vec4(0.0f, 0.0f, 1.0f, 7.0f)}, {0.0f, 0.0f, 0.5f});
+  ASSERT_EQ(planes.size(), 1u);
+  EXPECT_EQ(planes[0], glm::vec4(0.0f, 0.0f, 1.0f, -1.5f));  // the normal as given, w = -1 - 0.5
+}
+
 TEST(GeoFlagsCpu, TheMaterialRuleNeedsTheNormals) {
   gpu::FlagPush p{};
   p.frame = glm::ivec4(1, 1, 1, 1);
