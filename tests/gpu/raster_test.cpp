@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <limits>
 
 #include "gpu/visibility.h"
 #include "gpu_fixture.h"
@@ -134,6 +135,39 @@ TEST_F(RasterTest, AlphaMaskSurfacesBelowTheCutoffAreNotDrawn) {
   check_agreement(context(), invisible, camera, 80, 60, 4, &behind);
   cut.base_alpha = 0.9f;
   EXPECT_TRUE(seen_by_map(behind_a_pane(cut), first_pane));
+}
+
+// A camera's clipping planes (glTF znear / zfar) cut the raster as they cut the rays
+// (ids.vert with ZZ_CLIP_PLANES): what lies nearer than znear or beyond zfar is not drawn,
+// and what it hid shows. Mutation testing: either gl_ClipDistance made constant changed no
+// gpu test. A near quad over x < 0 at depth 1 (triangles 1, 2) before a far quad over the
+// whole view at depth 3 (triangles 3, 4).
+TEST_F(RasterTest, TheCamerasPlanesClipTheIds) {
+  if (!context().clip_distance()) GTEST_SKIP() << "the device cannot clip";
+  SceneBuilder b;
+  const float X = 20.0f;
+  b.quad({-X, -X, -1.0f}, {0.0f, -X, -1.0f}, {0.0f, X, -1.0f}, {-X, X, -1.0f});
+  b.quad({-X, -X, -3.0f}, {X, -X, -3.0f}, {X, X, -3.0f}, {-X, X, -3.0f});
+  const Scene scene = b.done();
+  VisibilityPass pass(context(), scene);
+  const int w = 32, h = 24, S = 4, sw = w * S + 2;
+  auto ids_with = [&](float znear, float zfar) {
+    Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+    camera.znear = znear;
+    camera.zfar = zfar;
+    return pass.render_ids(camera, w, h, {});
+  };
+  // Sample column u - 1 of the frame lies left of x = 0 for u - 1 < w S / 2 = 64.
+  auto left = [&](size_t k) { return int(k % sw) - 1 < w * S / 2; };
+  const std::vector<uint32_t> plain = ids_with(0.0f, std::numeric_limits<float>::infinity());
+  const std::vector<uint32_t> near_cut = ids_with(2.0f, std::numeric_limits<float>::infinity());
+  const std::vector<uint32_t> far_cut = ids_with(0.0f, 2.0f);
+  for (size_t k = 0; k < plain.size(); ++k) {
+    ASSERT_NE(plain[k], 0u) << "unclipped, sample " << k;
+    ASSERT_EQ(plain[k] <= 2, left(k)) << "unclipped, sample " << k;
+    ASSERT_GE(near_cut[k], 3u) << "znear 2 cuts the near quad away, sample " << k;
+    ASSERT_EQ(far_cut[k], left(k) ? plain[k] : 0u) << "zfar 2 cuts the far quad away, sample " << k;
+  }
 }
 
 TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
