@@ -121,7 +121,7 @@ TEST_F(RasterTest, AlphaBlendSurfacesAreSeenThrough) {
 }
 
 // A MASK pane whose alpha is below its cutoff is invisible to every ray; the map drew it
-// and flagged its outline instead of the edges behind it. One above the cutoff is solid.
+// and flagged its outline instead of the edges behind it. One at or above the cutoff is solid.
 TEST_F(RasterTest, AlphaMaskSurfacesBelowTheCutoffAreNotDrawn) {
   const Scene behind = mixed_scene();
   const size_t first_pane = behind.triangle_count();
@@ -134,6 +134,10 @@ TEST_F(RasterTest, AlphaMaskSurfacesBelowTheCutoffAreNotDrawn) {
   Camera camera = Camera::look_at({0.3f, 0.8f, 2.6f}, {0.0f, 0.0f, 0.0f}, {0, 1, 0}, 0.9f);
   check_agreement(context(), invisible, camera, 80, 60, 4, &behind);
   cut.base_alpha = 0.9f;
+  EXPECT_TRUE(seen_by_map(behind_a_pane(cut), first_pane));
+  // At the cutoff exactly a texel is opaque (glTF: alpha >= cutoff; render/surface_material.h):
+  // the map must see it. Mutation testing: `<=` for `<` in seen_by_map changed no test.
+  cut.base_alpha = cut.alpha_cutoff;
   EXPECT_TRUE(seen_by_map(behind_a_pane(cut), first_pane));
 }
 
