@@ -121,6 +121,31 @@ TEST(VisibilityFrameBytes, FramesAreBandedToAboutAnEighthOfTheirSamples) {
   EXPECT_LE(VisibilityPass::frame_bytes(16384, 16384, s, 1000), uint64_t(s.max_tile_samples) * 8 + uint64_t(16384) * 16384);
 }
 
+// The tile plan keeps a tile's id image (samples plus the one-sample ring) within the
+// largest image side it is given (max_tile_dim, else the device's) and within the sample
+// budget (max_tile_samples). Widths here are multiples of 4 pixels, so the target is not
+// padded. Mutation testing: the ring left out of either bound ((max_dim - 2) / s,
+// (max_rows - 2) / s) changed no test; such a target is past the device's image limit.
+TEST(VisibilityFrameBytes, TheTilePlanKeepsTheTargetWithinTheImageLimitAndTheBudget) {
+  for (int s : {1, 3, 4, 6}) {
+    VisibilitySettings settings;
+    settings.supersample = s;
+    const uint64_t flags = uint64_t(1000) / 4 * 1000 * 4;
+    for (int dim = 6 * s + 2; dim < 6 * s + 2 + 4 * s; ++dim) {  // every remainder of (dim - 2) / s
+      settings.max_tile_dim = dim;
+      EXPECT_LE(VisibilityPass::frame_bytes(1000, 1000, settings, 1000) - flags, uint64_t(dim) * dim * 8)
+          << "S " << s << ", images up to " << dim;
+    }
+    settings.max_tile_dim = 0;
+    const int64_t row = 1000 * s + 2;
+    for (int64_t rows = 2 * s + 2; rows < 2 * s + 2 + 2 * s; ++rows) {  // every remainder of (rows - 2) / s
+      settings.max_tile_samples = row * rows;
+      EXPECT_LE(VisibilityPass::frame_bytes(1000, 1000, settings, 1000) - flags, uint64_t(row * rows) * 8)
+          << "S " << s << ", " << rows << " rows";
+    }
+  }
+}
+
 // A cancelled map (the viewer's camera moved on) stops at its next band with an empty map;
 // an uncancelled one is the map itself.
 TEST_F(VisibilityRegionTest, ACancelledMapStopsEmpty) {
