@@ -214,5 +214,43 @@ TEST_F(FlagSemanticsTest, APairExactlyAtAThresholdDoesNotFlag) {
   expect_flagged_columns(all_maps(context(), planes, s), {15, 16}, "depth_rel one float below the gap");
 }
 
+// make_flag_push places supersample (gx, gy), ring included, where the raster does: the
+// ray of CameraRays at image point ((gx + 0.5) / S, (gy + 0.5) / S) (visibility_shared.h),
+// a pinhole's by its direction, an orthographic camera's by its origin; and an orthographic
+// view's depth scale du.w is the view's height (2 ymag), whatever the frame's aspect.
+// Mutation testing: half a sample dropped from dir00 or from the orthographic origin along
+// v, or the view's width for its height, changed no test: the flag pass then intersects
+// the planes with rays off the samples the ids come from.
+TEST(FlagPush, SupersamplesSitAtTheirCentresAndTheOrthographicScaleIsTheViewsHeight) {
+  const int w = 40, h = 24;
+  Camera camera = Camera::look_at({0.4f, 0.9f, 2.8f}, {0.0f, 0.1f, -0.2f}, {0, 1, 0}, 0.8f);
+  for (const float ymag : {0.0f, 1.3f}) {
+    camera.ymag = ymag;
+    const CameraRays rays(camera, w, h);
+    for (int S : {4, 6}) {
+      VisibilitySettings s;
+      s.supersample = S;
+      const gpu::FlagPush p = make_flag_push(camera, w, h, s);
+      ASSERT_EQ(p.limits.w, ymag > 0.0f ? 1.0f : 0.0f);
+      if (ymag > 0.0f) {
+        EXPECT_FLOAT_EQ(p.du.w, 2.0f * ymag);
+      }
+      for (int gx : {-1, 0, 7, w * S})
+        for (int gy : {-1, 0, 5, h * S}) {
+          const float px = (gx + 0.5f) / float(S), py = (gy + 0.5f) / float(S);
+          const glm::vec3 step = float(gx) * glm::vec3(p.du) + float(gy) * glm::vec3(p.dv);
+          if (ymag > 0.0f) {
+            EXPECT_LT(glm::length(glm::vec3(p.origin) + step - rays.origin_at(px, py)), 1e-4f) << gx << "," << gy;
+            EXPECT_LT(glm::length(glm::normalize(glm::vec3(p.dir00)) - rays.direction(px, py)), 1e-5f);
+          } else {
+            EXPECT_EQ(glm::vec3(p.origin), rays.origin);
+            EXPECT_LT(glm::length(glm::normalize(glm::vec3(p.dir00) + step) - rays.direction(px, py)), 1e-5f)
+                << gx << "," << gy << " S " << S;
+          }
+        }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace zz::test
