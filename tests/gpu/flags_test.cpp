@@ -175,5 +175,19 @@ TEST_F(FlagsTest, TheMaterialRuleFlagsPixelsWhoseOwnSamplesSeeTwoMaterials) {
   EXPECT_EQ(plain.run(camera, w, h, off).flags, plain.run(camera, w, h, on).flags);
 }
 
+// The material rule compares material_tag: the index itself (exact in a float) below 2^24,
+// so materials 2^23 apart stay apart; only indices 2^24 apart share a tag. A triangle
+// without a material entry has tag 0. Mutation testing: the modulus 2^23 changed no test.
+TEST(MaterialTag, IsTheMaterialIndexModulo2To24) {
+  Scene scene;
+  scene.material_of = {0u, 1u << 23, 5u, (1u << 24) + 5u, (1u << 24) - 1u};
+  EXPECT_EQ(material_tag(scene, 0), 0.0f);
+  EXPECT_EQ(material_tag(scene, 1), 8388608.0f);
+  EXPECT_EQ(material_tag(scene, 2), 5.0f);
+  EXPECT_EQ(material_tag(scene, 3), 5.0f);
+  EXPECT_EQ(material_tag(scene, 4), 16777215.0f);
+  EXPECT_EQ(material_tag(scene, 5), 0.0f);
+}
+
 }  // namespace
 }  // namespace zz::test
