@@ -134,5 +134,25 @@ TEST_F(RobustnessTest, DegenerateTrianglesAndTinyFrames) {
   EXPECT_THROW(pass.run(camera, 0, 8), Error);
 }
 
+// Supersampling runs up to ZZ_MAX_SUPERSAMPLE (16) per axis and is refused beyond. Mutation
+// testing: refusing 16 too changed no test.
+TEST_F(RobustnessTest, SupersamplingUpTo16IsMadeAndBeyondRefused) {
+  SceneBuilder b;
+  b.tri({-1.0f, -1.0f, -3.0f}, {1.0f, -1.0f, -3.0f}, {0.0f, 1.0f, -3.0f});
+  const Scene scene = b.done();
+  const Camera camera = Camera::look_at({0.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0, 1, 0}, 0.8f);
+  VisibilityPass pass(context(), scene);
+  VisibilitySettings s;
+  s.supersample = ZZ_MAX_SUPERSAMPLE;
+  ASSERT_EQ(s.supersample, 16);
+  const GeoMap map = pass.run(camera, 9, 7, s);
+  const std::vector<uint32_t> ids = pass.render_ids(camera, 9, 7, s);
+  const gpu::FlagPush push = make_flag_push(camera, 9, 7, s);
+  EXPECT_EQ(map.flags, (FlagReference{ids, scene.positions, geometric_normals(scene), push}.map().flags));
+  EXPECT_GT(count(map), 0u);
+  s.supersample = ZZ_MAX_SUPERSAMPLE + 1;
+  EXPECT_THROW(pass.run(camera, 9, 7, s), Error);
+}
+
 }  // namespace
 }  // namespace zz::test
