@@ -193,5 +193,19 @@ TEST_F(RasterTest, IdsMatchAtExtremeDistances) {
   check_agreement(context(), b.done(), camera, 48, 40, 4);
 }
 
+// An orthographic view's linear depth range reaches past the farthest corner of the scene
+// (1.01 of it): a wall square to the view as the farthest geometry, every sample on it at
+// that depth, is drawn, not lost at the far end of the range. Mutation testing: the range
+// ending at the farthest corner itself changed no test.
+TEST_F(RasterTest, AnOrthographicViewDrawsAWallAtTheFarEndOfTheScene) {
+  SceneBuilder b;
+  b.quad({-20.0f, -20.0f, -5.0f}, {20.0f, -20.0f, -5.0f}, {20.0f, 20.0f, -5.0f}, {-20.0f, 20.0f, -5.0f});
+  const Scene scene = b.done();
+  Camera camera = Camera::look_at({0.3f, -0.2f, 0.0f}, {0.3f, -0.2f, -1.0f}, {0, 1, 0}, 0.8f);
+  camera.ymag = 2.0f;
+  VisibilityPass pass(context(), scene);
+  for (uint32_t id : pass.render_ids(camera, 16, 12)) ASSERT_NE(id, 0u) << "the wall fills the view";
+}
+
 }  // namespace
 }  // namespace zz::test
