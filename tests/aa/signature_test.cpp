@@ -23,6 +23,13 @@ TEST(Signature, ParsesNamesAndCommaLists) {
   EXPECT_THROW(parse_signature(""), Error);
   for (unsigned p = 0; p <= kSignatureAll; ++p) EXPECT_EQ(parse_signature(signature_name(p)), p);
   EXPECT_EQ(signature_name(kSignatureObject | kSignatureLights), "object,lights");
+  // Bits beyond the three parts name nothing: the name is still canonical and parses back
+  // to the parts (never "", which parse_signature refuses). Mutation testing: without the
+  // mask, 8 named "" and 15 "object,lights,secondary", and no test changed.
+  EXPECT_EQ(signature_name(8u), "none");
+  EXPECT_EQ(signature_name(kSignatureAll | 8u), "all");
+  EXPECT_EQ(signature_name(kSignatureLights | 16u), "lights");
+  for (unsigned p = 0; p < 64; ++p) EXPECT_EQ(parse_signature(signature_name(p)), p & kSignatureAll) << p;
 }
 
 int4 whats(uint32_t a, uint32_t b, uint32_t c, uint32_t d) {
