@@ -174,6 +174,22 @@ TEST_F(RasterTest, TheCamerasPlanesClipTheIds) {
   }
 }
 
+// Only a BLEND material, or a MASK one below its cutoff, keeps a triangle out of the map: a
+// triangle without a material entry, or whose index lies past the scene's materials, is
+// drawn (the tracer hits it as any other). Mutation testing: either case not drawn changed
+// no test; the map then misses that geometry's edges and flags what it hides.
+TEST(SeenByMap, ATriangleWithoutAValidMaterialIsDrawn) {
+  SceneBuilder b;
+  b.tri({0.0f, 0.0f, -1.0f}, {1.0f, 0.0f, -1.0f}, {0.0f, 1.0f, -1.0f});
+  b.tri({0.0f, 0.0f, -2.0f}, {1.0f, 0.0f, -2.0f}, {0.0f, 1.0f, -2.0f});
+  b.tri({0.0f, 0.0f, -3.0f}, {1.0f, 0.0f, -3.0f}, {0.0f, 1.0f, -3.0f});
+  Scene scene = b.done();
+  scene.material_of = {0u, uint32_t(scene.materials.size())};  // triangle 2 has no entry
+  EXPECT_TRUE(seen_by_map(scene, 0));
+  EXPECT_TRUE(seen_by_map(scene, 1)) << "a material index past the scene's materials";
+  EXPECT_TRUE(seen_by_map(scene, 2)) << "no material entry";
+}
+
 TEST_F(RasterTest, IdsMatchFarFromWorldOrigin) {
   // Camera-relative transforms keep agreement when everything sits at 1e4.
   SceneBuilder b;
