@@ -153,6 +153,22 @@ TEST(GeoFlagsCpu, TheMaterialRuleNeedsTheNormals) {
   p.frame = glm::ivec4(1, 1, 1, 1);
   p.limits = glm::vec4(0.9f, 0.02f, 1.0f, 0.0f);
   EXPECT_THROW(geo_flags_cpu(std::vector<uint32_t>(9, 0), {}, p), Error);
+  // Normals, but not one per plane: refused too, not read past their end. Mutation testing:
+  // neither this nor the id image's size check (below) was tested.
+  const std::vector<glm::vec4> planes(2, glm::vec4(0.0f, 0.0f, 1.0f, -1.0f)), one(1, glm::vec4(0.0f, 0.0f, 1.0f, 0.0f));
+  EXPECT_THROW(geo_flags_cpu(std::vector<uint32_t>(9, 1), planes, p, &one), Error);
+  EXPECT_NO_THROW(geo_flags_cpu(std::vector<uint32_t>(9, 1), planes, p, &planes));
+}
+
+// The id image must be the frame's, ring included: (W S + 2) x (H S + 2).
+TEST(GeoFlagsCpu, AnIdImageOfAnotherSizeIsRefused) {
+  gpu::FlagPush p{};
+  p.frame = glm::ivec4(2, 1, 2, 1);
+  p.limits = glm::vec4(0.9f, 0.02f, 0.0f, 0.0f);
+  const std::vector<glm::vec4> planes(1, glm::vec4(0.0f, 0.0f, 1.0f, -1.0f));
+  EXPECT_NO_THROW(geo_flags_cpu(std::vector<uint32_t>(6 * 4, 1), planes, p));
+  EXPECT_THROW(geo_flags_cpu(std::vector<uint32_t>(6 * 4 - 1, 1), planes, p), Error);
+  EXPECT_THROW(geo_flags_cpu(std::vector<uint32_t>(6 * 5, 1), planes, p), Error);  // a row too many
 }
 
 }  // namespace
