@@ -348,7 +348,8 @@ struct Loader {
       m.double_sided = g.doubleSided;
       if (!finite(m.base_color) || !finite(m.emissive) || !std::isfinite(m.metallic) ||
           !std::isfinite(m.roughness) || !std::isfinite(m.transmission) || !std::isfinite(m.base_alpha) ||
-          !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale))
+          !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale) || !std::isfinite(m.ior) ||
+          !std::isfinite(m.thickness) || !finite(m.attenuation_color))  // (an infinite attenuationDistance is none)
         throw Error(file + ": material '" + g.name + "' has non-finite parameters");
       scene.materials.push_back(std::move(m));
       const uint32_t index = uint32_t(scene.materials.size() - 1);

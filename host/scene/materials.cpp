@@ -93,6 +93,9 @@ std::vector<FactorProblem> out_of_range_factors(const Material& m) {
   unit_colour("attenuation colour", m.attenuation_color);
   if (glm::any(glm::lessThan(m.emissive, glm::vec3(0.0f))))
     found.push_back({"emissive " + colour_text(m.emissive) + " below 0", "clamped"});
+  // The shader's radiance stops there (render/shader.cpp), as a light's intensity does.
+  if (glm::any(glm::greaterThan(m.emissive, glm::vec3(1e30f))))
+    found.push_back({"emissive " + colour_text(m.emissive) + " above 1e30", "clamped to 1e30"});
   // KHR_materials_ior allows 0, a Fresnel term of 1 for converted specular-glossiness
   // materials, whose KHR_materials_specular zigzag does not read: 0 alone would make every
   // such material a white mirror.
@@ -100,6 +103,7 @@ std::vector<FactorProblem> out_of_range_factors(const Material& m) {
     found.push_back({"ior 0 (specular-glossiness's full Fresnel, for KHR_materials_specular, which zigzag does not support)",
                      "1.5 used"});
   else if (!(m.ior >= 1.0f)) found.push_back({"ior " + text(m.ior) + " below 1", "1.5 used"});
+  if (m.thickness < 0.0f) found.push_back({"thickness " + text(m.thickness) + " below 0", "thin-walled, as 0"});
   if (!(m.attenuation_distance > 0.0f))
     found.push_back({"attenuation distance " + text(m.attenuation_distance) + " not > 0", "no absorption"});
   return found;

@@ -832,6 +832,25 @@ TEST(GltfLoader, MaterialFactorsOutOfRangeAreClampedWithAWarning) {
   EXPECT_EQ(s.whitted[0].mirror, whitted_from_gltf(s.materials[0]).mirror);  // rendered as clamped
 }
 
+// Extension values beyond float's range are refused as the core factors are (an ior of
+// 1e39 rendered as 1.5 without a word), and a negative thickness is named.
+TEST(GltfLoader, ExtensionFactorsBeyondFloatAreErrorsAndNegativeThicknessIsNamed) {
+  auto file = [](const nlohmann::json& extensions) {
+    GltfBuilder b;
+    b.doc["materials"] = {{{"name", "glass"}, {"extensions", extensions}}};
+    b.node({{"mesh", b.mesh("tri", kTriPos, kTriNrm, {}, 4, 0)}});
+    return b.write(test::temp_dir("matext"));
+  };
+  expect_error([&] { load_scene(file({{"KHR_materials_ior", {{"ior", 1e39}}}}), kQuiet); },
+               "material 'glass' has non-finite parameters");
+  expect_error([&] { load_scene(file({{"KHR_materials_volume", {{"thicknessFactor", 1e39}}}}), kQuiet); },
+               "material 'glass' has non-finite parameters");
+  testing::internal::CaptureStderr();
+  load_scene(file({{"KHR_materials_volume", {{"thicknessFactor", -1}}}}), LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warned.find("material 'glass': thickness -1 below 0, thin-walled, as 0"), std::string::npos) << warned;
+}
+
 // A light node's direction is its -Z whatever its scale (KHR_lights_punctual): scaled by
 // 1e20 it used to overflow to no direction and render black; scaled to nothing it is
 // ignored with a warning, as a camera is. A light the extension forbids is an error.

@@ -175,6 +175,7 @@ TEST(OutOfRangeFactors, NameEachFactorGltfForbids) {
   m.ior = 0.5f;
   m.attenuation_distance = 0.0f;
   m.attenuation_color = glm::vec3(1.5f, 0.5f, 0.5f);
+  m.thickness = -1.0f;
   const std::vector<std::string> want = {"base colour (2, -1, 0.5) outside [0, 1], clamped",
                                          "alpha -0.5 outside [0, 1], clamped",
                                          "metallic 3 outside [0, 1], clamped",
@@ -183,10 +184,17 @@ TEST(OutOfRangeFactors, NameEachFactorGltfForbids) {
                                          "attenuation colour (1.5, 0.5, 0.5) outside [0, 1], clamped",
                                          "emissive (1, -2, 0) below 0, clamped",
                                          "ior 0.5 below 1, 1.5 used",
+                                         "thickness -1 below 0, thin-walled, as 0",
                                          "attenuation distance 0 not > 0, no absorption"};
   std::vector<std::string> got;
   for (const FactorProblem& f : out_of_range_factors(m)) got.push_back(f.text());
   EXPECT_EQ(got, want);
+  // Emission beyond where the shader's radiance stops (a light there is an error).
+  Material bright;
+  bright.emissive = glm::vec3(1e38f, 1.0f, 0.0f);
+  const std::vector<FactorProblem> found = out_of_range_factors(bright);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].text(), "emissive (1e+38, 1, 0) above 1e30, clamped to 1e30");
 }
 
 // KHR_materials_ior's ior 0 (a Fresnel of 1, for specular-glossiness conversions that
