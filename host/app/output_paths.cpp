@@ -161,6 +161,7 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
   for (const OutputPattern& p : patterns)
     for (const OutputKey& job : jobs) {
       const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
+      if (output_is_stream(given)) continue;  // written to, not replaced: jobs may share /dev/null
       const std::filesystem::path path = given.lexically_normal();  // for messages
       const auto [it, inserted] = writers.emplace(output_identity(given), Writer{&p, &job});
       if (inserted) continue;
@@ -187,6 +188,7 @@ void OutputClaims::claim(const std::vector<OutputPattern>& patterns, const Outpu
   std::vector<std::pair<std::filesystem::path, std::string>> mine;
   for (const OutputPattern& p : patterns) {
     const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
+    if (output_is_stream(given)) continue;
     const std::filesystem::path id = output_identity(given);
     const auto it = writers_.find(id);
     if (it != writers_.end())

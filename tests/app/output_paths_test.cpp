@@ -132,6 +132,17 @@ TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
   fs::remove_all(dir);
 }
 
+// A stream is written to, not replaced: a batch may send every job's stats to /dev/null
+// or /dev/stdout (review: "would both write /dev/null (add {scene})").
+TEST(OutputCollisions, JobsMayShareAStream) {
+  const std::vector<OutputKey> scenes = {{"room", "0", 0}, {"glass", "0", 0}};
+  EXPECT_EQ(error_of({{"-o", "{scene}.png"}, {"--stats", "/dev/null"}}, scenes), "");
+  EXPECT_EQ(error_of({{"-o", "{scene}.png"}, {"--stats", "/dev/stdout"}}, scenes), "");
+  OutputClaims claims;
+  EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[0], "job room"));
+  EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[1], "job glass"));
+}
+
 TEST(OutputCollisions, DistinctBatchesPass) {
   EXPECT_EQ(error_of({{"-o", "out/{scene}_{camera}.png"}, {"--stats", "out/{scene}_{camera}.json"}},
                      {{"room", "0", 0}, {"room", "1", 0}, {"glass", "0", 0}}),
