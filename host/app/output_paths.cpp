@@ -83,6 +83,8 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
   if (write_protected(path))
     throw Error(where + "the file is write-protected (make it writable, chmod u+w, to let zigzag replace it)");
   const fs::path target = output_target(path);  // a link's target is what gets written
+  if (fs::is_symlink(target, ec))  // followed 40 times and still a link: the link itself would be replaced
+    throw Error(where + "its symbolic links form a loop (or are nested deeper than 40); they name no file to write");
   fs::path dir = target.parent_path();
   if (dir.empty()) dir = ".";
   fs::path existing = dir;

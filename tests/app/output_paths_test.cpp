@@ -143,6 +143,26 @@ TEST(OutputCollisions, JobsMayShareAStream) {
   EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[1], "job glass"));
 }
 
+// Links that loop name no file: the output is refused before the render, where the
+// loop's first link used to be replaced by the image (review).
+TEST(OutputPreflight, ALoopOfLinksIsRefused) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("zz_loop_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  fs::create_symlink("l2.png", dir / "l1.png");
+  fs::create_symlink("l1.png", dir / "l2.png");
+  try {
+    preflight_output("-o", dir / "l1.png", true);
+    ADD_FAILURE() << "a loop of links was accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("symbolic links form a loop"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::is_symlink(dir / "l1.png"));
+  fs::create_symlink("target.png", dir / "fine.png");  // a link to a file yet to be written is fine
+  EXPECT_NO_THROW(preflight_output("-o", dir / "fine.png", true));
+  fs::remove_all(dir);
+}
+
 TEST(OutputCollisions, DistinctBatchesPass) {
   EXPECT_EQ(error_of({{"-o", "out/{scene}_{camera}.png"}, {"--stats", "out/{scene}_{camera}.json"}},
                      {{"room", "0", 0}, {"room", "1", 0}, {"glass", "0", 0}}),
