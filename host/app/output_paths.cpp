@@ -159,13 +159,15 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
     const OutputPattern* pattern;
     const OutputKey* job;
   };
-  std::map<std::filesystem::path, Writer> writers;
+  std::map<std::pair<std::filesystem::path, std::ptrdiff_t>, Writer> writers;  // (file, a stream's job or -1)
   for (const OutputPattern& p : patterns)
     for (const OutputKey& job : jobs) {
       const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
-      if (output_is_stream(given)) continue;  // written to, not replaced: jobs may share /dev/null
       const std::filesystem::path path = given.lexically_normal();  // for messages
-      const auto [it, inserted] = writers.emplace(output_identity(given), Writer{&p, &job});
+      // A stream is written to, not replaced: jobs may share one (/dev/null), one after
+      // another, but two outputs of one job in it would mix their bytes.
+      const std::ptrdiff_t whose = output_is_stream(given) ? &job - jobs.data() : -1;
+      const auto [it, inserted] = writers.emplace(std::pair(output_identity(given), whose), Writer{&p, &job});
       if (inserted) continue;
       const Writer& first = it->second;
       if (first.pattern == &p) {
@@ -190,7 +192,7 @@ void OutputClaims::claim(const std::vector<OutputPattern>& patterns, const Outpu
   std::vector<std::pair<std::filesystem::path, std::string>> mine;
   for (const OutputPattern& p : patterns) {
     const std::filesystem::path given = expand_output_pattern(p.pattern, job, p.option);
-    if (output_is_stream(given)) continue;
+    if (output_is_stream(given)) continue;  // jobs may share it (check_distinct_outputs)
     const std::filesystem::path id = output_identity(given);
     const auto it = writers_.find(id);
     if (it != writers_.end())

@@ -39,8 +39,8 @@ std::filesystem::path output_identity(const std::filesystem::path& path);
 
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:
 // "-o out.png: jobs room and glass would both write out.png (add {scene})". Streams
-// (/dev/null, /dev/stdout, a FIFO) are written to one after another, never replaced, so
-// any number of outputs may share one.
+// (/dev/null, /dev/stdout, a FIFO) are written to one job after another, never replaced,
+// so jobs may share one; two outputs of one job may not.
 void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const std::vector<OutputKey>& jobs);
 
 // The files a batch's jobs write, claimed as each job starts, with its real camera: the

@@ -138,6 +138,9 @@ TEST(OutputCollisions, JobsMayShareAStream) {
   const std::vector<OutputKey> scenes = {{"room", "0", 0}, {"glass", "0", 0}};
   EXPECT_EQ(error_of({{"-o", "{scene}.png"}, {"--stats", "/dev/null"}}, scenes), "");
   EXPECT_EQ(error_of({{"-o", "{scene}.png"}, {"--stats", "/dev/stdout"}}, scenes), "");
+  // Two outputs of one job would mix their bytes in it.
+  const std::string mixed = error_of({{"--stats", "/dev/stdout"}, {"--aov rays", "/dev/stdout"}}, scenes);
+  EXPECT_NE(mixed.find("--stats and --aov rays would both write /dev/stdout"), std::string::npos) << mixed;
   OutputClaims claims;
   EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[0], "job room"));
   EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[1], "job glass"));
