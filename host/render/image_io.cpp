@@ -166,6 +166,9 @@ bool can_write_image_format(const std::filesystem::path& path) {
   const std::string format = out->format_name();
   if (format == "gif" || format == "jpeg2000" || format == "null") return false;
   const std::string ext = lowercase_extension(path);
+  // The PNM writer writes colour as P6 whatever the name: a .pgm (grey) or .pbm (bitmap)
+  // would hold a pixmap its readers do not expect.
+  if (format == "pnm") return ext == ".ppm" || ext == ".pnm";
   return format != "tiff" || ext == ".tif" || ext == ".tiff";
 }
 

@@ -375,8 +375,9 @@ TEST_F(Outputs, UnwritableOutputsFailBeforeTheRender) {
   // Writers whose files do not read back as the image: refused before the render, not
   // after it (review: GIF's palette, JPEG 2000's empty proxy, the TIFF writer's texture
   // names' incomplete TIFF, the null writer; a farm retried them twice).
+  // The PNM writer's grey and bitmap names (it writes a colour P6 under either).
   for (const char* name : {"out.gif", "out.GIF", "out.jp2", "out.j2k", "out.tx", "out.env", "out.sm", "out.vsm", "out.null",
-                           "out.nul"})
+                           "out.nul", "out.pgm", "out.pbm"})
     expect_error(render({good, "-o", path(name).string()}), "unsupported image format", kUsageExit);
   expect_error(render({good, "-o", path("a.png").string(), "--stats", path("plain/s.json").string()}), "--stats",
                kUsageExit);
