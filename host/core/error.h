@@ -9,8 +9,17 @@
 
 namespace zz {
 
+// A line break or carriage return in what a message quotes (a file name, a --camera
+// value) is written as \n or \r, so the message stays one line.
+inline std::string one_line(std::string text) {
+  for (size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n' || text[i] == '\r') text.replace(i, 1, text[i] == '\n' ? "\\n" : "\\r"), ++i;
+  return text;
+}
+
 struct Error : std::runtime_error {
-  using std::runtime_error::runtime_error;
+  explicit Error(const std::string& what) : std::runtime_error(one_line(what)) {}
+  explicit Error(const char* what) : Error(std::string(what)) {}
 };
 
 // The command line asks for what cannot be done (a bad option combination, an output that

@@ -37,5 +37,12 @@ TEST(ErrorText, UsageChecksTurnErrorsIntoUsageErrors) {
   }
 }
 
+// A message quoting a name with a line break in it (-o $'a\nb.gif') stays one line.
+TEST(ErrorText, AMessageIsOneLineWhateverItQuotes) {
+  EXPECT_STREQ(Error("-o a\nb.gif: unsupported").what(), "-o a\\nb.gif: unsupported");
+  EXPECT_STREQ(UsageError(std::string("--camera x\r\ny")).what(), "--camera x\\r\\ny");
+  EXPECT_STREQ(Error("plain").what(), "plain");
+}
+
 }  // namespace
 }  // namespace zz
