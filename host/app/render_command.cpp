@@ -294,6 +294,9 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                                                      uint64_t(64) * uint64_t(region.width()) * 4 * (3 + layer_count);
   frame_need += layer_need;
   check_memory(frame_need, what.c_str());
+  if (job.map)  // what the map's thread would find beside level 1, after seconds of work
+    VisibilityPass::check_fits(job.map->vulkan(), scene.positions.size() / 3, settings.width, settings.height,
+                               map_region);
   const uint64_t memory_estimate = resident_bytes() + frame_need;
   const OutputKey key{job.name, std::to_string(camera_index), job.frame};
   const std::filesystem::path output = expand_output_pattern(o.output_pattern(), key);

@@ -57,6 +57,24 @@ struct FlagArea {
   VkDeviceSize bytes() const { return VkDeviceSize(words_per_row()) * VkDeviceSize(buffer.height()) * sizeof(uint32_t); }
 };
 
+// The compute passes bind one vec4 per triangle (at least one) as a storage buffer each.
+VkDeviceSize triangle_record_bytes(size_t triangles) {
+  return VkDeviceSize(std::max<size_t>(triangles, 1)) * sizeof(glm::vec4);
+}
+
+constexpr const char* kTooManyTriangles = "render with --edges off";
+constexpr const char* kTooManyFlags = "render a smaller frame, in regions (--region), or with --edges off";
+
+// Throws zz::Error naming `what` and `remedy` when `bytes` exceed one storage-buffer
+// binding (maxStorageBufferRange).
+void check_storage_range(const VulkanContext& context, VkDeviceSize bytes, const std::string& what,
+                         const char* remedy) {
+  const VkDeviceSize range = context.properties().limits.maxStorageBufferRange;
+  if (bytes > range)
+    throw Error("visibility map: " + what + " need a storage buffer of " + std::to_string(bytes >> 20) +
+                " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) + " MiB; " + remedy);
+}
+
 FlagArea flag_area(int width, int height, const std::optional<TileRect>& region) {
   FlagArea a;
   a.want = {0, 0, width, height};
@@ -133,9 +151,8 @@ VisibilityPass::VisibilityPass(VulkanContext& context, const Scene& scene) : con
   std::vector<glm::vec4> positions(std::max<size_t>(3 * triangles_, 1), glm::vec4(0.0f));
   std::vector<glm::vec4> normals = geometric_normals(scene);
   normals.resize(std::max<size_t>(triangles_, 1), glm::vec4(0.0f));
-  // The compute passes bind one vec4 per triangle as a storage buffer each.
-  check_storage_range(normals.size() * sizeof(glm::vec4), std::to_string(triangles_) + " triangles",
-                      "render with --edges off");
+  check_storage_range(context_, triangle_record_bytes(triangles_), std::to_string(triangles_) + " triangles",
+                      kTooManyTriangles);
   std::vector<glm::vec4> first_vertices(normals.size(), glm::vec4(0.0f));
   if (triangles_ > 0) bounds_min_ = bounds_max_ = scene.positions[0];
   for (size_t t = 0; t < triangles_; ++t) {
@@ -278,16 +295,17 @@ uint64_t VisibilityPass::frame_bytes(int width, int height, const VisibilitySett
   return samples * 8 + flag_area(width, height, region).bytes();
 }
 
-void VisibilityPass::check_storage_range(VkDeviceSize bytes, const std::string& what, const char* remedy) const {
-  const VkDeviceSize range = context_.properties().limits.maxStorageBufferRange;
-  if (bytes > range)
-    throw Error("visibility map: " + what + " need a storage buffer of " + std::to_string(bytes >> 20) +
-                " MiB, the Vulkan device binds at most " + std::to_string(range >> 20) + " MiB; " + remedy);
+void VisibilityPass::check_fits(const VulkanContext& context, size_t triangles, int width, int height,
+                                const std::optional<TileRect>& region) {
+  check_storage_range(context, triangle_record_bytes(triangles), std::to_string(triangles) + " triangles",
+                      kTooManyTriangles);
+  if (width > 0 && height > 0)
+    check_storage_range(context, flag_area(width, height, region).bytes(), "the frame's flags", kTooManyFlags);
 }
 
 void VisibilityPass::ensure_flags(VkDeviceSize bytes) {
   if (flags_.size >= bytes) return;
-  check_storage_range(bytes, "the frame's flags", "render a smaller frame, in regions (--region), or with --edges off");
+  check_storage_range(context_, bytes, "the frame's flags", kTooManyFlags);
   flags_.reset();
   flags_ = create_buffer(context_, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
                          VK_MEMORY_PROPERTY_HOST_CACHED_BIT);

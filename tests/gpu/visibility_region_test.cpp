@@ -87,7 +87,20 @@ TEST_F(VisibilityRegionTest, ARegionOfAFrameTooBigForOneFlagBufferIsMade) {
   EXPECT_EQ(ma.at(a.x0 - 1, a.y0), 0);  // nothing outside
   if (context().properties().limits.maxStorageBufferRange < uint64_t(w) * h) {
     EXPECT_THROW(pass.run(camera, w, h, s), Error);
+    // The same refusal before any of the frame's work (render checks it as a job starts),
+    // and none for the region, whose flags are its own rows.
+    try {
+      VisibilityPass::check_fits(context(), scene.positions.size() / 3, w, h);
+      ADD_FAILURE() << "a frame of too many flags passed";
+    } catch (const Error& e) {
+      EXPECT_NE(std::string(e.what()).find("the frame's flags need a storage buffer"), std::string::npos) << e.what();
+    }
+    EXPECT_NO_THROW(VisibilityPass::check_fits(context(), scene.positions.size() / 3, w, h, a));
   }
+  // A scene of more triangles than one binding holds: refused before any upload.
+  const size_t too_many = size_t(context().properties().limits.maxStorageBufferRange / 16) + 1;
+  EXPECT_THROW(VisibilityPass::check_fits(context(), too_many, 64, 64), Error);
+  EXPECT_NO_THROW(VisibilityPass::check_fits(context(), too_many - 1, 64, 64));
 }
 
 TEST(VisibilityFrameBytes, ARegionsFlagsAreItsOwnRowsOnly) {
