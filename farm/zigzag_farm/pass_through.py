@@ -37,6 +37,8 @@ def without_option(args: list[str], name: str) -> list[str]:
 
 # Set by the driver itself for every job: after `--` they would contradict its plan.
 DRIVER_OPTIONS = ("-o", "--output", "--camera", "--frame", "--region", "--stats", "--time")
+# Options with which `zigzag render` writes no image.
+NO_IMAGE_OPTIONS = ("--dry-run", "-h", "--help", "--version")
 # How a job runs, not what it makes: the images are the same bits whatever these are, so
 # they stay out of the job keys (another --workers count or a validation run re-renders
 # nothing). Flags, then options with a value.
@@ -106,6 +108,10 @@ def render_options(o, passed: list[str]) -> RenderOptions:
         if option_value(passed, name) is not None or name in passed:
             raise UsageError(f"{name} after --: zigzag-farm sets it for every job "
                              "(use -o, --camera, --frames, --regions, --stats; frames, not times)")
+    for name in NO_IMAGE_OPTIONS:
+        if name in passed:  # every job would end without its image and be retried
+            raise UsageError(f"{name} after --: a job that renders nothing cannot be a farm job "
+                             "(zigzag render --help lists the options; zigzag-farm render --help the farm's)")
     for file in _aov_files(passed):
         # Written by each job beside the farm's outputs, unclaimed, unrecorded, and by every
         # region for its own part: AOVs go into the -o EXR as layers instead.

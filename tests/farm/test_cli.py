@@ -88,6 +88,9 @@ def usage_error(capsys, *args):
     (["--", "--time", "0.5"], "frames, not times"),
     (["--", "--aov", "rays", "rays.png"], "--aov ... rays.png after --: an AOV image of its own is not a farm output"),
     (["--", "--aov=level", "l.png", "--eps", "0.1"], "--aov ... l.png after --"),
+    # zigzag render writes no image with these: every job failed and was retried (review).
+    (["--", "--dry-run"], "--dry-run after --: a job that renders nothing cannot be a farm job"),
+    (["--", "--eps", "0.1", "-h"], "-h after --: a job that renders nothing"),
 ])
 def test_bad_numbers_and_options_are_usage_errors(capsys, workdir, scene, args, message):
     err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG, *args)
