@@ -3,6 +3,7 @@ futures, record each finished job, assemble frames, report failures while the re
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import re
 import time
@@ -212,6 +213,13 @@ class Runner:
         failed_frames: set[str] = set()
         for f in todo:
             remove_stale_temporaries(f)
+            if job.write_protected(f.output):  # refused by its job anyway: not after the render
+                failed_frames.add(f.key)
+                self.outcome.failures.append(Failure(
+                    describe(dataclasses.replace(f.parts[0], region=None)), f.key,
+                    f"{f.output}: the file is write-protected (make it writable to let the farm replace it); "
+                    "not rendered"))
+                continue
             part_futures = []
             if not f.merged and self.manifest.done(f.parts[0].key):
                 try:  # rendered before the last driver died, or only its stats are missing

@@ -146,3 +146,29 @@ def test_stale_temporaries_of_an_output_named_with_braces_are_found(workdir):
     remove_stale_temporaries(FrameJob(key="f", output=out, stats=None, scene_name="s", frame=None, camera=0,
                                       parts=(part,), merged=False))
     assert os.listdir(workdir) == ["shot{camera}.png"]
+
+
+def test_a_write_protected_image_to_render_fails_before_any_job_is_submitted(workdir):
+    """A frame whose image must be rendered but is write-protected would be refused at the
+    end by its job, after the render (review: every region rendered, then the merge was
+    refused): it fails at once, naming the file, and nothing is submitted."""
+    from zigzag_farm.manifest import Manifest
+    from zigzag_farm.plan import Plan
+
+    f = frame_job(workdir)
+    with open(f.output, "wb") as fh:
+        fh.write(b"an older image")
+    os.chmod(f.output, 0o444)
+
+    class NoSubmissions:
+        def submit(self, *args, **kwargs):
+            raise AssertionError("a job was submitted")
+
+    with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
+        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
+                        live=False)
+        outcome = runner.run(client=NoSubmissions())
+    assert outcome.failed_frames == 1
+    assert outcome.jobs_run == []
+    assert "shot.png: the file is write-protected" in outcome.failures[0].message
+    assert outcome.failures[0].what == "s camera 0"
