@@ -57,9 +57,10 @@ class Manifest:
             self._file.close()
             # One manifest per output folder: the other run may be this batch or another
             # one writing into the same folder.
-            raise ManifestBusy(f"{path}: another zigzag-farm run is using this manifest (the same "
-                               "batch, or another batch writing into the same output folder; give "
-                               "one of them its own --manifest FILE or output folder)") from None
+            raise ManifestBusy(f"{path}: another zigzag-farm run is using this manifest: wait for it "
+                               "if it renders the same images (two runs of one batch would render "
+                               "and merge the same parts); a batch of other images writing into the "
+                               "same output folder can take its own --manifest FILE") from None
         self._file.seek(0)
         text = self._file.read()
         # A tail torn by a crash ends without a newline: the next record starts a fresh line.
