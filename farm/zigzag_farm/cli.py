@@ -345,9 +345,19 @@ def main(argv: list[str] | None = None) -> int:
         print(f"zigzag-farm: {how}; finished jobs are recorded, a re-run renders the rest", file=sys.stderr)
         return code
     except Exception as e:  # e.g. the scheduler lost for good: one line, not a traceback
-        print(f"zigzag-farm: internal error: {type(e).__name__}: {e}; finished jobs are recorded, "
-              "a re-run renders the rest", file=sys.stderr)
+        print(f"zigzag-farm: {internal_error_line(e)}; finished jobs are recorded, a re-run renders the rest",
+              file=sys.stderr)
         return 1  # as a failed job: worth a re-run (2 means bad options)
+
+
+def internal_error_line(e: Exception) -> str:
+    """What ended the run, in one line: Dask's cancellation of every pending job when the
+    scheduler is lost lists each job's key, one per line (review: 4 lines for 12 jobs)."""
+    if type(e).__name__ in ("FuturesCancelledError", "CancelledError"):
+        return "lost the Dask scheduler: its pending jobs were cancelled"
+    text = " ".join(str(e).split())
+    return f"internal error: {type(e).__name__}: {text[:300] + '...' if len(text) > 300 else text}"
+
 
 
 if __name__ == "__main__":

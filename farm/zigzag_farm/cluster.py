@@ -121,7 +121,13 @@ def existing_scheduler(address: str, wait_s: float):
         client = Client(address, timeout=wait_s)
     except (OSError, TimeoutError, ValueError) as e:  # ValueError: not an address
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
-    with client:
+    # A lost scheduler is the driver's one line (cli.internal_error_line): Dask's client
+    # would log its reconnection attempts, tracebacks included, on the way there.
+    with contextlib.ExitStack() as restore, client:
+        for name in ("distributed", "distributed.client"):  # the second has a level of its own
+            log = logging.getLogger(name)
+            restore.callback(log.setLevel, log.level)
+            log.setLevel(logging.CRITICAL + 1)
         _wait_for_render_workers(client, wait_s,
                                  f"start workers with `dask worker {address} --nthreads 1 "
                                  "--resources render=1 --dashboard-address 127.0.0.1:0`")

@@ -272,3 +272,16 @@ def test_ctrl_c_while_the_driver_imports_is_one_line_and_exit_130(tmp_path):
                        capture_output=True, text=True, timeout=60)
     assert p.returncode == 130, p.stderr
     assert p.stderr == "zigzag-farm: interrupted; nothing was started\n", p.stderr
+
+
+def test_what_ends_a_run_is_said_in_one_line():
+    """A lost scheduler cancels every pending job, and Dask's error lists each key on a line
+    of its own (review: 4 lines for 12 jobs); any other error is one line too."""
+    class FuturesCancelledError(Exception):
+        pass
+
+    lost = cli.internal_error_line(FuturesCancelledError("12 Futures cancelled:\nrender-a\nrender-b"))
+    assert lost == "lost the Dask scheduler: its pending jobs were cancelled"
+    other = cli.internal_error_line(RuntimeError("first\nsecond " + "x" * 400))
+    assert "\n" not in other and other.startswith("internal error: RuntimeError: first second ")
+    assert other.endswith("...") and len(other) < 360
