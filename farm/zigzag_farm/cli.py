@@ -13,7 +13,7 @@ import tempfile
 from . import fingerprint
 from .fingerprint import HashCache
 from .job import write_json_atomically, write_protected
-from .manifest import Manifest, ManifestBusy
+from .manifest import Manifest, ManifestBusy, ManifestUnwritable
 from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
 from .progress import summary
@@ -344,6 +344,10 @@ def main(argv: list[str] | None = None) -> int:
         how, code = ("terminated (SIGTERM)", 128 + signal.SIGTERM) if _terminated else ("interrupted", 130)
         print(f"zigzag-farm: {how}; finished jobs are recorded, a re-run renders the rest", file=sys.stderr)
         return code
+    except ManifestUnwritable as e:  # not "finished jobs are recorded": they are not
+        print(f"zigzag-farm: error: {e}; the run stopped, and the images it finished since are "
+              "unrecorded (a re-run renders them again)", file=sys.stderr)
+        return 1
     except Exception as e:  # e.g. the scheduler lost for good: one line, not a traceback
         print(f"zigzag-farm: {internal_error_line(e)}; finished jobs are recorded, a re-run renders the rest",
               file=sys.stderr)

@@ -20,6 +20,11 @@ class ManifestBusy(RuntimeError):
     pass
 
 
+class ManifestUnwritable(RuntimeError):
+    """A finished job could not be recorded (a full disk): the run stops, since nothing it
+    finishes from then on would count as done."""
+
+
 def verified(record: dict | None, image_only: bool = False, hashed: dict | None = None) -> bool:
     """The record's output (and, unless image_only, each file in its "also") is on disk,
     complete, and the same bytes as when recorded. `hashed` remembers each file's SHA-256
@@ -82,11 +87,16 @@ class Manifest:
     def record(self, key: str, kind: str, result: dict, **extra) -> None:
         rec = {"key": key, "kind": kind, "output": result["output"], "size": result["size"],
                "sha256": result["sha256"], **extra}
-        self.records[key] = rec
-        self._file.write(("\n" if self._torn else "") + json.dumps(rec, sort_keys=True) + "\n")
+        try:
+            self._file.write(("\n" if self._torn else "") + json.dumps(rec, sort_keys=True) + "\n")
+            self._file.flush()
+            os.fsync(self._file.fileno())
+        except OSError as e:
+            self._torn = True  # a part of the line may have reached the file
+            raise ManifestUnwritable(f"cannot record finished jobs in the manifest {self.path}: "
+                                     f"{e.strerror or e}") from None
         self._torn = False
-        self._file.flush()
-        os.fsync(self._file.fileno())
+        self.records[key] = rec
 
     def close(self) -> None:
         if not self._file.closed:

@@ -103,3 +103,20 @@ def test_each_output_is_read_once_per_run_however_often_it_is_asked(workdir, mon
         # of the hash keeps it: the farm replaces outputs by rename, a new inode, never in place)
         assert not m.done("ka")
         assert len(reads) == 2
+
+
+def test_a_record_that_cannot_be_written_stops_the_run_naming_the_manifest(workdir, monkeypatch):
+    """A full disk under the manifest: each job used to fail with a bare OSError, and the run
+    ended saying finished jobs were recorded when none was (review)."""
+    from zigzag_farm.manifest import ManifestUnwritable
+
+    m_path = os.path.join(workdir, "m.jsonl")
+    with Manifest(m_path) as m:
+        def full(*args):
+            raise OSError(28, "No space left on device")
+
+        monkeypatch.setattr(os, "fsync", full)
+        with pytest.raises(ManifestUnwritable, match=f"cannot record finished jobs in the manifest {m_path}: "
+                                                     "No space left on device"):
+            m.record("k", "render", {"output": "x.png", "size": 1, "sha256": "00"})
+        assert "k" not in m.records  # not done: a re-run renders it
