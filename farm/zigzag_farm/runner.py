@@ -135,8 +135,9 @@ def _failure_message(exc: BaseException) -> str:
     except ImportError:
         KilledWorker = ()
     if isinstance(exc, KilledWorker):
-        return (f"a worker died while running it, {exc.allowed_failures + 1} time(s) in a row "
-                f"(distributed.scheduler.allowed-failures = {exc.allowed_failures})")
+        # Dask charges every job on the worker, the ones waiting in its queue too.
+        return (f"its worker died {exc.allowed_failures + 1} time(s) while it ran or waited there "
+                f"(distributed.scheduler.allowed-failures = {exc.allowed_failures}); a re-run renders it")
     if isinstance(exc, job.JobError):
         return str(exc)
     return f"{type(exc).__name__}: {exc}"

@@ -172,3 +172,14 @@ def test_a_write_protected_image_to_render_fails_before_any_job_is_submitted(wor
     assert outcome.jobs_run == []
     assert "shot.png: the file is write-protected" in outcome.failures[0].message
     assert outcome.failures[0].what == "s camera 0"
+
+
+def test_a_job_failed_by_worker_deaths_is_not_said_to_have_been_running():
+    """Dask charges a worker's death to every job it holds, queued ones too (review: one kill
+    failed frames that had never started, 'while running it')."""
+    from distributed.scheduler import KilledWorker
+    from zigzag_farm.runner import _failure_message
+
+    message = _failure_message(KilledWorker("render-f7", None, 3))
+    assert message == ("its worker died 4 time(s) while it ran or waited there "
+                       "(distributed.scheduler.allowed-failures = 3); a re-run renders it")
