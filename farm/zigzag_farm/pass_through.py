@@ -102,6 +102,10 @@ class RenderOptions:
 
 
 def render_options(o, passed: list[str]) -> RenderOptions:
+    # `--eps=0.03` and `--eps 0.03` are one option to zigzag render, so one job key: written
+    # the other way on a re-run, it re-rendered every image (review).
+    passed = [part for a in passed
+              for part in (a.split("=", 1) if a.startswith("--") and "=" in a else [a])]
     if passed and passed[-1] in (*INFO_OPTIONS, *RUNTIME_OPTIONS):
         raise UsageError(f"{passed[-1]} after --: needs a value")
     for name in DRIVER_OPTIONS:

@@ -21,6 +21,11 @@ def options(*farm_args, passed=()):
     return cli.render_options(o, list(passed))
 
 
+def test_an_option_written_with_or_without_equals_gives_one_key():
+    assert options(passed=["--eps=0.03", "--max-depth", "3"]).key_args == \
+        options(passed=["--eps", "0.03", "--max-depth=3"]).key_args == ["--eps", "0.03", "--max-depth", "3"]
+
+
 @pytest.mark.parametrize("passed", [["--width=64", "--threads=2"], ["--width", "64", "--threads", "2"]])
 def test_options_after_dashes_in_either_form_are_taken_once(passed):
     r = options("width", 64, passed=passed)
@@ -48,7 +53,7 @@ def test_info_gets_the_options_it_takes_in_either_form():
     r = options(passed=["--assets=/a", "--eps", "0.1", "--fps", "30", "--height=90"])
     pairs = dict(zip(r.info_args[::2], r.info_args[1::2]))
     assert pairs == {"--assets": "/a", "--fps": "30", "--height": "90"}
-    assert r.key_args == ["--assets=/a", "--eps", "0.1", "--fps", "30", "--height", "90"]
+    assert r.key_args == ["--assets", "/a", "--eps", "0.1", "--fps", "30", "--height", "90"]
 
 
 def run(capsys, *args):
@@ -146,7 +151,7 @@ def test_an_output_that_is_a_folder_is_a_usage_error_wherever_it_comes(capsys, w
 
 def test_layers_of_aovs_after_dashes_are_fine():
     assert options(passed=["--aov", "depth", "--aov=normal", "--eps", "0.1"]).key_args == [
-        "--aov", "depth", "--aov=normal", "--eps", "0.1"]
+        "--aov", "depth", "--aov", "normal", "--eps", "0.1"]
 
 
 def test_a_bad_scheduler_address_is_a_usage_error(capsys, workdir, scene):
