@@ -224,7 +224,8 @@ class Runner:
             part_futures = []
             if not f.merged and self.manifest.done(f.parts[0].key):
                 try:  # rendered before the last driver died, or only its stats are missing
-                    self._finish_frame(f, None)
+                    self._finish_frame(f, None, rendered=False)
+                    self.outcome.skipped += 1  # complete from an earlier run's job: nothing rendered now
                 except OSError as e:  # the stats cannot be written: reported, never a traceback
                     failed_frames.add(f.key)
                     self.outcome.failures.append(Failure(describe(f.parts[0]), f.key, f"{e.strerror or e}: {e.filename}"))

@@ -183,3 +183,22 @@ def test_a_job_failed_by_worker_deaths_is_not_said_to_have_been_running():
     message = _failure_message(KilledWorker("render-f7", None, 3))
     assert message == ("its worker died 4 time(s) while it ran or waited there "
                        "(distributed.scheduler.allowed-failures = 3); a re-run renders it")
+
+
+def test_a_frame_completed_from_an_earlier_runs_job_is_not_counted_as_rendered(workdir):
+    """Its job was recorded by an earlier run (whose stats write failed, or whose driver
+    died): this run renders nothing for it (review: '20 rendered, 0 job(s) run')."""
+    from zigzag_farm.manifest import Manifest
+    from zigzag_farm.plan import Plan
+
+    f = frame_job(workdir)
+    with open(f.output, "wb") as fh:
+        fh.write(b"an image")
+    with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
+        manifest.record("r", "render", {"output": f.output, "size": 8, "sha256": job.sha256_of(f.output)},
+                        stats={"pixels": 4, "rays": {"total": 4}}, seconds=1.0, worker="w")
+        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
+                        live=False)
+        outcome = runner.run(client=None)
+    assert (outcome.rendered, outcome.skipped, outcome.failed_frames, outcome.jobs_run) == (0, 1, 0, [])
+    assert os.path.exists(f.stats)  # written from the recorded job's stats
