@@ -269,6 +269,14 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
     scene's own files are in its SceneInfo.content.
     """
     _check_job_count(scenes, frames, camera, regions)
+    seen: dict[str, str] = {}
+    for info in scenes:  # one file twice (as given, or by two paths): every image twice
+        real = os.path.realpath(info.path)
+        if real in seen:
+            raise ValueError(f"{info.path}: the scene is given twice"
+                             + (f" (also as {seen[real]})" if seen[real] != info.path else "")
+                             + "; give it once")
+        seen[real] = info.path
     plan = Plan()
     for info in scenes:
         plan.add_inputs(info)

@@ -173,6 +173,20 @@ def test_two_scenes_of_one_name_get_a_hint_that_fits():
         plan(scenes=[STILL, other_room], output="/o/{scene}.png")
 
 
+def test_one_scene_file_given_twice_is_refused_as_such(tmp_path):
+    # It gave "add  to -o" (nothing tells the images apart), or, by two paths, "both named
+    # 'still' ... rename one" for what is one file (review).
+    with pytest.raises(ValueError, match="/s/still.json: the scene is given twice; give it once"):
+        plan(scenes=[STILL, STILL], output="/o/{scene}.png")
+    real = tmp_path / "room.json"
+    real.write_text("{}")
+    (tmp_path / "link.json").symlink_to(real)
+    a = SceneInfo(path=str(real), name="room", width=64, height=64, cameras=1)
+    b = SceneInfo(path=str(tmp_path / "link.json"), name="link", width=64, height=64, cameras=1)
+    with pytest.raises(ValueError, match=f"the scene is given twice \\(also as {real}\\)"):
+        plan(scenes=[a, b], output="/o/{scene}.png")
+
+
 def test_regions_split_each_cameras_own_frame():
     wide_and_tall = SceneInfo(path="/s/two.json", name="two", width=200, height=100, cameras=2,
                               camera_sizes=((200, 100), (50, 100)))
