@@ -7,6 +7,20 @@ from zigzag_farm.plan import MAX_OUTPUT_NAME
 from zigzag_farm.runner import Runner, RunSettings, _temporaries_of, remove_stale_temporaries, render_spec
 
 
+def image_with_its_job_recorded(f, manifest):
+    """f's image on disk and its render job (with stats) recorded, as an earlier run leaves them."""
+    with open(f.output, "wb") as fh:
+        fh.write(b"an image")
+    manifest.record("r", "render", {"output": f.output, "size": 8, "sha256": job.sha256_of(f.output)},
+                    stats={"pixels": 4, "rays": {"total": 4}}, seconds=1.0, worker="w")
+
+
+def quiet_runner(f, manifest):
+    from zigzag_farm.plan import Plan
+    return Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
+                  live=False)
+
+
 def frame_job(folder):
     out = os.path.join(folder, "shot.png")
     part = RenderJob(key="r", scene="/s.json", scene_name="s", frame=None, camera=0, region=None,
@@ -113,22 +127,16 @@ def test_stats_that_cannot_be_written_fail_the_frame_without_a_traceback(workdir
     """A frame whose image is recorded and whose stats are asked for: when the stats cannot be
     written (a full disk), the frame is reported failed and the run goes on."""
     from zigzag_farm.manifest import Manifest
-    from zigzag_farm.plan import Plan
-    from zigzag_farm.runner import RunSettings
 
     f = frame_job(workdir)
-    with open(f.output, "wb") as fh:
-        fh.write(b"an image")
     with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
-        manifest.record("r", "render", {"output": f.output, "size": 8, "sha256": job.sha256_of(f.output)},
-                        stats={"pixels": 4, "rays": {"total": 4}}, seconds=1.0, worker="w")
+        image_with_its_job_recorded(f, manifest)
 
         def full_disk(path, data):
             raise OSError(28, "No space left on device", path)
 
         monkeypatch.setattr(job, "write_json_atomically", full_disk)
-        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
-                        live=False)
+        runner = quiet_runner(f, manifest)
         outcome = runner.run(client=None)  # nothing to submit: the image is there
     assert outcome.failed_frames == 1
     assert [x.key for x in outcome.failures] == ["f"]
@@ -153,7 +161,6 @@ def test_a_write_protected_image_to_render_fails_before_any_job_is_submitted(wor
     end by its job, after the render (review: every region rendered, then the merge was
     refused): it fails at once, naming the file, and nothing is submitted."""
     from zigzag_farm.manifest import Manifest
-    from zigzag_farm.plan import Plan
 
     f = frame_job(workdir)
     with open(f.output, "wb") as fh:
@@ -165,8 +172,7 @@ def test_a_write_protected_image_to_render_fails_before_any_job_is_submitted(wor
             raise AssertionError("a job was submitted")
 
     with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
-        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
-                        live=False)
+        runner = quiet_runner(f, manifest)
         outcome = runner.run(client=NoSubmissions())
     assert outcome.failed_frames == 1
     assert outcome.jobs_run == []
@@ -189,16 +195,11 @@ def test_a_frame_completed_from_an_earlier_runs_job_is_not_counted_as_rendered(w
     """Its job was recorded by an earlier run (whose stats write failed, or whose driver
     died): this run renders nothing for it (review: '20 rendered, 0 job(s) run')."""
     from zigzag_farm.manifest import Manifest
-    from zigzag_farm.plan import Plan
 
     f = frame_job(workdir)
-    with open(f.output, "wb") as fh:
-        fh.write(b"an image")
     with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
-        manifest.record("r", "render", {"output": f.output, "size": 8, "sha256": job.sha256_of(f.output)},
-                        stats={"pixels": 4, "rays": {"total": 4}}, seconds=1.0, worker="w")
-        runner = Runner(Plan(frames=[f]), manifest, RunSettings(zigzag="zigzag"), progress_stream=open(os.devnull, "w"),
-                        live=False)
+        image_with_its_job_recorded(f, manifest)
+        runner = quiet_runner(f, manifest)
         outcome = runner.run(client=None)
     assert (outcome.rendered, outcome.skipped, outcome.failed_frames, outcome.jobs_run) == (0, 1, 0, [])
     assert os.path.exists(f.stats)  # written from the recorded job's stats
