@@ -88,8 +88,11 @@ class Manifest:
         rec = {"key": key, "kind": kind, "output": result["output"], "size": result["size"],
                "sha256": result["sha256"], **extra}
         try:
-            self._file.write(("\n" if self._torn else "") + json.dumps(rec, sort_keys=True) + "\n")
-            self._file.flush()
+            # Unbuffered (the file is opened to append): a line that fails leaves nothing
+            # behind in a buffer for close() to fail on again.
+            data = (("\n" if self._torn else "") + json.dumps(rec, sort_keys=True) + "\n").encode()
+            while data:
+                data = data[os.write(self._file.fileno(), data):]
             os.fsync(self._file.fileno())
         except OSError as e:
             self._torn = True  # a part of the line may have reached the file

@@ -39,6 +39,8 @@ def without_option(args: list[str], name: str) -> list[str]:
 DRIVER_OPTIONS = ("-o", "--output", "--camera", "--frame", "--region", "--stats", "--time")
 # Options with which `zigzag render` writes no image.
 NO_IMAGE_OPTIONS = ("--dry-run", "-h", "--help", "--version")
+# `zigzag render`'s options that take no value (`zigzag render --help`).
+FLAGS = ("-q", "--quiet", "--vk-validate", "--edges-serial", "--allow-missing-textures", *NO_IMAGE_OPTIONS)
 # How a job runs, not what it makes: the images are the same bits whatever these are, so
 # they stay out of the job keys (another --workers count or a validation run re-renders
 # nothing). Flags, then options with a value.
@@ -104,8 +106,11 @@ class RenderOptions:
 def render_options(o, passed: list[str]) -> RenderOptions:
     # `--eps=0.03` and `--eps 0.03` are one option to zigzag render, so one job key: written
     # the other way on a re-run, it re-rendered every image (review).
+    # Flags stay whole: CLI11 reads --edges-serial=false as the flag off, and split its
+    # "false" would be a scene file.
     passed = [part for a in passed
-              for part in (a.split("=", 1) if a.startswith("--") and "=" in a else [a])]
+              for part in (a.split("=", 1) if a.startswith("--") and "=" in a and a.split("=", 1)[0] not in FLAGS
+                           else [a])]
     if passed and passed[-1] in (*INFO_OPTIONS, *RUNTIME_OPTIONS):
         raise UsageError(f"{passed[-1]} after --: needs a value")
     for name in DRIVER_OPTIONS:
@@ -113,7 +118,7 @@ def render_options(o, passed: list[str]) -> RenderOptions:
             raise UsageError(f"{name} after --: zigzag-farm sets it for every job "
                              "(use -o, --camera, --frames, --regions, --stats; frames, not times)")
     for name in NO_IMAGE_OPTIONS:
-        if name in passed:  # every job would end without its image and be retried
+        if name in passed or f"{name}=true" in passed:  # every job would end without its image
             raise UsageError(f"{name} after --: a job that renders nothing cannot be a farm job "
                              "(zigzag render --help lists the options; zigzag-farm render --help the farm's)")
     for file in _aov_files(passed):

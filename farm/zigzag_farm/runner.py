@@ -214,13 +214,6 @@ class Runner:
         failed_frames: set[str] = set()
         for f in todo:
             remove_stale_temporaries(f)
-            if job.write_protected(f.output):  # refused by its job anyway: not after the render
-                failed_frames.add(f.key)
-                self.outcome.failures.append(Failure(
-                    describe(dataclasses.replace(f.parts[0], region=None)), f.key,
-                    f"{f.output}: the file is write-protected (make it writable to let the farm replace it); "
-                    "not rendered"))
-                continue
             part_futures = []
             if not f.merged and self.manifest.done(f.parts[0].key):
                 try:  # rendered before the last driver died, or only its stats are missing
@@ -229,6 +222,14 @@ class Runner:
                 except OSError as e:  # the stats cannot be written: reported, never a traceback
                     failed_frames.add(f.key)
                     self.outcome.failures.append(Failure(describe(f.parts[0]), f.key, f"{e.strerror or e}: {e.filename}"))
+                continue
+            # An image still to write, write-protected: its job would refuse it after the render.
+            if job.write_protected(f.output):
+                failed_frames.add(f.key)
+                self.outcome.failures.append(Failure(
+                    describe(dataclasses.replace(f.parts[0], region=None)), f.key,
+                    f"{f.output}: the file is write-protected (make it writable to let the farm replace it); "
+                    "not rendered"))
                 continue
             for p in f.parts:
                 if f.merged and self.manifest.done(p.key):

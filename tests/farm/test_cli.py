@@ -24,6 +24,9 @@ def options(*farm_args, passed=()):
 def test_an_option_written_with_or_without_equals_gives_one_key():
     assert options(passed=["--eps=0.03", "--max-depth", "3"]).key_args == \
         options(passed=["--eps", "0.03", "--max-depth=3"]).key_args == ["--eps", "0.03", "--max-depth", "3"]
+    # A flag's value is not split off (it would reach zigzag render as a scene file).
+    r = options(passed=["--allow-missing-textures=1", "--edges-serial=false", "--eps", "0.1"])
+    assert r.key_args == ["--allow-missing-textures=1", "--edges-serial=false", "--eps", "0.1"]
 
 
 @pytest.mark.parametrize("passed", [["--width=64", "--threads=2"], ["--width", "64", "--threads", "2"]])

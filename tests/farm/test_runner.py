@@ -193,12 +193,14 @@ def test_a_job_failed_by_worker_deaths_is_not_said_to_have_been_running():
 
 def test_a_frame_completed_from_an_earlier_runs_job_is_not_counted_as_rendered(workdir):
     """Its job was recorded by an earlier run (whose stats write failed, or whose driver
-    died): this run renders nothing for it (review: '20 rendered, 0 job(s) run')."""
+    died): this run renders nothing for it (review: '20 rendered, 0 job(s) run'), and a user
+    may have write-protected the finished image meanwhile."""
     from zigzag_farm.manifest import Manifest
 
     f = frame_job(workdir)
     with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
         image_with_its_job_recorded(f, manifest)
+        os.chmod(f.output, 0o444)
         runner = quiet_runner(f, manifest)
         outcome = runner.run(client=None)
     assert (outcome.rendered, outcome.skipped, outcome.failed_frames, outcome.jobs_run) == (0, 1, 0, [])
