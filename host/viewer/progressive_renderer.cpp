@@ -160,6 +160,7 @@ void ProgressiveRenderer::render(const FrameRequest& request, uint64_t id,
       std::lock_guard<std::mutex> lock(mutex_);
       status_.last_preview_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       ++status_.previews_completed;
+      status_.previewed = id;
       status_.preview_scale = s;
     }
     changed_.notify_all();

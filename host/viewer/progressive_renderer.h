@@ -52,6 +52,7 @@ struct ProgressStatus {
   int frames_completed = 0;   // full frames finished since start
   bool preview = false;       // the preview pass is running
   int previews_completed = 0; // previews finished since start (each covers the whole frame)
+  uint64_t previewed = 0;     // id of the last request whose preview finished (0: none)
   int preview_scale = 0;      // the scale of the last preview that ran
   int tiles_done = 0;         // full-frame tiles finished for `request`
   int tiles_total = 0;

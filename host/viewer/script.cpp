@@ -43,8 +43,12 @@ float number(std::string_view s, std::string_view command) {
 std::string script_key_name(std::string_view given) {
   std::string upper(given);
   for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
-  if (upper == "ESC" || upper == "ESCAPE") return "Esc";
-  if (upper.size() == 1 && std::string_view("RSFE1234[]").find(upper[0]) != std::string_view::npos) return upper;
+  if (upper == "ESCAPE") upper = "ESC";
+  for (std::string_view key : kScriptKeys) {
+    std::string name(key);
+    for (char& c : name) c = char(std::toupper(static_cast<unsigned char>(c)));
+    if (name == upper) return std::string(key);
+  }
   return "";
 }
 
@@ -82,8 +86,14 @@ std::vector<ScriptEvent> parse_script(std::string_view script) {
     } else if (name == "key") {
       e.kind = ScriptEvent::Kind::Key;
       e.text = script_key_name(args(1, 1)[0]);
-      if (e.text.empty())  // here, not when played: a typo must not leave the window open
-        throw Error("--script: '" + std::string(command) + "': unknown key (R S F E 1 2 3 4 [ ] Esc)");
+      if (e.text.empty()) {  // here, not when played: a typo must not leave the window open
+        std::string keys;
+        for (std::string_view k : kScriptKeys) {
+          if (!keys.empty()) keys += ' ';
+          keys += k;
+        }
+        throw Error("--script: '" + std::string(command) + "': unknown key (" + keys + ")");
+      }
     } else if (name == "resize") {
       const auto a = args(2, 2);
       e.kind = ScriptEvent::Kind::Resize;

@@ -11,6 +11,7 @@
 //   quit
 #pragma once
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -27,6 +28,11 @@ struct ScriptEvent {
 
 // Throws zz::Error naming the bad command.
 std::vector<ScriptEvent> parse_script(std::string_view script);
+
+// The keys a script may press, by the viewer's names for them (viewer.cpp maps each to
+// its GLFW key, in this order).
+inline constexpr std::array<std::string_view, 11> kScriptKeys = {"R", "S", "F", "E", "1", "2",
+                                                                 "3", "4", "[", "]", "Esc"};
 
 // The viewer's name of a key a script may press ("r" -> "R", "escape" -> "Esc"); empty
 // for a key the viewer has no use for. A Key event's text is always such a name.

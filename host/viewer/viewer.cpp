@@ -63,6 +63,7 @@ class Viewer {
   void update_title(bool force);
   bool frame_done() const;
   bool view_shown() const;
+  void give_up_after_timeout(const char* what);
   // A scripted resize the window manager did not grant within 5 s is given up on.
   void expire_pending_resize();
   // Runs script events until one must wait; false once the viewer should close.
@@ -334,10 +335,18 @@ bool Viewer::frame_done() const {
 }
 
 // Whether the window shows this request's image: its preview finished (tiles may still be
-// coming over it). Before that, the frame may not even have its size yet.
+// coming over it), or, with no preview (--preview-scale 1), its whole frame. Before that,
+// the frame may not even have its size yet.
+// A script event that waited past --script-timeout fails the run and closes the window.
+void Viewer::give_up_after_timeout(const char* what) {
+  if (script_waited() <= options_.script_timeout_seconds) return;
+  std::fprintf(stderr, "zigzag view: script %s timed out after %.0f s\n", what, options_.script_timeout_seconds);
+  exit_code_ = 1;
+  glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
+}
+
 bool Viewer::view_shown() const {
-  const ProgressStatus s = renderer_->status();
-  return frame_done() || (s.request == request_ && !s.preview && pending_width_ == 0);
+  return frame_done() || (renderer_->status().previewed == request_ && pending_width_ == 0);
 }
 
 void Viewer::expire_pending_resize() {
@@ -356,21 +365,13 @@ void Viewer::step_script() {
     // after the window opened it came out empty or black, as the race went.
     const bool saves = e.kind == ScriptEvent::Kind::Screenshot || (e.kind == ScriptEvent::Kind::Key && e.text == "S");
     if (saves && !view_shown()) {
-      if (script_waited() > options_.script_timeout_seconds) {
-        std::fprintf(stderr, "zigzag view: script screenshot timed out after %.0f s\n", options_.script_timeout_seconds);
-        exit_code_ = 1;
-        glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
-      }
+      give_up_after_timeout("screenshot");
       return;
     }
     if (saves) script_waiting_since_.reset();
     if (e.kind == ScriptEvent::Kind::Wait) {
       if (!frame_done()) {
-        if (script_waited() > options_.script_timeout_seconds) {
-          std::fprintf(stderr, "zigzag view: script 'wait' timed out after %.0f s\n", options_.script_timeout_seconds);
-          exit_code_ = 1;
-          glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
-        }
+        give_up_after_timeout("'wait'");
         return;
       }
       script_waiting_since_.reset();
@@ -391,12 +392,12 @@ void Viewer::step_script() {
     } else if (e.kind == ScriptEvent::Kind::Scroll) {
       on_scroll(e.steps);
     } else if (e.kind == ScriptEvent::Kind::Key) {
-      static const std::pair<const char*, int> keys[] = {
-          {"R", GLFW_KEY_R}, {"S", GLFW_KEY_S}, {"F", GLFW_KEY_F}, {"E", GLFW_KEY_E}, {"1", GLFW_KEY_1},
-          {"2", GLFW_KEY_2}, {"3", GLFW_KEY_3}, {"4", GLFW_KEY_4}, {"[", GLFW_KEY_LEFT_BRACKET},
-          {"]", GLFW_KEY_RIGHT_BRACKET}, {"Esc", GLFW_KEY_ESCAPE}};
-      for (const auto& [name, code] : keys)  // parse_script gave one of these names
-        if (e.text == name) on_key(code);
+      static constexpr int kCodes[] = {GLFW_KEY_R, GLFW_KEY_S, GLFW_KEY_F, GLFW_KEY_E,
+                                       GLFW_KEY_1, GLFW_KEY_2, GLFW_KEY_3, GLFW_KEY_4,
+                                       GLFW_KEY_LEFT_BRACKET, GLFW_KEY_RIGHT_BRACKET, GLFW_KEY_ESCAPE};
+      static_assert(std::size(kCodes) == kScriptKeys.size(), "one GLFW key per script key, in order");
+      for (size_t k = 0; k < kScriptKeys.size(); ++k)  // parse_script gave one of these names
+        if (e.text == kScriptKeys[k]) on_key(kCodes[k]);
     } else if (e.kind == ScriptEvent::Kind::Resize) {
       // X11 reports a framebuffer size only when it changes: asking for the current size
       // must not wait for a report that never comes (it hung --exit-after-frame).

@@ -255,6 +255,13 @@ TEST_F(Window, AScreenshotStraightAfterOpeningSavesThePreview) {
     ASSERT_EQ(rgb.size(), size_t(64 * 48 * 3)) << v.output;
     EXPECT_GT(*std::max_element(rgb.begin(), rgb.end()), 0.0f) << "run " << run << ": a black image";
   }
+  // With no preview (--preview-scale 1) the first image is the whole frame (review: the
+  // render thread's "no preview running" was taken for a preview shown).
+  const test::CommandResult whole =
+      view("--width 64 --height 48 --preview-scale 1 --script \"screenshot:" + file("whole.png") + ";quit\"");
+  SKIP_IF_NO_VULKAN();
+  expect_clean(whole);
+  EXPECT_NE(whole.output.find("saved " + file("whole.png") + "\n"), std::string::npos) << whole.output;
 }
 
 TEST_F(Window, ClosingMidRenderExitsCleanly) {
