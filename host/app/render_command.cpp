@@ -122,8 +122,8 @@ struct JobTally {
   int jobs = 0, failed = 0, refused = 0;
 
   // `where` names the job ("scene.json: camera 1") unless the message starts with it.
-  void fail(const std::string& where, const std::exception& e) {
-    const std::string what = error_text(e);
+  void fail(const std::string& scene_and_camera, const std::exception& e) {
+    const std::string what = one_line(error_text(e)), where = one_line(scene_and_camera);  // as zz::Error quotes
     const bool named = where.empty() || what.rfind(where, 0) == 0;
     std::fprintf(stderr, "zigzag: error: %s%s\n", named ? "" : (where + ": ").c_str(), what.c_str());
     ++failed;

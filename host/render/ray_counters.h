@@ -19,9 +19,9 @@ struct RayCounters {
   // the shader (a shading bug: 0 in a healthy render; what tests of finiteness read, since
   // the image itself cannot show it).
   uint64_t nan_radiance = 0;
-  // Not rays: lanes cut short at a see-through limit (render/see_through.h
-  // kMaxSeeThroughLayers cut-outs or shadow layers, shader.cpp kMaxBlendLayers BLEND
-  // surfaces), where what lies further behind is left out. 0 unless a scene stacks them.
+  // Not rays: lanes cut short at a see-through limit (render/see_through.h:
+  // kMaxSeeThroughLayers cut-outs or shadow layers, kMaxBlendLayers BLEND surfaces), where
+  // what lies further behind is left out. 0 unless a scene stacks them.
   uint64_t layer_limit = 0;
 
   uint64_t total() const { return primary + shadow + reflection + refraction + continuation; }

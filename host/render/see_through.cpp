@@ -103,11 +103,6 @@ void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light
     int next = 0;
     for (int i = 0; i < 4; ++i) {
       if (!((lanes >> i) & 1) || hits.prim[i] < 0) continue;  // reached the light
-      if (layer == kMaxSeeThroughLayers) {
-        through[i] = glm::vec3(0.0f);
-        ++counters.layer_limit;
-        continue;
-      }
       const size_t t3 = size_t(hits.prim[i]) * 3;
       const uint32_t index = scene.material_of[size_t(hits.prim[i])];
       const Material& m = scene.materials[index];
@@ -136,6 +131,11 @@ void shadow_transmittance(const Scene& scene, const Bvh& bvh, const Light& light
       through[i] *= f;
       if (!(through[i].r > 0.0f || through[i].g > 0.0f || through[i].b > 0.0f)) {
         through[i] = glm::vec3(0.0f);
+        continue;
+      }
+      if (layer == kMaxSeeThroughLayers) {  // a surface that lets light through, one too many
+        through[i] = glm::vec3(0.0f);
+        ++counters.layer_limit;
         continue;
       }
       // Continue from just behind the surface, towards the same light.

@@ -62,7 +62,7 @@ WhittedMaterial whitted_from_gltf(const Material& m) {
     glm::vec3 c = glm::clamp(m.attenuation_color, glm::vec3(1e-6f), glm::vec3(1.0f));
     w.absorption = -glm::log(c) / m.attenuation_distance;
   }
-  w.emission = glm::max(m.emissive, glm::vec3(0.0f));
+  w.emission = glm::clamp(m.emissive, glm::vec3(0.0f), glm::vec3(1e30f));  // out_of_range_factors names both
   return w;
 }
 
@@ -93,7 +93,7 @@ std::vector<FactorProblem> out_of_range_factors(const Material& m) {
   unit_colour("attenuation colour", m.attenuation_color);
   if (glm::any(glm::lessThan(m.emissive, glm::vec3(0.0f))))
     found.push_back({"emissive " + colour_text(m.emissive) + " below 0", "clamped"});
-  // The shader's radiance stops there (render/shader.cpp), as a light's intensity does.
+  // Where the shader's radiance stops (render/shader.cpp) and a light's intensity does.
   if (glm::any(glm::greaterThan(m.emissive, glm::vec3(1e30f))))
     found.push_back({"emissive " + colour_text(m.emissive) + " above 1e30", "clamped to 1e30"});
   // KHR_materials_ior allows 0, a Fresnel term of 1 for converted specular-glossiness

@@ -162,6 +162,12 @@ TEST(SeeThrough, ShadowRaysStopAtOpaqueSurfacesAndAfterTheLayerLimit) {
                           0b1111, 1, &counters),
             glm::vec3(0.0f));
   EXPECT_EQ(counters.layer_limit, 4u);
+  // An opaque surface after the limit's worth blocks the light; nothing was left out there.
+  std::vector<Material> then_opaque(size_t(kMaxSeeThroughLayers), blend(0.01f));
+  then_opaque.push_back(test::diffuse_material(glm::vec3(1.0f)));
+  RayCounters blocked;
+  EXPECT_EQ(light_through(Stack(then_opaque, false, 0.1f), 0b1111, 1, &blocked), glm::vec3(0.0f));
+  EXPECT_EQ(blocked.layer_limit, 0u);
 }
 
 }  // namespace
