@@ -357,8 +357,11 @@ def main(argv: list[str] | None = None) -> int:
 def internal_error_line(e: Exception) -> str:
     """What ended the run, in one line: Dask's cancellation of every pending job when the
     scheduler is lost lists each job's key, one per line (review: 4 lines for 12 jobs)."""
-    if type(e).__name__ in ("FuturesCancelledError", "CancelledError"):
-        return "lost the Dask scheduler: its pending jobs were cancelled"
+    if type(e).__name__ in ("FuturesCancelledError", "FutureCancelledError"):
+        reasons = sorted({str(getattr(g, "reason", "unknown")) for g in getattr(e, "error_groups", [e])})
+        if reasons == ["scheduler-connection-lost"]:
+            return "lost the Dask scheduler: its pending jobs were cancelled"
+        return f"the pending jobs were cancelled ({', '.join(reasons)})"
     text = " ".join(str(e).split())
     return f"internal error: {type(e).__name__}: {text[:300] + '...' if len(text) > 300 else text}"
 

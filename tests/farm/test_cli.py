@@ -285,11 +285,17 @@ def test_ctrl_c_while_the_driver_imports_is_one_line_and_exit_130(tmp_path):
 def test_what_ends_a_run_is_said_in_one_line():
     """A lost scheduler cancels every pending job, and Dask's error lists each key on a line
     of its own (review: 4 lines for 12 jobs); any other error is one line too."""
-    class FuturesCancelledError(Exception):
-        pass
+    from distributed.client import CancelledFuturesGroup, FutureCancelledError, FuturesCancelledError
 
-    lost = cli.internal_error_line(FuturesCancelledError("12 Futures cancelled:\nrender-a\nrender-b"))
-    assert lost == "lost the Dask scheduler: its pending jobs were cancelled"
+    def cancelled(reason):
+        return FuturesCancelledError([CancelledFuturesGroup(
+            [FutureCancelledError(k, reason) for k in ("render-a", "render-b")], reason)])
+
+    assert cli.internal_error_line(cancelled("scheduler-connection-lost")) == \
+        "lost the Dask scheduler: its pending jobs were cancelled"
+    # Another reason is named, not taken for a lost scheduler (re-read of the diff).
+    assert cli.internal_error_line(cancelled("scheduler-restart")) == \
+        "the pending jobs were cancelled (scheduler-restart)"
     other = cli.internal_error_line(RuntimeError("first\nsecond " + "x" * 400))
     assert "\n" not in other and other.startswith("internal error: RuntimeError: first second ")
     assert other.endswith("...") and len(other) < 360
