@@ -366,6 +366,5 @@ def internal_error_line(e: Exception) -> str:
     return f"internal error: {type(e).__name__}: {text[:300] + '...' if len(text) > 300 else text}"
 
 
-
 if __name__ == "__main__":
     sys.exit(main())

@@ -122,7 +122,6 @@ MemoryBudget memory_budget() {
   return budget;
 }
 
-
 void check_memory(uint64_t needed, const char* what) {
   const MemoryBudget budget = memory_budget();
   if (budget.bytes == 0 || needed <= budget.bytes) return;

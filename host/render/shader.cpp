@@ -65,7 +65,6 @@ void add_weighted(float out[3][4], const bool on[4], const glm::vec3 weight[4], 
     }
 }
 
-
 // What the shader needs at one lane's hit point.
 struct SurfacePoint {
   SurfacePosition hit; // hit point from barycentrics + its rounding-error bound

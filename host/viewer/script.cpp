@@ -41,14 +41,14 @@ float number(std::string_view s, std::string_view command) {
 }  // namespace
 
 std::string script_key_name(std::string_view given) {
-  std::string upper(given);
-  for (char& c : upper) c = char(std::toupper(static_cast<unsigned char>(c)));
-  if (upper == "ESCAPE") upper = "ESC";
-  for (std::string_view key : kScriptKeys) {
-    std::string name(key);
-    for (char& c : name) c = char(std::toupper(static_cast<unsigned char>(c)));
-    if (name == upper) return std::string(key);
-  }
+  auto upper = [](std::string_view text) {
+    std::string u(text);
+    for (char& c : u) c = char(std::toupper(static_cast<unsigned char>(c)));
+    return u;
+  };
+  const std::string wanted = upper(given) == "ESCAPE" ? "ESC" : upper(given);
+  for (std::string_view key : kScriptKeys)
+    if (upper(key) == wanted) return std::string(key);
   return "";
 }
 

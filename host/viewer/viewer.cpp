@@ -334,9 +334,6 @@ bool Viewer::frame_done() const {
   return s.completed == request_ && pending_width_ == 0;
 }
 
-// Whether the window shows this request's image: its preview finished (tiles may still be
-// coming over it), or, with no preview (--preview-scale 1), its whole frame. Before that,
-// the frame may not even have its size yet.
 // A script event that waited past --script-timeout fails the run and closes the window.
 void Viewer::give_up_after_timeout(const char* what) {
   if (script_waited() <= options_.script_timeout_seconds) return;
@@ -345,6 +342,9 @@ void Viewer::give_up_after_timeout(const char* what) {
   glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
 }
 
+// Whether the window shows this request's image: its preview finished (tiles may still be
+// coming over it), or, with no preview (--preview-scale 1), its whole frame. Before that,
+// the frame may not even have its size yet.
 bool Viewer::view_shown() const {
   return frame_done() || (renderer_->status().previewed == request_ && pending_width_ == 0);
 }
