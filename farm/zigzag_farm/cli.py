@@ -38,7 +38,8 @@ def _parser() -> argparse.ArgumentParser:
                    help="output image per frame: {scene}, {camera}, {frame}, {frame:04}")
     r.add_argument("--frames", metavar="A-B[xS]",
                    help="frames to render (default: an animated scene's own range, else a still)")
-    r.add_argument("--camera", default="0", metavar="N|all")
+    r.add_argument("--camera", default="0", metavar="N|NAME|all",
+                   help="a camera by index or name, as zigzag info lists them, or all (default 0)")
     r.add_argument("--regions", type=int, default=1, metavar="N",
                    help="split each image into N regions rendered as separate jobs, then merged")
     r.add_argument("--width", type=int, help="frame width (default: the scene's)")
@@ -98,8 +99,8 @@ def _check_numbers(o) -> None:
     for name, value in (("--timeout", o.timeout), ("--wait", o.wait)):
         if value is not None and not value > 0:
             raise UsageError(f"{name} {value:g}: must be more than 0")
-    if o.camera != "all" and not o.camera.isdigit():
-        raise UsageError(f"--camera {o.camera}: expected an index or all")
+    if not o.camera:
+        raise UsageError("--camera '': expected an index, a camera's name or all")
 
 
 def _frames(o) -> list[int] | None:

@@ -49,6 +49,7 @@ class SceneInfo:
     height: int
     cameras: int
     animated: bool = False
+    camera_names: tuple[str, ...] = ()  # as `zigzag info` lists them, for --camera NAME
     fps: float = 24.0
     frame_range: tuple[int, int] | None = None
     # Each camera's (width, height) as `zigzag render` sizes its frame with the batch's
@@ -238,13 +239,24 @@ def _scene_frames(info: SceneInfo, frames: list[int] | None):
 
 
 def _scene_cameras(info: SceneInfo, camera: str) -> list[int]:
+    """The cameras `--camera` picks in this scene, by zigzag render's rule (find_camera in
+    host/scene/camera_select.cpp): all, an index when it is all digits, else a unique name."""
     if camera == "all":
         return list(range(info.cameras))
-    index = int(camera)
-    if not 0 <= index < info.cameras:
-        raise ValueError(f"{info.path}: --camera {camera} does not exist "
-                         f"(the scene has {info.cameras} camera(s))")
-    return [index]
+    if camera.isascii() and camera.isdigit():
+        index = int(camera)
+        if not 0 <= index < info.cameras:
+            raise ValueError(f"{info.path}: --camera {camera} does not exist "
+                             f"(the scene has {info.cameras} camera(s))")
+        return [index]
+    named = [i for i, name in enumerate(info.camera_names) if name == camera]
+    if len(named) == 1:
+        return named
+    if named:  # the renderer refuses it too: the batch must not pick one of them for the user
+        raise ValueError(f"{info.path}: camera name '{camera}' is ambiguous: cameras "
+                         f"{', '.join(map(str, named))} have it (give an index, --camera {named[0]})")
+    names = ", ".join(f"{i} '{name}'" for i, name in enumerate(info.camera_names))
+    raise ValueError(f"{info.path}: no camera named '{camera}' (cameras: {names or 'no names known'})")
 
 
 def _check_job_count(scenes: list[SceneInfo], frames, camera: str, regions: int) -> None:
@@ -263,7 +275,7 @@ def plan_batch(scenes: list[SceneInfo], output: str, *, frames: list[int] | None
     """Every output image of the batch and the render jobs that make it.
 
     frames=None: each animated scene's own frame range, a still for the others.
-    camera: an index or "all". regions > 1 splits each image into parts merged afterwards.
+    camera: an index, a camera's name or "all". regions > 1 splits each image into parts merged afterwards.
     args: the render options that decide the bytes (not --threads: any thread count renders
     the same bits, so it stays out of the keys). fingerprint: the renderer binary; each
     scene's own files are in its SceneInfo.content.

@@ -42,13 +42,17 @@ def parse_info(path: str, d: dict) -> SceneInfo:
     """A scene's info as `zigzag info --json` gives it, asked with the batch's --width/--height
     (so its sizes are the ones `zigzag render` will use)."""
     cameras = d.get("camera_count", d.get("cameras", 1))
+    listed = d.get("cameras")
+    names = tuple(str(n) for n in listed) if isinstance(listed, list) else ()
     if isinstance(cameras, list):
         cameras = len(cameras)
+    if names and len(names) != int(cameras):
+        raise ValueError(f"{len(names)} camera names for {cameras} camera(s)")
     # Relative paths in "files" are relative to where info ran: this process's folder.
     files = tuple(os.path.abspath(f) for f in d.get("files", ()) or ())
     return SceneInfo(path=path, name=os.path.splitext(os.path.basename(path))[0],
                      width=int(d["width"]), height=int(d["height"]), cameras=int(cameras),
-                     animated=bool(d.get("animated", False)), fps=float(d.get("fps") or 24.0),
+                     camera_names=names, animated=bool(d.get("animated", False)), fps=float(d.get("fps") or 24.0),
                      frame_range=_frame_range(d), camera_sizes=_camera_sizes(d, int(cameras)),
                      files=files or (os.path.abspath(path),))
 

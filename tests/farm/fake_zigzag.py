@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """A stand-in for the zigzag binary that obeys its farm-facing CLI, for the driver's tests.
 
-Scenes are JSON files: {"width", "height", "cameras", "animated", "frame_range", "fps",
+Scenes are JSON files: {"width", "height", "cameras", "camera_names" (default camera0,
+camera1, ...), "animated", "frame_range", "fps",
 "sleep" (seconds per render), "fail" (a render error message), "refuse" (a usage error found
 once the scene is loaded, exit code 105), "camera_aspects" (width /
 height per camera: a side not given by --width/--height follows it, as zigzag's cameras do),
@@ -103,9 +104,11 @@ def info(args):
         check_assets(path, s, args)
         cameras = s.get("cameras", 1)
         sizes = [camera_size(s, c, args) for c in range(cameras)]
+        names = s.get("camera_names", [f"camera{c}" for c in range(cameras)])
         fps = float(opt(args, "--fps", s.get("fps", 24)))
         out.append({"name": os.path.splitext(os.path.basename(path))[0], "width": sizes[0][0],
-                    "height": sizes[0][1], "camera_sizes": sizes, "cameras": cameras, "fps": fps,
+                    "height": sizes[0][1], "camera_sizes": sizes, "cameras": names,
+                    "camera_count": cameras, "fps": fps,
                     "frame_range": s.get("frame_range"), "animated": s.get("animated", False),
                     "files": [path] + extra_files(path, s), "triangles": 12, "lights": 1})
     print(json.dumps(out if len(out) > 1 else out[0]))

@@ -366,6 +366,18 @@ def test_fake_regions_split_each_cameras_own_size(workdir):
         assert stats["region"] == [0, 0, *size] and stats["pixels"] == size[0] * size[1]
 
 
+def test_fake_a_camera_by_name_renders_that_camera(workdir):
+    """--camera NAME as zigzag render takes it: {camera} is the index `zigzag info` gives."""
+    scene = write_scene(workdir, "two", cameras=2, camera_names=["wide", "tall"], camera_aspects=[2.0, 0.5])
+    out = os.path.join(workdir, "out")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/c{{camera}}.png", "--camera", "tall", "--width", "40"))
+    assert p.returncode == 0, p.stderr
+    assert visible_files(out) == ["c1.png"]
+    assert read(f"{out}/c1.png") == fake_render(scene, f"{workdir}/ref.png", "--camera", "1", "--width", "40")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/c{{camera}}.png", "--camera", "side"))
+    assert p.returncode == 2 and "no camera named 'side' (cameras: 0 'wide', 1 'tall')" in p.stderr, p.stderr
+
+
 def test_fake_options_after_dashes_reach_info_and_render_in_either_form(workdir):
     """--assets for a scene that needs them (info too), and --width=/--threads= given once."""
     assets = os.path.join(workdir, "assets")

@@ -225,6 +225,30 @@ def test_missing_camera_is_refused():
         plan(camera="2", scenes=[ANIM])
 
 
+NAMED = SceneInfo(path="/s/named.json", name="named", width=64, height=64, cameras=3,
+                  camera_names=("front", "top", "front"))
+
+
+def test_a_camera_by_name_is_its_index_as_the_renderer_finds_it():
+    p = plan(camera="top", scenes=[NAMED], output="/o/{scene}_{camera}.png")
+    assert [(f.camera, f.output) for f in p.frames] == [(1, "/o/named_1.png")]
+    assert [q.camera for q in p.frames[0].parts] == [1]
+    assert [f.camera for f in plan(camera="2", scenes=[NAMED]).frames] == [2]  # digits: an index
+
+
+def test_a_camera_name_that_is_missing_or_shared_is_refused_with_the_cameras():
+    with pytest.raises(ValueError, match=r"/s/named.json: no camera named 'side' "
+                                         r"\(cameras: 0 'front', 1 'top', 2 'front'\)"):
+        plan(camera="side", scenes=[NAMED])
+    with pytest.raises(ValueError, match=r"camera name 'front' is ambiguous: cameras 0, 2 have it "
+                                         r"\(give an index, --camera 0\)"):
+        plan(camera="front", scenes=[NAMED])
+    with pytest.raises(ValueError, match="no camera named 'top'"):  # each scene must have it
+        plan(camera="top", scenes=[NAMED, STILL])
+    with pytest.raises(ValueError, match="no camera named '\u0662'"):
+        plan(camera="\u0662", scenes=[NAMED])  # an Arabic-Indic two is a name, not an index
+
+
 def test_folders_with_braces_are_refused_as_the_renderer_would_expand_them():
     """A file name's braces stay out of the temporaries the renderer is given; a folder's
     cannot, and zigzag would write elsewhere."""
