@@ -295,12 +295,14 @@ def render(o) -> int:
                                                     no_workers_s=o.wait if o.scheduler else None,
                                                     work_folders=tuple(work_folders)),
                         progress_stream=devnull if o.quiet else None, live=False if o.quiet else None)
-        if runner.pending_frames():
+        if runner.needs_cluster():
             try:
                 with _client(o) as client:
                     outcome = runner.run(client)
             except cluster.ClusterError as e:
                 raise UsageError(f"{e}") from None
+        elif runner.pending_frames():  # only what earlier runs' records complete, or refuse
+            outcome = runner.run(None)
         else:
             outcome = runner.outcome
     outcome.failures[:0] = scene_failures

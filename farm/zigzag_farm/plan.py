@@ -79,6 +79,27 @@ class RenderJob:
 
 
 @dataclass(frozen=True)
+class PartNames:
+    """How the region parts of one frame's output are named in the work folder, for any
+    region count: a run tells apart, and removes, the parts that an interrupted run with
+    another --regions left (gigabytes for a large frame, in a hidden folder)."""
+
+    folder: str
+    prefix: str  # "{scene}-{frame}-c{camera}"
+    width: int
+    height: int
+    identity: dict = field(hash=False, compare=False)  # what decides the bytes, the output too
+
+    def path(self, index: int, count: int, region: Region) -> str:
+        digest = _digest({**self.identity, "region": region.bounds})
+        return os.path.join(self.folder, f"{self.prefix}-r{index}of{count}-{digest}.exr")
+
+    def pattern(self) -> re.Pattern:
+        """Any count's part names: groups index and count."""
+        return re.compile(re.escape(self.prefix) + r"-r(\d+)of(\d+)-[0-9a-f]{12}\.exr")
+
+
+@dataclass(frozen=True)
 class FrameJob:
     """One output image: either a single render job, or region parts and their merge."""
 
@@ -90,6 +111,7 @@ class FrameJob:
     camera: int
     parts: tuple[RenderJob, ...]
     merged: bool  # True: the parts are merged into `output` by `zigzag merge`
+    part_names: PartNames | None = None
 
 
 def _file_identity(path: str) -> tuple[int, int] | None:
@@ -327,6 +349,9 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
                 "size": [width, height]}
     tag_base = f"{info.name}-{_frame_tag(frame)}-c{cam}"
     frame_key = f"zz-frame-{tag_base}-{_digest({**identity, 'output': out})}"
+    # The frame's output in the part names too: two batches of one frame into one folder
+    # (a PNG and an EXR) would otherwise share, and delete, each other's parts.
+    names = PartNames(work_dir, tag_base, width, height, {**identity, "output": out})
     parts = []
     split = split_frame(width, height, regions) if regions > 1 else [None]
     for i, region in enumerate(split):
@@ -334,10 +359,7 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
             part_out, tag = out, "full"
         else:
             tag = f"r{i}of{len(split)}"
-            # The frame's output in the name too: two batches of one frame into one folder
-            # (a PNG and an EXR) would otherwise share, and delete, each other's parts.
-            part_out = os.path.join(work_dir, f"{tag_base}-{tag}-"
-                                              f"{_digest({**identity, 'output': out, 'region': region.bounds})}.exr")
+            part_out = names.path(i, len(split), region)
             _check_folder_has_no_braces(part_out, "--work-dir")
             plan.claim(part_out, f"region part {i} of {info.name} camera {cam} {_frame_tag(frame)}")
         payload = {**identity, "output": part_out, "region": region.bounds if region else None}
@@ -346,4 +368,4 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
                                frame=frame, camera=cam, region=region, output=part_out,
                                args=tuple(args)))
     return FrameJob(key=frame_key, output=out, stats=stats_out, scene_name=info.name, frame=frame,
-                    camera=cam, parts=tuple(parts), merged=regions > 1)
+                    camera=cam, parts=tuple(parts), merged=regions > 1, part_names=names)

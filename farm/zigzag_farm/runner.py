@@ -14,8 +14,9 @@ from distributed import wait
 from . import job, tasks
 from .cluster import RENDER_RESOURCE, render_slots
 from .manifest import Manifest
-from .plan import FrameJob, Plan, RenderJob
+from .plan import MAX_JOBS, FrameJob, Plan, RenderJob
 from .progress import Progress
+from .regions import split_frame
 from .stats import merge_stats
 
 POLL_S = 0.5
@@ -129,6 +130,39 @@ def remove_stale_temporaries(f: FrameJob) -> None:
                     pass
 
 
+def remove_other_region_parts(f: FrameJob) -> None:
+    """Parts of this frame's output that a run with another region count left (interrupted
+    before its merge): named for this frame, output and options, with a count, or a
+    region, the frame does not have now."""
+    names = f.part_names
+    if names is None:
+        return
+    try:
+        entries = os.listdir(names.folder)
+    except OSError:
+        return
+    pattern, mine = names.pattern(), {p.output for p in f.parts}
+    splits: dict[int, list] = {}
+    for name in entries:
+        m = pattern.fullmatch(name)
+        if not m:
+            continue
+        index, count = int(m[1]), int(m[2])
+        if not index < count <= min(names.width * names.height, MAX_JOBS):  # what a batch may split
+            continue
+        if count not in splits:
+            try:
+                splits[count] = split_frame(names.width, names.height, count)
+            except ValueError:
+                splits[count] = []
+        path = os.path.join(names.folder, name)
+        if index < len(splits[count]) and path not in mine and names.path(index, count, splits[count][index]) == path:
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+
+
 def _failure_message(exc: BaseException) -> str:
     try:
         from distributed.scheduler import KilledWorker
@@ -162,6 +196,17 @@ class Runner:
                 if not self._complete(f) and not self._complete_stats_only(f)]
         self.outcome.skipped = len(self.plan.frames) - len(todo)
         return todo
+
+    def needs_cluster(self) -> bool:
+        """Whether a pending frame has a job for Dask to run: not only frames an earlier run's
+        recorded job completes (their stats written) or write-protected images (reported)."""
+        return any(not self._recorded_job_completes(f) and not job.write_protected(f.output)
+                   for f in self.pending_frames())
+
+    def _recorded_job_completes(self, f: FrameJob) -> bool:
+        """A whole frame whose render job is recorded with its image on disk: rendered before
+        the last driver died, or only its stats are missing."""
+        return not f.merged and self.manifest.done(f.parts[0].key)
 
     def _complete(self, f: FrameJob) -> bool:
         """The image and (when asked for) the stats file exist and match the manifest."""
@@ -199,6 +244,8 @@ class Runner:
         # An attempt lost with its worker (SIGKILL, node gone) cannot clean up after itself;
         # once the frame is recorded, whatever temporary it left is an orphan.
         remove_stale_temporaries(f)
+        if not self.s.keep_parts:
+            remove_other_region_parts(f)
         if f.merged and not self.s.keep_parts:
             for p in f.parts:
                 try:
@@ -208,6 +255,7 @@ class Runner:
 
     # -- the Dask part --------------------------------------------------------------
     def run(self, client) -> Outcome:
+        """client: a Dask client, or None when not needs_cluster()."""
         start = time.monotonic()
         todo = self.pending_frames()
         futures = {}  # key -> (future, kind, frame, render job or None)
@@ -215,8 +263,8 @@ class Runner:
         for f in todo:
             remove_stale_temporaries(f)
             part_futures = []
-            if not f.merged and self.manifest.done(f.parts[0].key):
-                try:  # rendered before the last driver died, or only its stats are missing
+            if self._recorded_job_completes(f):
+                try:
                     self._finish_frame(f, None, rendered=False)
                     self.outcome.skipped += 1  # complete from an earlier run's job: nothing rendered now
                 except OSError as e:  # the stats cannot be written: reported, never a traceback
@@ -319,7 +367,8 @@ class Runner:
                     except TimeoutError:
                         pass
         except BaseException:
-            client.cancel([fut for fut, *_ in pending.values()])  # tasks kill their renderers
+            if pending:  # none: no client either (needs_cluster)
+                client.cancel([fut for fut, *_ in pending.values()])  # tasks kill their renderers
             raise
         finally:
             progress.update(done=done, failed=failed, running=0, force=True)
@@ -356,7 +405,7 @@ class Runner:
         if self.s.keep_parts:
             return
         parts_folders = {os.path.dirname(p.output) for f in self.plan.frames if f.merged for p in f.parts}
-        if not parts_folders:
+        if not parts_folders and self.s.work_folders is None:
             return
         for folder in self.s.work_folders if self.s.work_folders is not None else sorted(parts_folders):
             try:

@@ -352,6 +352,28 @@ def test_fake_keep_parts_keeps_the_parts(workdir):
     assert len(parts) == 3 and all(n.endswith(".exr") for n in parts)
 
 
+def test_fake_parts_an_interrupted_run_left_with_other_regions_are_removed(workdir):
+    """A frame stopped before its merge, run again with another --regions: the old parts
+    (gigabytes for a large frame) go once the frame is written; another output's stay."""
+    scene = write_scene(workdir, "still", width=40, height=30)
+    out = os.path.join(workdir, "out")
+    parts = os.path.join(out, ".zigzag-farm-parts")
+    for name, regions in (("a", "4"), ("b", "3")):
+        p = run_farm(*fake_farm(scene, "-o", f"{out}/{name}.png", "--regions", regions, "--keep-parts"))
+        assert p.returncode == 0, p.stderr
+    b_parts = sorted(n for n in os.listdir(parts) if "of3-" in n)
+    assert len(os.listdir(parts)) == 7 and len(b_parts) == 3
+    os.remove(f"{out}/a.png")  # as if its run had stopped before the merge
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/a.png", "--regions", "2"))
+    assert p.returncode == 0, p.stderr
+    assert sorted(os.listdir(parts)) == b_parts
+    assert read(f"{out}/a.png") == fake_render(scene, f"{workdir}/ref.png")
+    os.remove(f"{out}/b.png")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/b.png"))  # now whole: its parts go, and the folder
+    assert p.returncode == 0, p.stderr
+    assert not os.path.exists(parts)
+
+
 def test_fake_regions_split_each_cameras_own_size(workdir):
     """Two cameras of other aspects and only --width: each camera's frame follows its aspect."""
     scene = write_scene(workdir, "two", cameras=2, camera_aspects=[2.0, 0.5])
@@ -448,6 +470,32 @@ def test_fake_stats_of_complete_frames_are_written_without_rendering(workdir, re
         assert stats["pixels"] == 48 * 32 and stats["farm"]["jobs"] == int(regions)
         os.remove(f"{out}/still.json")
     assert read(f"{out}/still.png") == image
+
+
+def test_fake_no_cluster_is_started_when_no_job_is_left_to_run(workdir):
+    """Frames an earlier run's recorded jobs complete (only their frame records lost) and a
+    write-protected image: nothing for Dask, so no cluster (an unreachable scheduler would
+    fail the run with a usage error)."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 2])
+    out = os.path.join(workdir, "out")
+    args = fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--summary", f"{workdir}/summary.json",
+                     "--scheduler", "tcp://127.0.0.1:9", "--wait", "1")
+    assert run_farm(*fake_farm(scene, "-o", f"{out}/f{{frame}}.png")).returncode == 0
+    manifest = f"{out}/.zigzag-farm-manifest.jsonl"
+    records = [json.loads(line) for line in open(manifest)]
+    with open(manifest, "w") as f:  # the driver died between the jobs' records and their frames'
+        f.writelines(json.dumps(r) + "\n" for r in records if r["kind"] != "frame")
+    with open(f"{out}/f2.png", "wb") as f:
+        f.write(b"MINE")
+    os.chmod(f"{out}/f2.png", 0o444)
+    p = run_farm(*args)
+    assert p.returncode == 1, p.stderr
+    assert "f2.png: the file is write-protected" in p.stderr and "cannot reach" not in p.stderr, p.stderr
+    assert summary_of(workdir)["jobs_run"] == 0 and summary_of(workdir)["skipped"] == 2
+    assert read(f"{out}/f2.png") == b"MINE"
+    os.chmod(f"{out}/f2.png", 0o644)
+    p = run_farm(*args)  # f2 has a job now
+    assert p.returncode == 2 and "cannot reach the Dask scheduler at tcp://127.0.0.1:9" in p.stderr, p.stderr
 
 
 def test_fake_a_usage_error_of_the_renderer_is_not_retried(workdir):
