@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstring>
 #include <map>
+#include <optional>
 
 #include "core/atomic_file.h"
 #include "core/error.h"
@@ -147,9 +148,10 @@ std::filesystem::path output_identity(const std::filesystem::path& path) {
   std::error_code ec;
   fs::path absolute = fs::absolute(path, ec);
   if (ec) return path.lexically_normal();
-  // A link named as the output is written through (output_target), a stream as named; the
-  // folder resolved (links, ".."), the name kept, which need not exist yet.
-  if (!output_is_stream(absolute)) absolute = output_target(absolute);
+  // A stream by what it is; a link named as the output is written through (output_target);
+  // the folder resolved (links, ".."), the name kept, which need not exist yet.
+  if (const std::optional<std::string> stream = stream_identity(absolute)) return *stream;
+  absolute = output_target(absolute);
   const fs::path folder = fs::weakly_canonical(absolute.parent_path(), ec);
   return ec ? absolute.lexically_normal() : folder / absolute.filename();
 }
@@ -158,6 +160,7 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
   struct Writer {
     const OutputPattern* pattern;
     const OutputKey* job;
+    std::filesystem::path path;  // as given, for messages
   };
   std::map<std::pair<std::filesystem::path, std::ptrdiff_t>, Writer> writers;  // (file, a stream's job or -1)
   for (const OutputPattern& p : patterns)
@@ -166,10 +169,15 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
       const std::filesystem::path path = given.lexically_normal();  // for messages
       // A stream is written to, not replaced: jobs may share one (/dev/null), one after
       // another, but two outputs of one job in it would mix their bytes.
-      const std::ptrdiff_t whose = output_is_stream(given) ? &job - jobs.data() : -1;
-      const auto [it, inserted] = writers.emplace(std::pair(output_identity(given), whose), Writer{&p, &job});
+      const std::optional<std::string> stream = stream_identity(given);
+      const std::filesystem::path identity = stream ? std::filesystem::path(*stream) : output_identity(given);
+      const auto [it, inserted] =
+          writers.emplace(std::pair(identity, stream ? &job - jobs.data() : -1), Writer{&p, &job, path});
       if (inserted) continue;
       const Writer& first = it->second;
+      if (stream && first.path != path)  // /dev/stdout and /dev/fd/1: one pipe
+        throw Error(first.pattern->option + " " + first.path.string() + " and " + p.option + " " + path.string() +
+                    " are one stream: their bytes would mix in it");
       if (first.pattern == &p) {
         const std::string missing = missing_placeholder(p.pattern, *first.job, job);
         if (missing == "{camera}" && first.job->any_camera && job.any_camera)

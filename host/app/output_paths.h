@@ -34,7 +34,8 @@ struct OutputPattern {
 // The name outputs are compared by: absolute, the folder's existing part with its links and
 // ".." resolved, the file name as given (`-o /abs/dir/x.png` and `x.png`, `link/x.png` with
 // link -> . are one file); an output that is itself a link is its target, which is what
-// gets written (output_target), and a stream (/dev/stdout) is named as given.
+// gets written (output_target), and a stream is what it is (stream_identity: /dev/stdout and
+// /dev/fd/1 are one pipe).
 std::filesystem::path output_identity(const std::filesystem::path& path);
 
 // Throws zz::Error when two jobs (or two outputs of one job) would write the same file:

@@ -184,11 +184,14 @@ bool write_protected(const fs::path& target) {
   return ::faccessat(AT_FDCWD, real.c_str(), W_OK, AT_EACCESS) != 0 && errno == EACCES;
 }
 
-bool output_is_stream(const fs::path& target) {
+std::optional<std::string> stream_identity(const fs::path& target) {
   struct stat st {};  // stat follows every link, /proc/self/fd's to pipes too (not paths read_symlink can follow)
-  return ::stat(target.c_str(), &st) == 0 &&
-         (S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode));
+  if (::stat(target.c_str(), &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)))
+    return std::nullopt;
+  return "stream " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
 }
+
+bool output_is_stream(const fs::path& target) { return stream_identity(target).has_value(); }
 
 struct OutputSet::Staged {
   fs::path target, temporary;

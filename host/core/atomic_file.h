@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -71,6 +72,10 @@ bool write_protected(const std::filesystem::path& target);
 // Whether `target` is, or links to, a device, pipe or socket (/dev/stdout, a FIFO): a
 // stream, which receives the finished output's bytes instead of being replaced.
 bool output_is_stream(const std::filesystem::path& target);
+
+// What a stream is, whatever its name: "stream DEV:INODE" (/dev/stdout, /dev/fd/1 and a link
+// to that pipe are one), or nullopt when `target` is no stream (output_is_stream).
+std::optional<std::string> stream_identity(const std::filesystem::path& target);
 
 // 64 random bits as 16 hex digits, for names no other process picks (getrandom;
 // temporaries, the output folder's write probe).

@@ -2,6 +2,7 @@
 #include "app/output_paths.h"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -144,6 +145,26 @@ TEST(OutputCollisions, JobsMayShareAStream) {
   OutputClaims claims;
   EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[0], "job room"));
   EXPECT_NO_THROW(claims.claim({{"--stats", "/dev/null"}}, scenes[1], "job glass"));
+}
+
+// One stream under two names is still one: a link to a FIFO (as /dev/stdout is to the
+// shell's pipe) and the FIFO would get both outputs' bytes, one after the other.
+TEST(OutputCollisions, OneStreamUnderTwoNamesIsOneStream) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("zz_fifo_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
+  fs::create_symlink("pipe", dir / "link");
+  const std::vector<OutputKey> one = {{"room", "0", 0}};
+  const std::string pipe = (dir / "pipe").string(), link = (dir / "link").string();
+  const std::string mixed = error_of({{"-o", pipe + ".png"}, {"--stats", pipe}, {"--aov rays", link}}, one);
+  EXPECT_EQ(mixed, "--stats " + pipe + " and --aov rays " + link + " are one stream: their bytes would mix in it");
+  EXPECT_EQ(output_identity(link), output_identity(pipe));
+  EXPECT_EQ(output_identity(link).string().rfind("stream ", 0), 0u);
+  // Jobs one after another may still share it, by either name.
+  EXPECT_EQ(error_of({{"--stats", "{scene}"}}, {{pipe, "0", 0}, {link, "0", 0}}), "");
+  EXPECT_EQ(error_of({{"--stats", pipe}, {"--aov rays", "/dev/null"}}, one), "");  // two streams
+  fs::remove_all(dir);
 }
 
 // Links that loop name no file: the output is refused before the render, where the
