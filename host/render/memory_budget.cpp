@@ -36,12 +36,15 @@ uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, co
   return need;
 }
 
-uint64_t resident_bytes() {
+ProcessMemory process_memory() {
   std::ifstream statm("/proc/self/statm");
   uint64_t size = 0, resident = 0;
-  if (!(statm >> size >> resident)) return 0;
-  return resident * uint64_t(sysconf(_SC_PAGESIZE));
+  if (!(statm >> size >> resident)) return {};
+  const uint64_t page = uint64_t(sysconf(_SC_PAGESIZE));
+  return {size * page, resident * page};
 }
+
+uint64_t resident_bytes() { return process_memory().resident; }
 
 uint64_t parse_memory_limit(const std::string& text) {
   const auto bad = [&] {
@@ -105,17 +108,16 @@ MemoryBudget memory_budget() {
       break;
     }
   }
+  const ProcessMemory process = process_memory();
   if (const uint64_t limit = address_space_limit(); limit > 0) {
     // Address space already mapped counts against the limit.
-    uint64_t mapped = 0;
-    std::ifstream statm("/proc/self/statm");
-    if (statm >> mapped) mapped *= uint64_t(sysconf(_SC_PAGESIZE));
+    const uint64_t mapped = process.mapped;
     tighten(limit > mapped ? limit - mapped : 1, "the address-space limit, ulimit -v, less what is mapped");
   }
   if (const uint64_t limit = environment_memory_limit(); limit > 0) {
     // A limit for the process (a farm worker's share), not for the frame alone: what the
     // process holds already (libraries, Vulkan, the scene, its BVH) counts against it.
-    const uint64_t held = resident_bytes();
+    const uint64_t held = process.resident;
     tighten(limit > held ? limit - held : 1, std::string("ZIGZAG_MEMORY_LIMIT=") + std::getenv("ZIGZAG_MEMORY_LIMIT") +
                                                  ", less the " + bytes_text(held) + " the process holds");
   }

@@ -20,8 +20,13 @@ uint64_t frame_bytes(int width, int height, int threads);
 // The Vulkan map's raster and any output layers come on top (the callers know them).
 uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, const Scene& scene);
 
-// The process's resident memory now (/proc/self/statm); 0 if unknown.
-uint64_t resident_bytes();
+// The process's mapped address space and resident memory now (/proc/self/statm); 0 if unknown.
+struct ProcessMemory {
+  uint64_t mapped = 0;
+  uint64_t resident = 0;
+};
+ProcessMemory process_memory();
+uint64_t resident_bytes();  // process_memory().resident
 
 // $ZIGZAG_MEMORY_LIMIT's value: bytes, or a whole number with K, M, G or T (KiB, MiB, GiB,
 // TiB also read: powers of 1024); 0 is no limit. Throws zz::UsageError naming the variable
