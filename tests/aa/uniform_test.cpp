@@ -157,6 +157,61 @@ TEST(Uniform, StratifiedPutsOneIndependentlyJitteredPointInEveryCell) {
   EXPECT_LT(on_the_diagonal, 8);  // of 1024 points: x and y jitter are hashed apart
 }
 
+// A smooth colour that differs everywhere, so a point given to the wrong pixel, with the
+// wrong weight or from the wrong corner shows.
+struct SlopeSource {
+  static glm::vec3 at(float x, float y) {
+    return {0.1f * x + 0.01f * y * y, 0.5f + 0.3f * std::sin(0.7f * x + 1.3f * y), 0.001f * x * y + 0.02f * y};
+  }
+  Rgb4 sample4(float4 px, float4 py) const {
+    alignas(16) float x[4], y[4], out[3][4];
+    px.store(x);
+    py.store(y);
+    for (int i = 0; i < 4; ++i) {
+      const glm::vec3 c = at(x[i], y[i]);
+      out[0][i] = c.x, out[1][i] = c.y, out[2][i] = c.z;
+    }
+    return {float4::load(out[0]), float4::load(out[1]), float4::load(out[2])};
+  }
+};
+
+// Each pattern's pixel is its points' weighted mean, at the pixel's own place in a tile that
+// is not square and not at the frame's origin (review: a constant image and the set of traced
+// points hold whatever pixel a point lands in, so a corner grid read with a stride of w, not
+// w + 1, passed).
+TEST(Uniform, EveryPixelIsTheMeanOfItsOwnPoints) {
+  const TileRect rect{3, 2, 11, 7};
+  auto expected = [](UniformPattern pattern, int x, int y) {
+    glm::dvec3 sum(0.0);
+    if (pattern == UniformPattern::Center) return glm::dvec3(SlopeSource::at(x + 0.5f, y + 0.5f));
+    if (pattern == UniformPattern::Grid) {
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) sum += glm::dvec3(SlopeSource::at(x + (i + 0.5f) / 4, y + (j + 0.5f) / 4));
+      return sum / 16.0;
+    }
+    for (int k = 1; k < kLatticePoints; ++k) sum += glm::dvec3(SlopeSource::at(x + kLattice[k].u, y + kLattice[k].v));
+    const glm::dvec3 corners = glm::dvec3(SlopeSource::at(float(x), float(y))) + glm::dvec3(SlopeSource::at(float(x + 1), float(y))) +
+                               glm::dvec3(SlopeSource::at(float(x), float(y + 1))) + glm::dvec3(SlopeSource::at(float(x + 1), float(y + 1)));
+    return (sum + 0.25 * corners) / 25.0;
+  };
+  for (const UniformSettings settings : {UniformSettings{UniformPattern::Center, 1}, UniformSettings{UniformPattern::Grid, 16},
+                                         UniformSettings{UniformPattern::Lattice, 25}}) {
+    SCOPED_TRACE(int(settings.pattern));
+    Film film(16, 12);
+    std::vector<glm::vec3> scratch(size_t(rect.width() + 1) * (rect.height() + 1) + size_t(rect.width()) * rect.height());
+    UniformStats stats;
+    SlopeSource source;
+    ASSERT_TRUE(render_tile_uniform(source, film.target(rect), settings, scratch.data(), stats));
+    for (int y = 0; y < 12; ++y)
+      for (int x = 0; x < 16; ++x) {
+        const glm::vec3 got = film.radiance[size_t(y) * 16 + x];
+        const bool inside = x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1;
+        const glm::dvec3 want = inside ? expected(settings.pattern, x, y) : glm::dvec3(0.0);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], 2e-6) << x << "," << y << " channel " << c;
+      }
+  }
+}
+
 // The rays AOV counts the points per pixel and saturates at 255; every pixel is at level 1.
 TEST(Uniform, RaysSaturateAt255AndEveryPixelIsLevelOne) {
   Tile tile;

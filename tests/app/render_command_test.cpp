@@ -109,6 +109,12 @@ TEST_P(SceneReference, MatchesStoredImage) {
   EXPECT_EQ(got["triangles"], want["triangles"]);
   EXPECT_EQ(got["pixels"], want["pixels"]);
   EXPECT_EQ(got["rays"]["shadow"].get<uint64_t>() > 0, got["lights"].get<int>() > 0);
+  // The device the reference was made with: nothing may differ (review: the slack above let
+  // three wholly wrong pixels, a lost highlight, pass). The rays must match exactly too.
+  if (got.value("vulkan_device", "") == want.value("vulkan_device", "?")) {
+    EXPECT_EQ(diff.max_abs, 0.0) << scene << " on " << got["vulkan_device"];
+    EXPECT_EQ(got["rays"]["total"], want["rays"]["total"]) << scene;
+  }
   fs::remove_all(dir);
 }
 

@@ -87,10 +87,11 @@ def test_keys_are_deterministic_unique_and_follow_the_settings():
     keys = [j.key for j in a.render_jobs] + [f.key for f in a.frames]
     assert keys == [j.key for j in b.render_jobs] + [f.key for f in b.frames]
     assert len(set(keys)) == len(keys)
-    other = plan(regions=4, args=("--eps", "0.1"))
-    assert not set(keys) & {j.key for j in other.render_jobs}
-    rebuilt = plan(regions=4, fingerprint="new renderer")
-    assert not set(keys) & {f.key for f in rebuilt.frames}
+    # Every key, the frames' too (a re-run with other options must not find its frames done).
+    for changed in (plan(regions=4, args=("--eps", "0.1")), plan(regions=4, fingerprint="new renderer"),
+                    plan(regions=4, scenes=[dataclasses.replace(s, content="edited") for s in (ANIM, STILL)])):
+        other = [j.key for j in changed.render_jobs] + [f.key for f in changed.frames]
+        assert len(other) == len(keys) and not set(keys) & set(other)
 
 
 def test_regions_become_parts_in_the_work_folder():

@@ -340,9 +340,34 @@ TEST(GltfMaterials, TextureTransformShiftsThePatternByItsOffset) {
   // Black | white switches at u = 0.5 (x = 0); offset 0.25 moves it to u = 0.25 (x = -0.5).
   EXPECT_NEAR(first_rise(plain, 0.0f, 1.0f), 0.5f, 1.0f / kSize);
   EXPECT_NEAR(first_rise(shifted, 0.0f, 1.0f), 0.25f, 1.0f / kSize);
-  // And on texCoord 1 when the transform says so (TEXCOORD_1 absent: falls back to set 0).
+  // Either side of the shifted step.
   EXPECT_EQ(shifted.at(-0.75f, 0.0f), glm::vec3(0.0f));
   EXPECT_EQ(shifted.at(-0.25f, 0.0f), glm::vec3(1.0f));
+}
+
+// KHR_texture_transform's texCoord overrides the texture's own set (review: no test set it,
+// so dropping the override passed). TEXCOORD_1 runs the other way along x from TEXCOORD_0.
+TEST(GltfMaterials, TextureTransformsTexCoordPicksTheUvSet) {
+  const json nearest = {{"magFilter", 9728}, {"minFilter", 9728}};
+  auto render = [&](const std::string& name, json texture_info) {
+    auto dir = test::temp_dir(name);
+    test::GltfBuilder b;
+    texture_info["index"] = add_texture(b, dir, "bw.png", 2, 1, {0, 0, 0, 255, 255, 255, 255, 255}, nearest);
+    const int m = add_material(b, {{"emissiveFactor", {1, 1, 1}}, {"emissiveTexture", texture_info},
+                                   {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1}}}}});
+    add_quad(b, m, -1, 1, -1, 1, 0);
+    b.doc["meshes"].back()["primitives"][0]["attributes"]["TEXCOORD_1"] = b.floats({1, 1, 0, 1, 0, 0, 1, 0}, 2);
+    return render_scene(load_rig(b, dir, json::array()));
+  };
+  const Image set0 = render("set0", {{"texCoord", 1}, {"extensions", {{"KHR_texture_transform", {{"texCoord", 0}}}}}});
+  const Image set1 = render("set1", {{"extensions", {{"KHR_texture_transform", {{"texCoord", 1}}}}}});
+  const Image own = render("own", {{"texCoord", 1}});
+  for (const Image* img : {&set1, &own}) {  // u1 = 1 - u0: white on the left, black on the right
+    EXPECT_EQ(img->at(-0.5f, 0.0f), glm::vec3(1.0f));
+    EXPECT_EQ(img->at(0.5f, 0.0f), glm::vec3(0.0f));
+  }
+  EXPECT_EQ(set0.at(-0.5f, 0.0f), glm::vec3(0.0f));
+  EXPECT_EQ(set0.at(0.5f, 0.0f), glm::vec3(1.0f));
 }
 
 TEST(GltfMaterials, WrapModesBeyondTheUnitSquare) {

@@ -394,6 +394,14 @@ TEST(Shader, GlassBoxSpawnsRefractionButOpaqueSceneDoesNot) {
   EXPECT_GT(counters.reflection, 0u);
   EXPECT_TRUE(std::isfinite(l.r) && l.r >= 0.0f);
   EXPECT_EQ(counters.nan_radiance, 0u);  // the output is finite by construction; no NaN made it
+  // The opaque half (review: it was never rendered): the floor alone, at the same depth.
+  Scene opaque = test::lit_floor(0.5f, 100.0f, 3.0f);
+  opaque.max_depth = 3;
+  RayCounters opaque_counters;
+  centre_radiance(opaque, &opaque_counters);
+  EXPECT_EQ(opaque_counters.refraction, 0u);
+  EXPECT_EQ(opaque_counters.reflection, 0u);
+  EXPECT_EQ(opaque_counters.shadow, 4u);
 }
 
 // The count the finiteness checks read: a NaN the shading makes (here from a Whitted
@@ -550,12 +558,16 @@ TEST(Shader, AFootprintAtABlackCornerTakesTheLightAsReachingIt) {
 }
 
 TEST(Shader, ExtremeLightsStayFinite) {
-  for (float intensity : {1e-6f, 1.0f, 1e9f, 1e30f}) {
+  // The radiance equation of LitPlaneMatchesTheRadianceEquation (albedo 1, the light 1e-3
+  // above the floor), up to the shader's cap of 1e30 (review: finite and >= 0 alone held
+  // for any value the sanitizer lets out, 0 included).
+  for (float intensity : {1e-6f, 1.0f, 1e9f, 1e20f, 1e30f}) {
     RayCounters counters;
     const glm::vec3 l = centre_radiance(test::lit_floor(1.0f, intensity, 1e-3f), &counters);
-    EXPECT_TRUE(std::isfinite(l.r)) << intensity;
+    const double exact = double(intensity) / 1e-6 * (1.0 / kPi + 0.04 * 3.0 / (2.0 * kPi));
+    const double expected = std::min(exact, 1e30);
+    EXPECT_NEAR(l.r, expected, 1e-3 * expected) << intensity;
     EXPECT_EQ(counters.nan_radiance, 0u) << intensity;
-    EXPECT_GE(l.r, 0.0f);
   }
 }
 
