@@ -162,7 +162,7 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
                            ->check(CLI::Range(0, kMaxFrame));
   CLI::Option* time = cmd->add_option("--time", o.time, "Animation time in seconds")->check(number_in(0.0, 1e7));
   frame->excludes(time);
-  cmd->add_option("--fps", o.fps, "Frames per second for --frame (default: the rig's \"fps\", else 24)")
+  cmd->add_option("--fps", o.fps, "Frames per second for --frame, and the frame a --time names (default: the rig's \"fps\", else 24)")
       ->check(number_in(kMinFps, kMaxFps));
 }
 

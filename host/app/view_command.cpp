@@ -136,8 +136,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--camera", o->camera, "Camera index or name");
   add_render_options(cmd, o->render);
   cmd->add_option("--preview-scale", o->preview_scale, "Coarse preview at 1/N size before each frame, smaller while previews take over 1/30 s (1 = off)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 64));
-  cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where the S key saves screenshots");
+  cmd->add_option("--screenshot-dir", o->screenshot_dir, "Where the S key saves screenshots")->capture_default_str();
   CLI::Option* exit_after =
       cmd->add_flag("--exit-after-frame", o->exit_after_frame, "Quit after the first full frame (after --script)");
   cmd->add_option("--screenshot", o->screenshot, "With --exit-after-frame: save the final view to this PNG")
@@ -145,7 +146,9 @@ void add_view_command(CLI::App& app, int& exit_code) {
   cmd->add_option("--script", o->script,
                   "Scripted input, e.g. \"drag:100,100,200,120;wait;screenshot:a.png;quit\" "
                   "(drag/scroll/key/resize/wait/sleep/screenshot/quit)");
-  cmd->add_option("--script-timeout", o->script_timeout, "Seconds a scripted 'wait' may take before failing")
+  cmd->add_option("--script-timeout", o->script_timeout,
+                  "Seconds a scripted 'wait', 'screenshot' or 'key:S' may wait for the image before failing")
+      ->capture_default_str()
       ->check(number_in(1e-3, 1e6));
   cmd->callback([o, &exit_code] { exit_code = view(*o); });
 }
