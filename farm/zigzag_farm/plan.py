@@ -88,15 +88,26 @@ class PartNames:
     prefix: str  # "{scene}-{frame}-c{camera}"
     width: int
     height: int
-    identity: dict = field(hash=False, compare=False)  # what decides the bytes, the output too
+    identity: str  # what decides the bytes, the output too: canonical JSON
 
     def path(self, index: int, count: int, region: Region) -> str:
-        digest = _digest({**self.identity, "region": region.bounds})
-        return os.path.join(self.folder, f"{self.prefix}-r{index}of{count}-{digest}.exr")
+        digest = _digest({**json.loads(self.identity), "region": region.bounds})
+        return os.path.join(self.folder, f"{self.prefix}-{part_tag(index, count)}-{digest}.exr")
 
-    def pattern(self) -> re.Pattern:
-        """Any count's part names: groups index and count."""
-        return re.compile(re.escape(self.prefix) + r"-r(\d+)of(\d+)-[0-9a-f]{12}\.exr")
+    def index_and_count(self, name: str) -> tuple[int, int] | None:
+        """(index, count) of a file name this frame's parts could have, for a count a batch
+        may split it into; None for any other name."""
+        if not name.startswith(self.prefix + "-r"):  # most names: no regex
+            return None
+        m = re.fullmatch(re.escape(self.prefix) + r"-r([0-9]+)of([0-9]+)-[0-9a-f]{12}\.exr", name)
+        if not m or len(m[2]) > 7:
+            return None
+        index, count = int(m[1]), int(m[2])
+        return (index, count) if index < count <= min(self.width * self.height, MAX_JOBS) else None
+
+
+def part_tag(index: int, count: int) -> str:
+    return f"r{index}of{count}"
 
 
 @dataclass(frozen=True)
@@ -266,7 +277,7 @@ def _scene_cameras(info: SceneInfo, camera: str) -> list[int]:
     if camera == "all":
         return list(range(info.cameras))
     if camera.isascii() and camera.isdigit():
-        index = int(camera)
+        index = int(camera) if len(camera) <= 9 else info.cameras  # as find_camera reads it
         if not 0 <= index < info.cameras:
             raise ValueError(f"{info.path}: --camera {camera} does not exist "
                              f"(the scene has {info.cameras} camera(s))")
@@ -351,14 +362,14 @@ def _frame_job(info: SceneInfo, cam: int, frame: int | None, out: str, stats_out
     frame_key = f"zz-frame-{tag_base}-{_digest({**identity, 'output': out})}"
     # The frame's output in the part names too: two batches of one frame into one folder
     # (a PNG and an EXR) would otherwise share, and delete, each other's parts.
-    names = PartNames(work_dir, tag_base, width, height, {**identity, "output": out})
+    names = PartNames(work_dir, tag_base, width, height, json.dumps({**identity, "output": out}, sort_keys=True))
     parts = []
     split = split_frame(width, height, regions) if regions > 1 else [None]
     for i, region in enumerate(split):
         if region is None:
             part_out, tag = out, "full"
         else:
-            tag = f"r{i}of{len(split)}"
+            tag = part_tag(i, len(split))
             part_out = names.path(i, len(split), region)
             _check_folder_has_no_braces(part_out, "--work-dir")
             plan.claim(part_out, f"region part {i} of {info.name} camera {cam} {_frame_tag(frame)}")

@@ -14,7 +14,7 @@ from distributed import wait
 from . import job, tasks
 from .cluster import RENDER_RESOURCE, render_slots
 from .manifest import Manifest
-from .plan import MAX_JOBS, FrameJob, Plan, RenderJob
+from .plan import FrameJob, Plan, RenderJob
 from .progress import Progress
 from .regions import split_frame
 from .stats import merge_stats
@@ -141,15 +141,13 @@ def remove_other_region_parts(f: FrameJob) -> None:
         entries = os.listdir(names.folder)
     except OSError:
         return
-    pattern, mine = names.pattern(), {p.output for p in f.parts}
+    mine = {p.output for p in f.parts}
     splits: dict[int, list] = {}
     for name in entries:
-        m = pattern.fullmatch(name)
-        if not m:
+        parsed = names.index_and_count(name)
+        if parsed is None:
             continue
-        index, count = int(m[1]), int(m[2])
-        if not index < count <= min(names.width * names.height, MAX_JOBS):  # what a batch may split
-            continue
+        index, count = parsed
         if count not in splits:
             try:
                 splits[count] = split_frame(names.width, names.height, count)
@@ -200,13 +198,16 @@ class Runner:
     def needs_cluster(self) -> bool:
         """Whether a pending frame has a job for Dask to run: not only frames an earlier run's
         recorded job completes (their stats written) or write-protected images (reported)."""
-        return any(not self._recorded_job_completes(f) and not job.write_protected(f.output)
-                   for f in self.pending_frames())
+        return any(self._without_job(f) is None for f in self.pending_frames())
 
-    def _recorded_job_completes(self, f: FrameJob) -> bool:
-        """A whole frame whose render job is recorded with its image on disk: rendered before
-        the last driver died, or only its stats are missing."""
-        return not f.merged and self.manifest.done(f.parts[0].key)
+    def _without_job(self, f: FrameJob) -> str | None:
+        """Why a pending frame needs no job: "recorded" (a whole frame whose render job is
+        recorded with its image on disk: rendered before the last driver died, or only its
+        stats are missing), "protected" (its image is write-protected: reported, not
+        rendered); None: it has jobs to run."""
+        if not f.merged and self.manifest.done(f.parts[0].key):
+            return "recorded"
+        return "protected" if job.write_protected(f.output) else None
 
     def _complete(self, f: FrameJob) -> bool:
         """The image and (when asked for) the stats file exist and match the manifest."""
@@ -263,7 +264,8 @@ class Runner:
         for f in todo:
             remove_stale_temporaries(f)
             part_futures = []
-            if self._recorded_job_completes(f):
+            without_job = self._without_job(f)
+            if without_job == "recorded":
                 try:
                     self._finish_frame(f, None, rendered=False)
                     self.outcome.skipped += 1  # complete from an earlier run's job: nothing rendered now
@@ -272,12 +274,17 @@ class Runner:
                     self.outcome.failures.append(Failure(describe(f.parts[0]), f.key, f"{e.strerror or e}: {e.filename}"))
                 continue
             # An image still to write, write-protected: its job would refuse it after the render.
-            if job.write_protected(f.output):
+            if without_job == "protected":
                 failed_frames.add(f.key)
                 self.outcome.failures.append(Failure(
                     describe(dataclasses.replace(f.parts[0], region=None)), f.key,
                     f"{f.output}: the file is write-protected (make it writable to let the farm replace it); "
                     "not rendered"))
+                continue
+            if client is None:  # needs_cluster() saw no job here: the files changed since
+                failed_frames.add(f.key)
+                self.outcome.failures.append(Failure(describe(dataclasses.replace(f.parts[0], region=None)), f.key,
+                                                     "its files changed while the run started; a re-run renders it"))
                 continue
             for p in f.parts:
                 if f.merged and self.manifest.done(p.key):

@@ -1,5 +1,8 @@
 """Job planning: frame ranges, output patterns, jobs and their keys."""
 import dataclasses
+import hashlib
+import json
+import os
 import re
 import time
 
@@ -101,6 +104,25 @@ def test_regions_become_parts_in_the_work_folder():
     assert all(part.output.startswith("/w/") and part.output.endswith(".exr") for part in f.parts)
     assert len({part.output for part in f.parts}) == 4
     assert sum(part.region.pixels for part in f.parts) == 64 * 64
+
+
+def test_part_names_keep_their_bytes():
+    """A part's name is its frame's identity hashed with its region: the same bytes as every
+    earlier run made them (an interrupted run's parts are found again, or removed), written
+    out here from the fields, not from the code that names them."""
+    p = plan(regions=2, scenes=[STILL], output="/o/{scene}.exr", args=("--eps", "0.1"), fingerprint="fp")
+    (f,) = p.frames
+    for i, part in enumerate(f.parts):
+        payload = {"scene": "/s/still.json", "frame": None, "camera": 0, "args": ["--eps", "0.1"],
+                   "fingerprint": "fp", "content": "", "size": [64, 64], "output": "/o/still.exr",
+                   "region": list(part.region.bounds)}
+        digest = hashlib.sha256(json.dumps(payload, sort_keys=True, separators=(",", ":")).encode()).hexdigest()[:12]
+        assert part.output == f"/w/still-still-c0-r{i}of2-{digest}.exr"
+        assert f.part_names.index_and_count(os.path.basename(part.output)) == (i, 2)
+        assert f.part_names.path(i, 2, part.region) == part.output
+    for other in ("still-still-c0-r2of2-0123456789ab.exr", "still-still-c0-r0of99999999-0123456789ab.exr",
+                  "still-still-c01-r0of2-0123456789ab.exr", "still-still-c0-r0of2-0123456789ab.png"):
+        assert f.part_names.index_and_count(other) is None, other
 
 
 def test_two_batches_of_one_frame_into_one_folder_have_their_own_parts():
@@ -246,6 +268,8 @@ def test_a_camera_name_that_is_missing_or_shared_is_refused_with_the_cameras():
         plan(camera="front", scenes=[NAMED])
     with pytest.raises(ValueError, match="no camera named 'top'"):  # each scene must have it
         plan(camera="top", scenes=[NAMED, STILL])
+    with pytest.raises(ValueError, match="--camera 0000000001 does not exist"):  # as find_camera: 9 digits at most
+        plan(camera="0000000001", scenes=[NAMED])
     with pytest.raises(ValueError, match="no camera named '\u0662'"):
         plan(camera="\u0662", scenes=[NAMED])  # an Arabic-Indic two is a name, not an index
 

@@ -205,3 +205,19 @@ def test_a_frame_completed_from_an_earlier_runs_job_is_not_counted_as_rendered(w
         outcome = runner.run(client=None)
     assert (outcome.rendered, outcome.skipped, outcome.failed_frames, outcome.jobs_run) == (0, 1, 0, [])
     assert os.path.exists(f.stats)  # written from the recorded job's stats
+
+
+def test_without_a_client_a_frame_that_has_a_job_after_all_fails_and_is_not_submitted(workdir):
+    """run(None), when needs_cluster() saw no job (the recorded image, since deleted): the
+    frame fails with a word to re-run, never an AttributeError on the missing client."""
+    from zigzag_farm.manifest import Manifest
+
+    f = frame_job(workdir)
+    with Manifest(os.path.join(workdir, "manifest.jsonl")) as manifest:
+        image_with_its_job_recorded(f, manifest)
+        runner = quiet_runner(f, manifest)
+        assert not runner.needs_cluster()
+        os.remove(f.output)
+        outcome = runner.run(None)
+    assert outcome.failed_frames == 1 and outcome.jobs_run == []
+    assert "changed while the run started; a re-run renders it" in outcome.failures[0].message
