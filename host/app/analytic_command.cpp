@@ -57,7 +57,9 @@ void run(const AnalyticArgs& a) {
     if (!a.out.empty()) preflight_output("--out", a.out, true);
     if (!a.json.empty()) preflight_output("--json", a.json, false);
     if (!a.out.empty() && !a.json.empty() && output_identity(a.out) == output_identity(a.json))
-      throw Error("--out and --json would both write " + a.out);
+      throw Error(std::filesystem::path(a.out).lexically_normal() == std::filesystem::path(a.json).lexically_normal()
+                      ? "--out and --json would both write " + a.out
+                      : "--out " + a.out + " and --json " + a.json + " are one file or stream: their bytes would mix");
   });
   AnalyticOptions o;
   o.image = a.image;

@@ -152,6 +152,7 @@ TEST(OutputCollisions, JobsMayShareAStream) {
 TEST(OutputCollisions, OneStreamUnderTwoNamesIsOneStream) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("zz_fifo_" + std::to_string(::getpid()));
+  fs::remove_all(dir);  // one an earlier run of this pid left
   fs::create_directories(dir);
   ASSERT_EQ(::mkfifo((dir / "pipe").c_str(), 0600), 0);
   fs::create_symlink("pipe", dir / "link");
