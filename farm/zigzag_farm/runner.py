@@ -247,8 +247,7 @@ class Runner:
         remove_stale_temporaries(f)
         if not self.s.keep_parts:
             remove_other_region_parts(f)
-        if f.merged and not self.s.keep_parts:
-            for p in f.parts:
+            for p in f.parts if f.merged else ():  # its own parts, merged now
                 try:
                     os.remove(p.output)
                 except FileNotFoundError:

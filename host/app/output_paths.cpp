@@ -169,10 +169,9 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
       const std::filesystem::path path = given.lexically_normal();  // for messages
       // A stream is written to, not replaced: jobs may share one (/dev/null), one after
       // another, but two outputs of one job in it would mix their bytes.
-      const std::optional<std::string> stream = stream_identity(given);
-      const std::filesystem::path identity = stream ? std::filesystem::path(*stream) : output_identity(given);
+      const bool stream = output_is_stream(given);
       const auto [it, inserted] =
-          writers.emplace(std::pair(identity, stream ? &job - jobs.data() : -1), Writer{&p, &job, path});
+          writers.emplace(std::pair(output_identity(given), stream ? &job - jobs.data() : -1), Writer{&p, &job, path});
       if (inserted) continue;
       const Writer& first = it->second;
       if (stream && first.path != path)  // /dev/stdout and /dev/fd/1: one pipe
