@@ -20,7 +20,8 @@ import operator
 
 SUMMED = {"pixels", "rays", "time_s", "bvh.build_s", "adaptive.zones_traced",
           "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s",
-          "aov.primary_hit_rays", "aov.primary_hit_s", "nan_radiance", "layer_limit"}
+          "aov.primary_hit_rays", "aov.primary_hit_s", "nan_radiance", "layer_limit",
+          "capped_radiance"}
 PIXEL_WEIGHTED = {"rays_per_pixel", "padded", "geo_fraction", "adaptive.by_level", "adaptive.padded",
                   "adaptive.level2_fraction", "adaptive.level3_fraction",
                   "adaptive.vertical_fraction", "adaptive.geo_fraction",

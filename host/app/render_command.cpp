@@ -434,6 +434,11 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  "zigzag: warning: %s camera %d: %llu traced samples came out NaN and were set to black; "
                  "this is a renderer bug, please report it with the scene\n",
                  job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.nan_radiance));
+  if (stats.rays.capped_radiance > 0 && !o.quiet)
+    std::fprintf(stderr,
+                 "zigzag: warning: %s camera %d: %llu traced samples came out brighter than 1e30 (or infinite) and "
+                 "were capped there; is a light almost on a surface?\n",
+                 job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.capped_radiance));
   if (stats.rays.layer_limit > 0 && !o.quiet)
     std::fprintf(stderr,
                  "zigzag: warning: %s camera %d: %llu rays met more than %d alpha cut-outs or %d blended surfaces one "

@@ -89,6 +89,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
                {"total", stats.rays.total()}};
   j["nan_radiance"] = stats.rays.nan_radiance;  // samples the shader set from NaN to 0: a bug if not 0
   j["layer_limit"] = stats.rays.layer_limit;    // rays cut short behind too many see-through surfaces
+  j["capped_radiance"] = stats.rays.capped_radiance;  // samples above the 1e30 cap, +Inf included
   j["bvh"] = {{"nodes", r.bvh->node_count},
               {"leaves", r.bvh->leaf_count},
               {"max_depth", r.bvh->max_depth},

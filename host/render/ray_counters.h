@@ -23,6 +23,11 @@ struct RayCounters {
   // kMaxSeeThroughLayers cut-outs or shadow layers, kMaxBlendLayers BLEND surfaces), where
   // what lies further behind is left out. 0 unless a scene stacks them.
   uint64_t layer_limit = 0;
+  // Not rays: traced lanes whose radiance exceeded the shader's cap (1e30, +Inf included)
+  // and left it capped: 0 unless a light sits nearly on a surface (its 1/d^2 overflows);
+  // the image cannot show it, since the cap is far above what any display or EXR reader
+  // tells apart.
+  uint64_t capped_radiance = 0;
 
   uint64_t total() const { return primary + shadow + reflection + refraction + continuation; }
   RayCounters& operator+=(const RayCounters& o) {
@@ -33,6 +38,7 @@ struct RayCounters {
     continuation += o.continuation;
     nan_radiance += o.nan_radiance;
     layer_limit += o.layer_limit;
+    capped_radiance += o.capped_radiance;
     return *this;
   }
 };

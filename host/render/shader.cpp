@@ -314,10 +314,13 @@ Rgb4 Shader::trace4_impl(const RayPacket4& rays, mask4 active, int depth, int bl
       if (h.shaded[i]) signature->probes.at(signature->node, i).blocked = signature->blocked[i];
 
   Rgb4 result{float4::load(h.out[0]), float4::load(h.out[1]), float4::load(h.out[2])};
-  // NaN (e.g. from a degenerate normal) never leaves the shader, but is counted; +Inf is capped.
+  // NaN (e.g. from a degenerate normal) never leaves the shader, nor does radiance above the
+  // cap (+Inf included); both are counted, as the image cannot show them.
+  const float4 cap(kRadianceMax);
   counters.nan_radiance += uint64_t(count_lanes((isnan(result.r) | isnan(result.g) | isnan(result.b)) & active));
+  counters.capped_radiance += uint64_t(count_lanes(((result.r > cap) | (result.g > cap) | (result.b > cap)) & active));
   auto sanitize = [&](float4 x) {
-    return select(isnan(x) | !active, float4(0.0f), min(max(x, float4(0.0f)), float4(kRadianceMax)));
+    return select(isnan(x) | !active, float4(0.0f), min(max(x, float4(0.0f)), cap));
   };
   return {sanitize(result.r), sanitize(result.g), sanitize(result.b)};
 }

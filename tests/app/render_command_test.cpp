@@ -294,6 +294,47 @@ TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
   fs::remove_all(dir);
 }
 
+// Radiance above the shader's cap (1e30) leaves it capped, which the image cannot show: the
+// run says so with the count, which --stats holds as capped_radiance. A light of the
+// largest intensity a scene may hold, 1e-3 above a white floor (I / d^2 = 1e36 there),
+// against the same light a metre up (1e30, at the cap and not above it).
+TEST(RenderCommand, RadianceAboveTheCapIsCountedAndWarnedAbout) {
+  const fs::path dir = temp_dir() / "capped";
+  fs::create_directories(dir);
+  const auto render = [&](const std::string& height) {
+    test::GltfBuilder b;
+    b.doc["materials"] = {{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}}}}};
+    std::vector<float> pos = {-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0};
+    b.node({{"mesh", b.mesh("floor", pos, {}, {0, 1, 2, 0, 2, 3}, 4, 0)}});
+    const std::string name = "floor" + std::to_string(height.size());
+    b.write(dir, name);
+    test::write_text(dir / (name + ".json"), R"({"model": ")" + name + R"(.gltf", "background": [0, 0, 0],
+                         "lights": [{"type": "point", "position": [0, 0, )" + height + R"(], "intensity": 1e30}],
+                         "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "yfov_deg": 10}})");
+    const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
+    const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
+                                     " --width 16 --height 16 --aa none --edges off -o " + exr.string() + " --stats " +
+                                     stats.string() + " 2>&1");
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    return std::tuple(read_film(exr).film.radiance[8 * 16 + 8], read_json(stats)["capped_radiance"].get<uint64_t>(),
+                      r.output);
+  };
+  const auto [far, far_capped, far_log] = render("1");
+  EXPECT_LT(far.r, 1e30f);
+  EXPECT_GT(far.r, 1e28f);
+  EXPECT_EQ(far_capped, 0u);
+  EXPECT_EQ(far_log.find("warning"), std::string::npos) << far_log;
+  const auto [near, near_capped, near_log] = render("0.001");
+  EXPECT_EQ(near.r, 1e30f);  // the cap: nothing above it leaves the shader
+  EXPECT_GT(near_capped, 0u);
+  EXPECT_LE(near_capped, 16u * 16u);
+  EXPECT_NE(near_log.find("warning: " + std::string("floor5") + " camera 0: " + std::to_string(near_capped) +
+                          " traced samples came out brighter than 1e30"),
+            std::string::npos)
+      << near_log;
+  fs::remove_all(dir);
+}
+
 // A ray that meets more cut-outs one behind another than the shader passes
 // (kMaxSeeThroughLayers) is cut short there: the run says so with the count, which
 // --stats holds as layer_limit, and stays quiet about a stack within the limit. Fully

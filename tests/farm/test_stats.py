@@ -75,6 +75,7 @@ def real_shaped(i, pixels, x0, x1):
                  "refraction": 3, "continuation": 0, "total": 1523 + 1020 * i},
         "nan_radiance": i % 2,
         "layer_limit": 3 * i,
+        "capped_radiance": 5 * i,
         "bvh": {"nodes": 278, "leaves": 532, "max_depth": 11, "sah_cost": 12.75, "build_s": 0.001},
         "time_s": {"load": 0.1, "bvh": 0.001, "render": 0.5 + i, "frame": 0.6 + i, "write": 0.01,
                    "total": 0.8 + i, "edges": {"device_wait": 0.02, "upload": 0.001, "prepare": 0.002,
@@ -111,7 +112,8 @@ def test_four_real_shaped_regions_merge_by_the_class_of_each_field():
     assert m["pixels"] == 64 * 64
     for path in ["rays.primary", "rays.reflection", "rays.total", "adaptive.zones_traced",
                  "adaptive.zones_interpolated", "adaptive.margin_rays", "adaptive.time_s.level1_corners",
-                 "time_s.render", "time_s.edges.raster", "bvh.build_s", "nan_radiance", "layer_limit"]:
+                 "time_s.render", "time_s.edges.raster", "bvh.build_s", "nan_radiance", "layer_limit",
+                 "capped_radiance"]:
         assert merged[path] == pytest.approx(sum(p[path] for p in by_path)), path
     # Pixel-weighted: per-pixel values and fractions.
     for path in ["rays_per_pixel", "geo_fraction", "adaptive.padded", "adaptive.level2_fraction",

@@ -469,6 +469,7 @@ TEST(SharedScenes, RenderWithoutNanOrInf) {
     }
     EXPECT_GT(sum, 0.0) << file;
     EXPECT_EQ(stats.rays.nan_radiance, 0u) << file;
+    EXPECT_EQ(stats.rays.capped_radiance, 0u) << file;  // +Inf, which the film cannot show
   }
 }
 

@@ -568,7 +568,20 @@ TEST(Shader, ExtremeLightsStayFinite) {
     const double expected = std::min(exact, 1e30);
     EXPECT_NEAR(l.r, expected, 1e-3 * expected) << intensity;
     EXPECT_EQ(counters.nan_radiance, 0u) << intensity;
+    // The cap is counted where it bit, and only there: the image cannot tell.
+    EXPECT_EQ(counters.capped_radiance > 0, exact > 1e30) << intensity;
   }
+}
+
+// +Inf (here an emission no loader would give) leaves the shader at the cap, counted.
+TEST(Shader, InfiniteRadianceIsCappedAndCounted) {
+  Scene s = test::lit_floor(0.5f, 1.0f, 3.0f);
+  s.whitted[0].emission = glm::vec3(std::numeric_limits<float>::infinity(), 0.0f, 0.0f);
+  RayCounters counters;
+  const glm::vec3 l = centre_radiance(s, &counters);
+  EXPECT_EQ(l.r, 1e30f);
+  EXPECT_GE(counters.capped_radiance, 1u);
+  EXPECT_EQ(counters.nan_radiance, 0u);
 }
 
 }  // namespace

@@ -22,6 +22,7 @@ inline Film render(const Scene& scene, const RenderSettings& settings, RenderSta
   render_frame(shader, scene.cameras[0], GeoMap{}, settings, film, stats, callbacks);
   // The shader sets a NaN sample to black and counts it: the film alone cannot show one.
   EXPECT_EQ(stats.rays.nan_radiance, 0u) << scene.name << ": the shader made NaN radiance";
+  EXPECT_EQ(stats.rays.capped_radiance, 0u) << scene.name << ": radiance above the shader's cap";
   if (stats_out) *stats_out = stats;
   return film;
 }
