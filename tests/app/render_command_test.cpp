@@ -294,6 +294,24 @@ TEST(RenderCommand, AnOrthographicCameraShowsSizesIndependentOfDepth) {
   fs::remove_all(dir);
 }
 
+// Writes DIR/NAME.json from `scene` and renders it at 16 x 16, one ray a pixel and no map,
+// to EXR with --stats: the centre pixel's radiance, the stats and what the run printed.
+struct SmallRender {
+  glm::vec3 centre;
+  nlohmann::json stats;
+  std::string output;
+};
+SmallRender render_small(const fs::path& dir, const std::string& name, const std::string& scene) {
+  test::write_text(dir / (name + ".json"), scene);
+  const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
+  const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
+                                   " --width 16 --height 16 --aa none --edges off -o " + exr.string() + " --stats " +
+                                   stats.string() + " 2>&1");
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  if (r.exit_code != 0) return {glm::vec3(-1.0f), nlohmann::json::object(), r.output};
+  return {read_film(exr).film.radiance[8 * 16 + 8], read_json(stats), r.output};
+}
+
 // Radiance above the shader's cap (1e30) leaves it capped, which the image cannot show: the
 // run says so with the count, which --stats holds as capped_radiance. A light of the
 // largest intensity a scene may hold, 1e-3 above a white floor (I / d^2 = 1e36 there),
@@ -308,16 +326,10 @@ TEST(RenderCommand, RadianceAboveTheCapIsCountedAndWarnedAbout) {
     b.node({{"mesh", b.mesh("floor", pos, {}, {0, 1, 2, 0, 2, 3}, 4, 0)}});
     const std::string name = "floor" + std::to_string(height.size());
     b.write(dir, name);
-    test::write_text(dir / (name + ".json"), R"({"model": ")" + name + R"(.gltf", "background": [0, 0, 0],
+    const SmallRender r = render_small(dir, name, R"({"model": ")" + name + R"(.gltf", "background": [0, 0, 0],
                          "lights": [{"type": "point", "position": [0, 0, )" + height + R"(], "intensity": 1e30}],
                          "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "yfov_deg": 10}})");
-    const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
-    const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
-                                     " --width 16 --height 16 --aa none --edges off -o " + exr.string() + " --stats " +
-                                     stats.string() + " 2>&1");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return std::tuple(read_film(exr).film.radiance[8 * 16 + 8], read_json(stats)["capped_radiance"].get<uint64_t>(),
-                      r.output);
+    return std::tuple(r.centre, r.stats.at("capped_radiance").get<uint64_t>(), r.output);
   };
   const auto [far, far_capped, far_log] = render("1");
   EXPECT_LT(far.r, 1e30f);
@@ -361,14 +373,9 @@ TEST(RenderCommand, RaysCutShortBehindTooManyCutOutsAreCountedAndWarnedAbout) {
     b.node({{"mesh", b.mesh("sheets", sheet_pos, {}, sheet_idx, 4, 1)}});
     const std::string name = "stack" + std::to_string(sheets);
     b.write(dir, name);
-    test::write_text(dir / (name + ".json"), R"({"model": ")" + name + R"(.gltf", "lights": [], "background": [0, 0, 1],
+    const SmallRender r = render_small(dir, name, R"({"model": ")" + name + R"(.gltf", "lights": [], "background": [0, 0, 1],
                          "camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "yfov_deg": 10}})");
-    const fs::path exr = dir / (name + ".exr"), stats = dir / (name + "_stats.json");
-    const auto r = test::run_command(test::zigzag_binary() + " render " + (dir / (name + ".json")).string() +
-                                     " --width 16 --height 16 --aa none --edges off -o " + exr.string() + " --stats " +
-                                     stats.string() + " 2>&1");
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-    return std::tuple(read_film(exr).film.radiance[8 * 16 + 8], read_json(stats)["layer_limit"].get<uint64_t>(), r.output);
+    return std::tuple(r.centre, r.stats.at("layer_limit").get<uint64_t>(), r.output);
   };
   const auto [within, within_cut, within_log] = render(kMaxSeeThroughLayers);
   EXPECT_EQ(within, glm::vec3(1.0f));  // the floor
