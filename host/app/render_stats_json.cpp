@@ -1,7 +1,8 @@
 #include "app/render_stats_json.h"
 
 #include <algorithm>
-#include <thread>
+
+#include "core/worker_arena.h"
 
 namespace zz {
 
@@ -42,7 +43,7 @@ nlohmann::json render_stats_json(const JobRecord& r) {
   j["frame"] = r.frame ? nlohmann::json(*r.frame) : nlohmann::json(nullptr);
   j["scene_time_s"] = r.scene->time;
   j["fps"] = r.scene->fps;
-  j["threads"] = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
+  j["threads"] = worker_threads(settings.threads);
   j["aa"] = name_of(kAaModes, o.aa);
   if (o.aa == AaMode::Uniform) {
     j["spp"] = o.spp;

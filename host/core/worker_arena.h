@@ -12,10 +12,15 @@
 
 namespace zz {
 
+// The workers `threads` asks for (0: all the cores this process may run on, which TBB
+// reads from its CPU affinity, so taskset, cgroups and Slurm's binding are obeyed; the
+// count std::thread::hardware_concurrency gives is the machine's).
+inline int worker_threads(int threads) { return threads > 0 ? threads : tbb::this_task_arena::max_concurrency(); }
+
 class WorkerArena {
  public:
   explicit WorkerArena(int threads)
-      : threads_(threads > 0 ? threads : tbb::this_task_arena::max_concurrency()),
+      : threads_(worker_threads(threads)),
         allow_(raised_cap(threads_)),
         arena_(threads_) {}
 

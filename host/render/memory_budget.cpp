@@ -9,10 +9,10 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
-#include <thread>
 
 #include "core/address_space.h"
 #include "core/error.h"
+#include "core/worker_arena.h"
 #include "render/renderer.h"
 #include "render/texture_detail.h"
 #include "render/texture_range.h"
@@ -29,7 +29,7 @@ uint64_t frame_bytes(int width, int height, int threads) {
 }
 
 uint64_t render_bytes(const RenderSettings& settings, const TileRect& region, const Scene& scene) {
-  const int threads = settings.threads > 0 ? settings.threads : int(std::thread::hardware_concurrency());
+  const int threads = worker_threads(settings.threads);
   uint64_t need = frame_bytes(region.width(), region.height(), threads) + corner_field_plan(settings).bytes;
   if (settings.aa == AaMode::Adaptive && settings.adaptive.highlights) need += normal_map_spread_bytes(scene);
   if (settings.aa == AaMode::Adaptive && settings.adaptive.textures) need += texture_pyramid_bytes(scene);

@@ -141,6 +141,20 @@ TEST(RenderCommand, BitIdenticalForAnyThreadCount) {
   fs::remove_all(dir);
 }
 
+// Without --threads the render takes the cores the process may run on, and --stats says
+// how many: under taskset (as under a cgroup or Slurm's binding) that is the one core
+// allowed, not the machine's count, which "threads" used to report.
+TEST(RenderCommand, StatsCountTheCoresTheProcessMayRunOn) {
+  const fs::path dir = temp_dir();
+  const fs::path stats = dir / "one_core.json";
+  const auto r = test::run_command("taskset -c 0 " + test::zigzag_binary() + " render " +
+                                   test::source_path("scenes/default.json") + " --width 16 --height 16 -q --edges off -o " +
+                                   (dir / "one_core.png").string() + " --stats " + stats.string() + " 2>&1");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(read_json(stats)["threads"], 1);
+  fs::remove_all(dir);
+}
+
 TEST(RenderCommand, StatsHaveTheDocumentedFields) {
   const fs::path dir = temp_dir();
   const fs::path stats = dir / "s.json";
