@@ -13,7 +13,7 @@
 namespace zz {
 
 // The workers `threads` asks for (0: all the cores this process may run on, which TBB
-// reads from its CPU affinity, so taskset, cgroups and Slurm's binding are obeyed; the
+// reads from its CPU affinity, so taskset, cpusets and Slurm's binding are obeyed; the
 // count std::thread::hardware_concurrency gives is the machine's).
 inline int worker_threads(int threads) { return threads > 0 ? threads : tbb::this_task_arena::max_concurrency(); }
 

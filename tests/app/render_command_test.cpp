@@ -142,7 +142,7 @@ TEST(RenderCommand, BitIdenticalForAnyThreadCount) {
 }
 
 // Without --threads the render takes the cores the process may run on, and --stats says
-// how many: under taskset (as under a cgroup or Slurm's binding) that is the one core
+// how many: under taskset (as in a cpuset or under Slurm's binding) that is the one core
 // allowed, not the machine's count, which "threads" used to report.
 TEST(RenderCommand, StatsCountTheCoresTheProcessMayRunOn) {
   const fs::path dir = temp_dir();
