@@ -188,6 +188,17 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
       }
       throw Error(first.pattern->option + " and " + p.option + " would both write " + path.string());
     }
+  // A file cannot also be a folder: `-o out/a.png --stats out/a.png/s.json` rendered, then
+  // failed writing (found after the render, which a dry run did not see).
+  for (const auto& [key, writer] : writers) {
+    const std::filesystem::path& id = key.first;
+    for (std::filesystem::path folder = id.parent_path(); folder.has_relative_path(); folder = folder.parent_path()) {
+      const auto outer = writers.lower_bound(std::pair(folder, std::ptrdiff_t(-1)));
+      if (outer == writers.end() || outer->first.first != folder) continue;
+      throw Error(outer->second.pattern->option + " " + outer->second.path.string() + " and " + writer.pattern->option +
+                  " " + writer.path.string() + ": the one would have to be a folder holding the other");
+    }
+  }
 }
 
 void OutputClaims::claim(const std::vector<OutputPattern>& patterns, const OutputKey& job, const std::string& job_label) {
@@ -205,6 +216,17 @@ void OutputClaims::claim(const std::vector<OutputPattern>& patterns, const Outpu
     if (it != writers_.end())
       throw UsageError(p.option + " " + given.lexically_normal().string() + ": the " + it->second +
                        " writes it too, earlier in this batch");
+    // A file of an earlier job as a folder of this one's, or the other way round.
+    for (std::filesystem::path folder = id.parent_path(); folder.has_relative_path(); folder = folder.parent_path())
+      if (const auto outer = writers_.find(folder); outer != writers_.end())
+        throw UsageError(p.option + " " + given.lexically_normal().string() + ": the " + outer->second + " writes " +
+                         folder.string() + ", earlier in this batch, a file where this needs a folder");
+    for (auto inner = writers_.lower_bound(id); inner != writers_.end(); ++inner) {
+      const auto [end, rest] = std::mismatch(id.begin(), id.end(), inner->first.begin(), inner->first.end());
+      if (end != id.end()) break;  // sorted: past the paths under id
+      throw UsageError(p.option + " " + given.lexically_normal().string() + ": the " + inner->second + " writes " +
+                       inner->first.string() + " inside it, earlier in this batch");
+    }
     mine.emplace_back(id, p.option + " of " + job_label);
   }
   writers_.insert(mine.begin(), mine.end());

@@ -133,6 +133,27 @@ TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
   fs::remove_all(dir);
 }
 
+// A file cannot also be a folder: an output inside another was refused only by the write
+// after the render (exploratory testing: `--dry-run` passed it, the run failed at the end).
+TEST(OutputCollisions, AnOutputInsideAnotherIsRefused) {
+  const std::vector<OutputKey> one = {{"room", "0", 0}};
+  EXPECT_EQ(error_of({{"-o", "out/a.png"}, {"--stats", "out/a.png/s.json"}}, one),
+            "-o out/a.png and --stats out/a.png/s.json: the one would have to be a folder holding the other");
+  EXPECT_NE(error_of({{"--aov rays", "out/x/../a.png/b/c.png"}, {"-o", "out/a.png"}}, one), "");  // deeper, either order
+  // Across jobs: glass's stats inside room's image.
+  const std::vector<OutputKey> two = {{"room", "0", 0}, {"glass", "0", 0}};
+  EXPECT_NE(error_of({{"-o", "{scene}.png"}, {"--stats", "room.png/{scene}.json"}}, two), "");
+  // A name that merely starts with another's is its sibling.
+  EXPECT_EQ(error_of({{"-o", "out/a.png"}, {"--stats", "out/a.png2/s.json"}, {"--aov rays", "out/a/b.png"}}, one), "");
+  // Claimed as jobs start (their real cameras known), both ways round.
+  OutputClaims claims;
+  claims.claim({{"-o", "c/a.png"}}, two[0], "job room");
+  EXPECT_THROW(claims.claim({{"--stats", "c/a.png/s.json"}}, two[1], "job glass"), UsageError);
+  claims.claim({{"--stats", "d/e/s.json"}}, two[1], "job glass");
+  EXPECT_THROW(claims.claim({{"-o", "d"}}, two[0], "job room"), UsageError);
+  EXPECT_NO_THROW(claims.claim({{"-o", "d/e2.png"}, {"--stats", "c/a.png2"}}, two[0], "job room"));
+}
+
 // A stream is written to, not replaced: a batch may send every job's stats to /dev/null
 // or /dev/stdout (review: "would both write /dev/null (add {scene})").
 TEST(OutputCollisions, JobsMayShareAStream) {
