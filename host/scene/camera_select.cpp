@@ -37,13 +37,14 @@ namespace {
 int clamped_side(double v) { return int(std::lround(std::clamp(v, 1.0, double(kMaxImageSide)))); }
 
 // The frame the scene itself asks for: the rig's sides, a side it does not set from the
-// camera's aspect, 512 on the longer side.
+// camera's aspect (square where the camera has none: it takes the frame's), 512 on the
+// longer side.
 FrameSize natural_frame_size(const Scene& scene, float aspect, bool known) {
   const int width = scene.width_given ? scene.default_width : 0;
   const int height = scene.height_given ? scene.default_height : 0;
   if (width > 0 && height > 0) return {width, height};
-  if (width > 0) return {width, known ? clamped_side(width / aspect) : scene.default_height};
-  if (height > 0) return {known ? clamped_side(height * aspect) : scene.default_width, height};
+  if (width > 0) return {width, known ? clamped_side(width / aspect) : width};
+  if (height > 0) return {known ? clamped_side(height * aspect) : height, height};
   if (!known) return {scene.default_width, scene.default_height};
   const int longer = std::max(scene.default_width, scene.default_height);
   return aspect >= 1.0f ? FrameSize{longer, clamped_side(longer / aspect)} : FrameSize{clamped_side(longer * aspect), longer};

@@ -163,6 +163,16 @@ TEST(FrameSize, OneSideGivenKeepsTheNaturalFramesShape) {
   EXPECT_EQ(frame_size(one_side, two, 0, 100).width, 200);
   EXPECT_EQ(frame_size(one_side, two, 16384).height, 8192);
   EXPECT_EQ(frame_size(one_side, two, 0, 16384).width, 16384);  // clamped to the largest side
+  // A camera without an aspect takes the frame's: one side from the rig gives a square, as
+  // one side from the command line does (exploratory testing: a rig's "height": 100 gave
+  // 512 x 100, a 130-degree strip, where --height 100 gave 100 x 100).
+  const Camera unknown = tilted();
+  EXPECT_EQ(frame_size(one_side, unknown).height, 800);
+  Scene tall;
+  tall.default_height = 100;
+  tall.height_given = true;
+  EXPECT_EQ(frame_size(tall, unknown).width, 100);
+  EXPECT_EQ(frame_size(tall, unknown, 0, 40).width, 40);
 }
 
 // A side from an extreme aspect ratio is still a pixel wide: clamped to [1, the largest
