@@ -351,6 +351,7 @@ struct Loader {
           !std::isfinite(m.alpha_cutoff) || !std::isfinite(m.normal_scale) || !std::isfinite(m.ior) ||
           !std::isfinite(m.thickness) || !finite(m.attenuation_color))  // (an infinite attenuationDistance is none)
         throw Error(file + ": material '" + g.name + "' has non-finite parameters");
+      m.normal_scale = std::clamp(m.normal_scale, -kNormalScaleLimit, kNormalScaleLimit);
       scene.materials.push_back(std::move(m));
       const uint32_t index = uint32_t(scene.materials.size() - 1);
       if (odd_alpha_mode)

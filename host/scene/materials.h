@@ -31,6 +31,11 @@ struct TextureRef {
 enum class AlphaMode : uint8_t { Opaque, Mask, Blend };
 
 // glTF 2.0 metallic-roughness material + the extensions we read.
+// normalTexture.scale is held within +-this: beyond it a texel's z is under float's
+// resolution beside its x and y, so a larger scale gives the same normals, and from about
+// 1e19 their squared lengths overflow (the map was silently dropped there).
+inline constexpr float kNormalScaleLimit = 1e15f;
+
 struct Material {
   std::string name;
   glm::vec3 base_color{0.8f};
@@ -42,7 +47,7 @@ struct Material {
   glm::vec3 emissive{0.0f};
   TextureRef emissive_texture;
   TextureRef normal_texture;           // linear tangent-space normal, +Y = image up
-  float normal_scale = 1.0f;
+  float normal_scale = 1.0f;           // within +-kNormalScaleLimit
   AlphaMode alpha_mode = AlphaMode::Opaque;
   float alpha_cutoff = 0.5f;
   float transmission = 0.0f;           // KHR_materials_transmission

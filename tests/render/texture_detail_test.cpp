@@ -869,5 +869,18 @@ TEST(NormalMap, TheScaleScalesXAndYOnly) {
   EXPECT_LT(glm::distance(n, glm::normalize(glm::vec3(0.3f, 0.0f, 0.8f))), 1e-6f);
 }
 
+// At the loader's limit on the scale (kNormalScaleLimit) a tilted texel's normal lies in the
+// tangent plane, as glTF's formula gives for any larger scale, not the fallback.
+TEST(NormalMap, AtTheScalesLimitATiltedTexelLiesInTheTangentPlane) {
+  const glm::vec3 frame[3] = {{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}};
+  const glm::vec3 fallback(0.0f, 0.0f, 1.0f);
+  EXPECT_LT(glm::distance(mapped_in_frame(frame, glm::vec3(0.8f, 0.5f, 0.9f), kNormalScaleLimit, fallback),
+                          glm::vec3(1.0f, 0.0f, 0.0f)), 1e-6f);
+  EXPECT_LT(glm::distance(mapped_in_frame(frame, glm::vec3(0.2f, 0.5f, 0.9f), -kNormalScaleLimit, fallback),
+                          glm::vec3(1.0f, 0.0f, 0.0f)), 1e-6f);
+  // Past about 1e19 its length overflows: why the loader holds the scale there.
+  EXPECT_EQ(mapped_in_frame(frame, glm::vec3(0.8f, 0.5f, 0.9f), 1e20f, fallback), fallback);
+}
+
 }  // namespace
 }  // namespace zz

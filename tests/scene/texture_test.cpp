@@ -4,6 +4,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -155,6 +156,26 @@ TEST(Texture, NormalMapTangentsFollowTheTexturesUvSet) {
     EXPECT_NEAR(t.x, 0.0f, 1e-6f);
     EXPECT_NEAR(t.y, 1.0f, 1e-6f);
     EXPECT_NEAR(t.z, 0.0f, 1e-6f);
+  }
+}
+
+// A huge normalTexture.scale bends the normals into the surface's plane, as glTF's formula
+// does; it is held at kNormalScaleLimit, where the normals are the same to float
+// precision, since from about 1e19 their lengths overflowed and the map was dropped
+// (exploratory testing: 1e30 rendered as if there were no map).
+TEST(Texture, AHugeNormalScaleIsHeldWhereItsNormalsStayFinite) {
+  auto dir = test::temp_dir("normal_scale");
+  ASSERT_NO_FATAL_FAILURE(write_flat_normal_map(dir / "n.png"));
+  for (const double scale : {1e30, -3e38, 2.0}) {
+    SCOPED_TRACE(scale);
+    test::GltfBuilder b;
+    b.doc["images"] = {{{"uri", "n.png"}}};
+    b.doc["textures"] = {{{"source", 0}}};
+    b.doc["materials"] = {{{"name", "bumpy"}, {"normalTexture", {{"index", 0}, {"scale", scale}}}}};
+    b.node({{"mesh", b.mesh("tri", test::kTriPos, test::kTriNrm, {}, 4, 0, {0, 0, 1, 0, 0, 1})}});
+    const Scene s = load_scene(b.write(dir, "scaled"), LoadOptions{{}, true});
+    const float held = s.materials[0].normal_scale;
+    EXPECT_EQ(held, float(std::clamp(scale, -1e15, 1e15)));
   }
 }
 
