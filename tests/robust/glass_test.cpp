@@ -88,8 +88,12 @@ TEST(Glass, TotalInternalReflectionAndTheCriticalAngle) {
       // Past the critical angle the ray stays in the slab, reflected between its faces at
       // the same angle, and never reaches the white background (review: only the range was
       // checked); well before it most of the light gets out.
-      if (delta >= 1e-4) EXPECT_EQ(c.r[i], 0.0f) << delta;  // (at the angle itself rounding decides)
-      if (delta <= -1e-2) EXPECT_GT(c.r[i], 0.9f) << delta;
+      if (delta >= 1e-4) {  // (at the angle itself rounding decides)
+        EXPECT_EQ(c.r[i], 0.0f) << delta;
+      }
+      if (delta <= -1e-2) {
+        EXPECT_GT(c.r[i], 0.9f) << delta;
+      }
     }
     // Fresnel itself: exactly 1 past the critical angle, continuous up to it.
     const float f = fresnel_dielectric(float(std::cos(incidence)), 1.5f);
