@@ -556,7 +556,12 @@ Camera auto_camera(const Scene& scene, float yfov) {
   if (scene.positions.empty()) return Camera{};
   const auto [lo, hi] = scene.bounds();
   const glm::vec3 centre = 0.5f * (lo + hi);
-  const float radius = std::max(0.5f * glm::length(hi - lo), 1e-6f);
+  // Not below a few float steps at the centre, where the camera would round onto it; an
+  // absolute floor of 1e-6 framed smaller scenes (the loader keeps triangles down to 1e-10)
+  // a fraction of the frame wide.
+  const float largest = std::max({std::abs(centre.x), std::abs(centre.y), std::abs(centre.z)});
+  const float step = std::nextafter(largest, std::numeric_limits<float>::infinity()) - largest;
+  const float radius = std::max({0.5f * glm::length(hi - lo), 64.0f * step, 1e-20f});
   // The bounding sphere just fits the vertical field of view: d = r / sin(fov / 2).
   const float dist = radius / std::sin(0.5f * yfov);
   const glm::vec3 dir = glm::normalize(glm::vec3(0.35f, 0.3f, 1.0f));

@@ -1037,6 +1037,24 @@ TEST(GltfLoader, AutoCameraFramesTheBoundsWhenTheFileHasNone) {
   expect_vec(s.lights[0].direction, c.forward, 1e-6f);
 }
 
+// A small model fills the frame as a large one does: the camera stood at least 1e-6 from a
+// centre-fitting distance, so a model 1e-7 across covered a seventh of the frame
+// (exploratory testing: nearly black renders).
+TEST(GltfLoader, AutoCameraFramesSmallModelsAsLargeOnes) {
+  float unit_distance = 0.0f;
+  for (const double scale : {1.0, 1e-4, 1e-7, 1e-9}) {
+    SCOPED_TRACE(scale);
+    GltfBuilder b;
+    b.node({{"mesh", b.mesh("tri", kTriPos)}, {"scale", {scale, scale, scale}}});
+    const Scene s = load_scene(b.write(test::temp_dir("auto_small")), kQuiet);
+    ASSERT_EQ(s.cameras.size(), 1u);
+    const glm::vec3 centre = 0.5f * glm::vec3(float(scale), float(scale), 0.0f);
+    const float distance = glm::length(s.cameras[0].position - centre) / float(scale);
+    if (scale == 1.0) unit_distance = distance;
+    EXPECT_NEAR(distance, unit_distance, 1e-3f * unit_distance);
+  }
+}
+
 TEST(GltfLoader, MaterialsAndExtensions) {
   GltfBuilder b;
   b.doc["materials"] = {
