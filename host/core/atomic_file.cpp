@@ -115,15 +115,19 @@ void copy_to_stream(const fs::path& temporary, const fs::path& target) {
   std::vector<unsigned char> bytes;
   if (!read_regular_file(temporary.string(), UINTMAX_MAX, &bytes, &why))
     throw Error("cannot write " + target.string() + ": " + why);
-  // Non-blocking open: a FIFO nobody reads fails (ENXIO) instead of hanging the run; the
-  // writes then block as a shell's > does while the reader catches up.
-  const FileDescriptor out(::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));
-  if (out.fd < 0)
+  // One of our own descriptors: written through, after what stdio holds for it.
+  const std::optional<int> own = own_descriptor(target);
+  if (own) std::fflush(nullptr);
+  // Else a non-blocking open: a FIFO nobody reads fails (ENXIO) instead of hanging the run;
+  // the writes then block as a shell's > does while the reader catches up.
+  const FileDescriptor opened(own ? -1 : ::open(target.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC));
+  const int out = own ? *own : opened.fd;
+  if (out < 0)
     throw Error("cannot write " + target.string() + ": " +
                 (errno == ENXIO ? std::string("no process is reading the pipe") : errno_text()));
-  ::fcntl(out.fd, F_SETFL, ::fcntl(out.fd, F_GETFL) & ~O_NONBLOCK);
+  if (!own) ::fcntl(out, F_SETFL, ::fcntl(out, F_GETFL) & ~O_NONBLOCK);
   for (size_t done = 0; done < bytes.size();) {
-    const ssize_t n = ::write(out.fd, bytes.data() + done, bytes.size() - done);
+    const ssize_t n = ::write(out, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) throw Error("cannot write " + target.string() + ": " + (n < 0 ? errno_text() : "nothing written"));
     done += size_t(n);
@@ -184,10 +188,40 @@ bool write_protected(const fs::path& target) {
   return ::faccessat(AT_FDCWD, real.c_str(), W_OK, AT_EACCESS) != 0 && errno == EACCES;
 }
 
+std::optional<int> own_descriptor(const fs::path& target) {
+  const auto descriptor = [](const std::string& name, const std::string& folder) -> std::optional<int> {
+    if (name.size() <= folder.size() || name.size() > folder.size() + 9 || name.compare(0, folder.size(), folder) != 0 ||
+        !std::all_of(name.begin() + ptrdiff_t(folder.size()), name.end(), [](char c) { return c >= '0' && c <= '9'; }))
+      return std::nullopt;
+    return std::stoi(name.substr(folder.size()));
+  };
+  std::error_code ec;
+  fs::path p = target;
+  for (int hops = 0; hops < 40; ++hops) {  // each name along the links, as output_target follows them
+    const std::string name = fs::absolute(p, ec).lexically_normal().string();
+    std::optional<int> fd = name == "/dev/stdout" ? 1 : name == "/dev/stderr" ? 2 : std::optional<int>();
+    const std::string mine = "/proc/" + std::to_string(::getpid()) + "/fd/";
+    for (const std::string& folder : {std::string("/dev/fd/"), std::string("/proc/self/fd/"), mine})
+      if (!fd) fd = descriptor(name, folder);
+    if (fd) {  // open, and for writing
+      const int flags = ::fcntl(*fd, F_GETFL);
+      return flags >= 0 && (flags & O_ACCMODE) != O_RDONLY ? fd : std::nullopt;
+    }
+    if (!fs::is_symlink(p, ec)) return std::nullopt;
+    const fs::path to = fs::read_symlink(p, ec);
+    if (ec) return std::nullopt;
+    p = to.is_absolute() ? to : p.parent_path() / to;
+  }
+  return std::nullopt;
+}
+
 std::optional<std::string> stream_identity(const fs::path& target) {
   struct stat st {};  // stat follows every link, /proc/self/fd's to pipes too (not paths read_symlink can follow)
-  if (::stat(target.c_str(), &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)))
+  if (const std::optional<int> fd = own_descriptor(target)) {
+    if (::fstat(*fd, &st) != 0) return std::nullopt;
+  } else if (::stat(target.c_str(), &st) != 0 || !(S_ISCHR(st.st_mode) || S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode))) {
     return std::nullopt;
+  }
   return "stream " + std::to_string(st.st_dev) + ":" + std::to_string(st.st_ino);
 }
 

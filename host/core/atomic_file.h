@@ -69,9 +69,17 @@ std::filesystem::path output_target(const std::filesystem::path& path);
 // refused, not replaced: renaming a temporary over it would defeat the protection.
 bool write_protected(const std::filesystem::path& target);
 
-// Whether `target` is, or links to, a device, pipe or socket (/dev/stdout, a FIFO): a
-// stream, which receives the finished output's bytes instead of being replaced.
+// Whether `target` is, or links to, a device, pipe or socket (/dev/stdout, a FIFO), or names
+// one of this process's open descriptors (own_descriptor): a stream, which receives the
+// finished output's bytes instead of being replaced.
 bool output_is_stream(const std::filesystem::path& target);
+
+// The descriptor `target` names when it is one this process holds open: /dev/stdout,
+// /dev/stderr, /dev/fd/N, /proc/self/fd/N, or a link to one of them. Such an output is
+// written through that descriptor, as the shell set it up (`--stats /dev/stdout >> log`
+// appends at its offset; reopening the name, or renaming over the file behind it, replaced
+// what the log held).
+std::optional<int> own_descriptor(const std::filesystem::path& target);
 
 // What a stream is, whatever its name: "stream DEV:INODE" (/dev/stdout, /dev/fd/1 and a link
 // to that pipe are one), or nullopt when `target` is no stream (output_is_stream).

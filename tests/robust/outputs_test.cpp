@@ -294,6 +294,36 @@ TEST_F(Outputs, AStreamReceivesTheFinishedOutput) {
                "would both write /dev/stdout", kUsageExit);
 }
 
+// `--stats /dev/stdout >> log`: the stats go through the descriptor the shell opened,
+// after what the log held, as a batch's jobs share a pipe (exploratory testing: the file
+// behind /dev/stdout was replaced, the log's lines lost, and a batch was refused as two
+// writers of one file). The same for /dev/stderr with 2>>.
+TEST_F(Outputs, AFileBehindOurStdoutIsAppendedToNotReplaced) {
+  const fs::path log = path("log.txt"), err = path("err.txt");
+  write("log.txt", "PREVIOUS\n");
+  write("err.txt", "EARLIER\n");
+  const std::string batch = kZigzag + " render " + path("good.json").string() + " " + path("other.json").string() +
+                            " --edges off -q -o " + path("{scene}.png").string();
+  for (int run = 0; run < 2; ++run) {
+    const robust::ChildResult r =
+        robust::run_child({"/bin/sh", "-c", batch + " --stats /dev/stdout >> " + log.string()}, {{}, 60.0});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+  }
+  const robust::ChildResult r =
+      robust::run_child({"/bin/sh", "-c", batch + " --stats /dev/fd/2 2>> " + err.string()}, {{}, 60.0});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto documents = [](const std::string& text) {
+    size_t n = 0;
+    for (size_t at = text.find("\"aa\""); at != std::string::npos; at = text.find("\"aa\"", at + 1)) ++n;
+    return n;
+  };
+  const std::string logged = contents(log), errors = contents(err);
+  EXPECT_EQ(logged.rfind("PREVIOUS\n{", 0), 0u) << logged;
+  EXPECT_EQ(documents(logged), 4u) << logged;  // two runs of two jobs
+  EXPECT_EQ(errors.rfind("EARLIER\n{", 0), 0u) << errors;
+  EXPECT_EQ(documents(errors), 2u) << errors;
+}
+
 // `nohup zigzag ...`: a hang-up the parent chose to ignore stays ignored, and the render
 // finishes (a SIGHUP handler installed over SIG_IGN ended it with 129).
 TEST_F(Outputs, AnIgnoredHangUpStaysIgnored) {
