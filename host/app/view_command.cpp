@@ -99,6 +99,9 @@ int view(const ViewOptions& o) {
   v.tweaks.eps = v.settings.adaptive.eps;
   v.tweaks.mitchell = v.settings.adaptive.filter == Filter::Mitchell;
   v.tweaks.edges = o.render.edges == EdgeMode::Vulkan;
+  RenderOptions with_map = o.render;  // the crease as `render --edges vulkan` would take it
+  with_map.edges = EdgeMode::Vulkan;
+  v.tweaks.map_crease = map_crease(with_map);
   v.preview_scale = o.preview_scale;
   v.validate = o.render.vk_validate;
   v.vk_device = o.render.vk_device;

@@ -14,6 +14,9 @@ struct ViewTweaks {
   float eps = 0.1f;       // colour-difference threshold of the adaptive sampler (ALGORITHM.md §2)
   bool mitchell = false;  // F: Mitchell-Netravali filter instead of box
   bool edges = true;      // E: use the visibility (geo) map
+  // The map's crease (AdaptiveSettings::map_crease) while E has it on: the highlight flag
+  // leaves wider normal steps to the map, so without one it must take them itself.
+  float map_crease = 0.0f;
 
   // One `[`/`]` press scales eps by 1.25 within [0, 1]; below kEpsSmallest the next step
   // down is 0 (every colour difference refines) and the next step up from 0 is kEpsSmallest.

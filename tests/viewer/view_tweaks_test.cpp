@@ -36,5 +36,22 @@ TEST(ViewTweaks, ApplyReachesTheAdaptiveSettings) {
   EXPECT_EQ(s.adaptive.filter, Filter::Mitchell);
 }
 
+// E turns the map off and on: the map's crease goes with it, as `render --edges off` and
+// `--edges vulkan` set it (exploratory testing: with E the viewer showed an image no
+// render setting makes, the highlight flag leaving normal steps to a map not there).
+TEST(ViewTweaks, TheMapsCreaseFollowsTheMap) {
+  ViewTweaks t;
+  t.map_crease = 0.42f;
+  RenderSettings s;
+  apply_tweaks(t, s);
+  EXPECT_EQ(s.adaptive.map_crease, 0.42f);
+  t.edges = false;
+  apply_tweaks(t, s);
+  EXPECT_EQ(s.adaptive.map_crease, 0.0f);
+  t.edges = true;
+  apply_tweaks(t, s);
+  EXPECT_EQ(s.adaptive.map_crease, 0.42f);
+}
+
 }  // namespace
 }  // namespace zz
