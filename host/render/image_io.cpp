@@ -75,6 +75,11 @@ void check_reads_back(const std::filesystem::path& target, const std::filesystem
                 std::to_string(spec.width) + "x" + std::to_string(spec.height) + "x" + std::to_string(spec.nchannels));
 }
 
+// The name a writer is opened with, which it writes through its proxy and may record (DPX
+// does, in its header): the output's own file name, never the hidden temporary's, nor the
+// folder, so the same render writes the same bytes.
+std::string header_name(const std::filesystem::path& target) { return target.filename().string(); }
+
 // Without a date, the same render writes the same bytes (OpenImageIO stamps the time).
 OIIO::ImageSpec undated(OIIO::ImageSpec spec) {
   spec.attribute("DateTime", "");
@@ -87,7 +92,7 @@ void write_pixels(const std::filesystem::path& path, const OIIO::ImageSpec& give
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     {
       OpenOutput out(path, temporary);
-      if (!out->open(temporary.string(), spec) || !out->write_image(spec.format, data)) out.fail();
+      if (!out->open(header_name(path), spec) || !out->write_image(spec.format, data)) out.fail();
       out.close();
     }
     check_reads_back(path, temporary, spec);
@@ -113,7 +118,7 @@ void write_layers(const std::filesystem::path& path, OIIO::ImageSpec spec, const
   spec = undated(spec);
   write_atomically(path, [&](const std::filesystem::path& temporary) {
     OpenOutput out(path, temporary);
-    if (!out->open(temporary.string(), spec)) out.fail();
+    if (!out->open(header_name(path), spec)) out.fail();
     for (int y0 = 0; y0 < film.height; y0 += kBand) {
       const int y1 = std::min(film.height, y0 + kBand);
       for (int y = y0; y < y1; ++y)
