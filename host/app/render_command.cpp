@@ -93,23 +93,6 @@ int output_frame(const BatchOptions& o, const Scene& scene) {
   return 0;  // no name holds it
 }
 
-// A frame outside the scene's range, or a time past its animation, shows the pose at the
-// nearest end: say so, as it is usually a wrong --frame or --fps, not a wish.
-void warn_outside_animation(const Scene& scene, bool quiet) {
-  if (quiet || !scene.animated) return;
-  const bool outside_range = scene.frame >= 0 && (scene.frame < scene.first_frame || scene.frame > scene.last_frame);
-  if (outside_range)
-    std::fprintf(stderr, "zigzag: warning: frame %d is outside the scene's frames %d..%d\n", scene.frame,
-                 scene.first_frame, scene.last_frame);
-  // A frame range ends at the first frame at or after the last keyframe, so only a frame
-  // more than one frame past it is outside the animation.
-  const double end = double(scene.animation_end) * (1.0 + 1e-6) + 1e-6 + (scene.frame >= 0 ? 1.0 / scene.fps : 0.0);
-  if (!outside_range && scene.time > end)
-    std::fprintf(stderr, "zigzag: warning: %s %.4g s is past the animation's end (%.4g s): its last pose is held%s\n",
-                 scene.frame >= 0 ? ("frame " + std::to_string(scene.frame) + "'s time").c_str() : "--time", scene.time,
-                 double(scene.animation_end), scene.frame >= 0 ? " (check --fps)" : "");
-}
-
 std::string seconds_text(double s) {
   char text[48];
   std::snprintf(text, sizeof text, "%g s", s);

@@ -1,7 +1,9 @@
 #include "app/render_options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <string>
 
 #include "app/option_checks.h"
 #include "core/error.h"
@@ -222,6 +224,21 @@ VisibilitySettings make_visibility_settings(const RenderOptions& o) {
 
 float map_crease(const RenderOptions& o) {
   return wants_visibility_map(o) ? 2.0f * std::sin(0.5f * o.edge_angle * std::numbers::pi_v<float> / 180.0f) : 0.0f;
+}
+
+void warn_outside_animation(const Scene& scene, bool quiet) {
+  if (quiet || !scene.animated) return;
+  const bool outside_range = scene.frame >= 0 && (scene.frame < scene.first_frame || scene.frame > scene.last_frame);
+  if (outside_range)
+    std::fprintf(stderr, "zigzag: warning: frame %d is outside the scene's frames %d..%d\n", scene.frame,
+                 scene.first_frame, scene.last_frame);
+  // A frame range ends at the first frame at or after the last keyframe, so only a frame
+  // more than one frame past it is outside the animation.
+  const double end = double(scene.animation_end) * (1.0 + 1e-6) + 1e-6 + (scene.frame >= 0 ? 1.0 / scene.fps : 0.0);
+  if (!outside_range && scene.time > end)
+    std::fprintf(stderr, "zigzag: warning: %s %.4g s is past the animation's end (%.4g s): its last pose is held%s\n",
+                 scene.frame >= 0 ? ("frame " + std::to_string(scene.frame) + "'s time").c_str() : "--time", scene.time,
+                 double(scene.animation_end), scene.frame >= 0 ? " (check --fps)" : "");
 }
 
 bool wants_visibility_map(const RenderOptions& o) { return o.edges == EdgeMode::Vulkan && o.aa == AaMode::Adaptive; }

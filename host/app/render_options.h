@@ -139,6 +139,10 @@ RenderSettings make_render_settings(const RenderOptions& o, const Scene& scene, 
 
 VisibilitySettings make_visibility_settings(const RenderOptions& o);
 
+// A frame outside the scene's range, or a time past its animation, shows the pose at the
+// nearest end: render and view say so, as it is usually a wrong --frame or --fps, not a wish.
+void warn_outside_animation(const Scene& scene, bool quiet);
+
 // The adaptive sampler with the visibility map on needs Vulkan; nothing else does.
 bool wants_visibility_map(const RenderOptions& o);
 // The map's normal angle as a distance between unit normals, 2 sin(angle / 2)

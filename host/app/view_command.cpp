@@ -69,6 +69,7 @@ int view(const ViewOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   Scene scene = load_scene(o.scene, load_options(o.render, false));
   if (o.render.max_depth >= 0) scene.max_depth = o.render.max_depth;
+  warn_outside_animation(scene, false);
   size_t camera = 0;
   try {
     camera = find_camera(scene, o.camera);

@@ -244,6 +244,19 @@ TEST_F(Window, AnimationFrameEqualsRenderOfThatFrame) {
   EXPECT_NE(viewed, read_png(file("render0.png"), w, h)) << "frame 12 looks like frame 0";
 }
 
+// A frame outside the scene's range is viewed with render's warning (exploratory testing:
+// view showed the held pose without a word).
+TEST_F(Window, AFrameOutsideTheAnimationIsWarnedAbout) {
+  const std::string animated = std::string(ZZ_SOURCE_DIR) + "/scenes/animated.json";
+  const test::CommandResult v = view("--frame 500 --exit-after-frame --screenshot " + file("late.png") +
+                                         " --width 32 --height 24",
+                                     180, animated);
+  SKIP_IF_NO_VULKAN();
+  expect_clean(v);
+  EXPECT_NE(v.output.find("zigzag: warning: frame 500 is outside the scene's frames 0..47"), std::string::npos)
+      << v.output;
+}
+
 // S saves the next number no file has (a second session kept overwriting the first's
 // _001), and says when the frame it saved was not finished.
 TEST_F(Window, ScreenshotKeyNeverOverwritesAnEarlierOne) {
