@@ -38,9 +38,14 @@ std::string attribute(const FilmFile& f, const std::string& key) {
 // for the "settings" (JSON, render_command.cpp image_settings), ": 1 in b.exr, 0 in a.exr"
 // for a plain value; empty for text that is not JSON.
 std::string setting_difference(const FilmPart& a, const FilmPart& b, const std::string& key) {
-  const nlohmann::json x = nlohmann::json::parse(attribute(a.file, key), nullptr, false);
-  const nlohmann::json y = nlohmann::json::parse(attribute(b.file, key), nullptr, false);
-  if (x.is_discarded() || y.is_discarded() || x == y) return "";
+  const std::string a_text = attribute(a.file, key), b_text = attribute(b.file, key);
+  const nlohmann::json x = nlohmann::json::parse(a_text, nullptr, false);
+  const nlohmann::json y = nlohmann::json::parse(b_text, nullptr, false);
+  if (x.is_discarded() || y.is_discarded()) {  // plain text (a scene's name): as it is, when short
+    if (a_text.size() > 64 || b_text.size() > 64) return "";
+    return ": '" + a_text + "' in " + a.name + ", '" + b_text + "' in " + b.name;
+  }
+  if (x == y) return "";
   if (!x.is_structured() || !y.is_structured()) return ": " + x.dump() + " in " + a.name + ", " + y.dump() + " in " + b.name;
   const std::string path = nlohmann::json::diff(y, x).front().value("path", "");
   const nlohmann::json::json_pointer at(path);
@@ -81,11 +86,16 @@ void check_film_parts(const std::vector<FilmPart>& parts) {
                   parts.front().name + " " + std::to_string(first.tonemap.exposure));
     const FilmAttributes mine = compared(p.file.attributes), theirs = compared(first.attributes);
     if (mine != theirs) {
-      std::string key;  // the first key whose values differ (or that only one part has)
+      // The first key whose values differ (or that only one part has); the scene's files
+      // only when nothing else does: another scene (zigzag:scene) has other files too.
+      std::string key;
+      const auto differs = [&key](const std::string& k) {
+        if (key.empty() || key == kSceneFilesAttribute) key = k;
+      };
       for (const auto& [k, v] : mine)
-        if (auto it = theirs.find(k); it == theirs.end() || it->second != v) key = k;
+        if (auto it = theirs.find(k); it == theirs.end() || it->second != v) differs(k);
       for (const auto& [k, v] : theirs)
-        if (!mine.count(k)) key = k;
+        if (!mine.count(k)) differs(k);
       if (key == kSceneFilesAttribute)
         throw Error("merge: " + p.name + " and " + parts.front().name +
                     " were rendered from different versions of the scene's files (zigzag:" + key +

@@ -170,6 +170,31 @@ TEST_F(FilmMergeTest, PartsOfDifferentDevicesMergeAndAreNamed) {
   EXPECT_THROW(check_film_parts(parts), Error);
 }
 
+// Parts of two scenes differ in the scene and its files' fingerprint: the scene is named,
+// not "different versions of the scene's files", which the fingerprint alone means
+// (exploratory testing: room and glass parts were said to be two versions of one scene).
+TEST_F(FilmMergeTest, PartsOfTwoScenesAreSaidToBeOfTwoScenes) {
+  write_film(dir / "room.exr", frame_film({0, 0, 7, 2}), ToneMap{},
+             {{"camera", "0"}, {"scene", "room"}, {kSceneFilesAttribute, "70f2adb290acbb32"}});
+  write_film(dir / "glass.exr", frame_film({0, 2, 7, 5}), ToneMap{},
+             {{"camera", "0"}, {"scene", "glass"}, {kSceneFilesAttribute, "0123456789abcdef"}});
+  write_film(dir / "edited.exr", frame_film({0, 2, 7, 5}), ToneMap{},
+             {{"camera", "0"}, {"scene", "room"}, {kSceneFilesAttribute, "0123456789abcdef"}});
+  const auto message = [&](const char* second) {
+    try {
+      check_film_parts({{"room.exr", read_film(dir / "room.exr")}, {second, read_film(dir / second)}});
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("merged");
+  };
+  EXPECT_EQ(message("glass.exr"),
+            "merge: glass.exr and room.exr come from different renders (zigzag:scene differs: 'glass' in glass.exr, "
+            "'room' in room.exr)");
+  EXPECT_NE(message("edited.exr").find("were rendered from different versions of the scene's files"), std::string::npos)
+      << message("edited.exr");
+}
+
 // Display bytes are round(T(v) * 255) for every channel, whatever the film's pixel count
 // mod 4: the SSE body takes 4 pixels at a time and the tail its last 0..3 (mutation testing:
 // the tail's + 0.5 dropped failed only a viewer test whose film happened to have one).
