@@ -65,7 +65,8 @@ std::string errno_text() { return std::strerror(errno); }
 
 }  // namespace
 
-void preflight_output(const std::string& option, const std::filesystem::path& path, bool image) {
+void preflight_output(const std::string& option, const std::filesystem::path& path, bool image, const char* formats) {
+  if (!formats) formats = kFormats;
   namespace fs = std::filesystem;
   const std::string where = option + " " + path.string() + ": ";
   std::error_code ec;
@@ -73,9 +74,9 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
     throw Error(where + "is a directory; give a file name");
   if (image) {
     if (path.extension().empty())
-      throw Error(where + "no file extension to choose the format" + kFormats);
+      throw Error(where + "no file extension to choose the format" + formats);
     if (!can_write_image_format(path))
-      throw Error(where + "unsupported image format '" + path.extension().string() + "'" + kFormats);
+      throw Error(where + "unsupported image format '" + path.extension().string() + "'" + formats);
   }
   if (output_is_stream(path)) {  // /dev/stdout, a FIFO: written to, not replaced
     if (::access(path.c_str(), W_OK) != 0) throw Error(where + "cannot write to it (" + errno_text() + ")");
@@ -182,6 +183,10 @@ void check_distinct_outputs(const std::vector<OutputPattern>& patterns, const st
         if (missing == "{camera}" && first.job->any_camera && job.any_camera)
           throw Error(p.option + " " + p.pattern + ": with --camera all, every camera of " + job.scene +
                       " would write " + path.string() + " (add {camera})");
+        if (first.path != path)  // two names, one file: a link, or a folder reached two ways
+          throw Error(p.option + " " + p.pattern + ": jobs " + job_name(*first.job, jobs) + " and " +
+                      job_name(job, jobs) + " would write one file, " + first.path.string() + " and " + path.string() +
+                      " being the same file");
         throw Error(p.option + " " + p.pattern + ": jobs " + job_name(*first.job, jobs) + " and " +
                     job_name(job, jobs) + " would both write " + path.string() +
                     (missing.empty() ? " (their scene files have the same name)" : " (add " + missing + ")"));

@@ -63,8 +63,10 @@ class OutputClaims {
 // ancestor of its directory is a directory this process can create files in (probed with
 // a file created and removed at once), and an existing file is not write-protected; a
 // stream (/dev/stdout) must be writable. Links are followed to what gets written. Creates
-// nothing. Throws zz::Error starting with "OPTION PATH: ".
-void preflight_output(const std::string& option, const std::filesystem::path& path, bool image);
+// nothing. Throws zz::Error starting with "OPTION PATH: ". `formats`: the formats an
+// unknown extension's message suggests, when not the renderer's.
+void preflight_output(const std::string& option, const std::filesystem::path& path, bool image,
+                      const char* formats = nullptr);
 
 // Throws zz::UsageError when an output is one of the files the command reads (a scene's
 // rig, its glTF, buffers, images; merge's parts): `--stats {scene}.json` beside room.json

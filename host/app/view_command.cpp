@@ -44,7 +44,8 @@ struct ViewOptions {
 // A screenshot is the 8-bit display image, as the window shows it: checked before anything
 // loads, as render checks -o (a float format would hold display values, not radiance).
 void check_screenshot(const std::string& option, const std::string& path, const std::vector<std::string>& inputs) {
-  preflight_output(option, path, true);
+  preflight_output(option, path, true,
+                   " (a screenshot is the 8-bit display image: use .png; .jpg, .tif, .bmp, .tga, .webp also work)");
   check_not_an_input(option, path, inputs, "a file of the scene,");
   if (writes_radiance(path))
     throw Error(option + " " + path + ": a screenshot is the 8-bit display image (.png, .jpg, .tif, ...); for "

@@ -337,7 +337,7 @@ bool Viewer::frame_done() const {
 // A script event that waited past --script-timeout fails the run and closes the window.
 void Viewer::give_up_after_timeout(const char* what) {
   if (script_waited() <= options_.script_timeout_seconds) return;
-  std::fprintf(stderr, "zigzag view: script %s timed out after %.0f s\n", what, options_.script_timeout_seconds);
+  std::fprintf(stderr, "zigzag view: script %s timed out after %g s\n", what, options_.script_timeout_seconds);
   exit_code_ = 1;
   glfwSetWindowShouldClose(window_.get(), GLFW_TRUE);
 }

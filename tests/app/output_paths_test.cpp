@@ -133,6 +133,21 @@ TEST(OutputCollisions, SameFileByAbsolutePathOrLink) {
   fs::remove_all(dir);
 }
 
+// One file under two names (glass.png a link to room.png) is named as such, not blamed on
+// two scenes of one name (exploratory testing).
+TEST(OutputCollisions, OneFileUnderTwoJobsNamesIsSaidToBeOne) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("zz_two_names_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  fs::create_symlink("room.png", dir / "glass.png");
+  const std::string pattern = (dir / "{scene}.png").string();
+  EXPECT_EQ(error_of({{"-o", pattern}}, {{"room", "0", 0}, {"glass", "0", 0}}),
+            "-o " + pattern + ": jobs room and glass would write one file, " + (dir / "room.png").string() + " and " +
+                (dir / "glass.png").string() + " being the same file");
+  fs::remove_all(dir);
+}
+
 // A file cannot also be a folder: an output inside another was refused only by the write
 // after the render (exploratory testing: `--dry-run` passed it, the run failed at the end).
 TEST(OutputCollisions, AnOutputInsideAnotherIsRefused) {

@@ -330,6 +330,10 @@ TEST(NoDisplay, ScreenshotsAreCheckedBeforeAnythingLoads) {
       {"--screenshot x.png", "--exit-after-frame"},
       {"--exit-after-frame --screenshot x.exr", "a screenshot is the 8-bit display image"},
       {"--script \"wait;screenshot:y.hdr;quit\"", "a screenshot is the 8-bit display image"},
+      // Not render's list, which suggests .exr (exploratory testing).
+      {"--exit-after-frame --screenshot x.gif", "unsupported image format '.gif' (a screenshot is the 8-bit display "
+                                               "image: use .png; .jpg, .tif, .bmp, .tga, .webp also work)"},
+      {"--exit-after-frame --screenshot noext", "no file extension to choose the format (a screenshot is"},
       {"--exit-after-frame --screenshot /proc/nope/a.png", "/proc/nope/a.png"},
       {"--script \"resize:100000,100;quit\"", "size must be 1..16384 per side"}};
   for (const auto& [args, message] : cases) {
