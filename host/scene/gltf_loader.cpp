@@ -803,10 +803,7 @@ struct Loader {
     if (l.type == Light::Type::Spot) {
       l.inner_cone = float(g.spot.innerConeAngle);
       l.outer_cone = float(g.spot.outerConeAngle);
-      if (l.inner_cone >= l.outer_cone && l.outer_cone > 0.0f)
-        warn("spot light '" + l.name + "' has innerConeAngle " + std::to_string(g.spot.innerConeAngle) +
-             " >= outerConeAngle " + std::to_string(g.spot.outerConeAngle) +
-             " (glTF requires inner < outer): its cone has a hard edge at the outer angle");
+      if (const std::string cone = spot_cone_warning(l); !cone.empty()) warn(cone);
     }
     if (!finite(l.intensity) || !finite(l.position)) throw Error(file + ": light '" + l.name + "' is not finite");
     if (const std::string problem = light_problem(l); !problem.empty())

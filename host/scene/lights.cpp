@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace zz {
@@ -27,7 +28,20 @@ std::string light_problem(const Light& light) {
   if (light.range < 0.0f) return "negative range (> 0, or 0 for none)";
   if (light.type == Light::Type::Spot && !(light.outer_cone > 0.0f))
     return "spot cone closed (KHR_lights_punctual: outer cone angle > 0)";
+  constexpr float kRightAngle = 1.5707964f;  // pi/2 rounded up: 90 degrees converted must pass
+  if (light.type == Light::Type::Spot &&
+      !(light.inner_cone >= 0.0f && light.inner_cone <= kRightAngle && light.outer_cone <= kRightAngle))
+    return "spot cone angle outside [0, pi/2] (KHR_lights_punctual; 0 to 90 degrees in a rig)";
   return {};
+}
+
+std::string spot_cone_warning(const Light& light) {
+  if (light.type != Light::Type::Spot || !(light.inner_cone >= light.outer_cone && light.outer_cone > 0.0f)) return {};
+  char angles[96];
+  std::snprintf(angles, sizeof angles, "an inner cone angle of %.6g rad, not below its outer %.6g rad",
+                double(light.inner_cone), double(light.outer_cone));
+  return "spot light '" + light.name + "' has " + angles +
+         " (KHR_lights_punctual requires inner < outer): its cone has a hard edge at the outer angle";
 }
 
 bool can_light(const Light& light) {

@@ -43,10 +43,14 @@ inline glm::vec3 triangle_normal(const glm::vec3& p0, const glm::vec3& p1, const
 inline constexpr float kShadowEpsilon = 1e-4f;
 
 // Why `light` is not one KHR_lights_punctual allows (a negative colour, intensity or range,
-// a closed spot cone), or empty. The loaders refuse such a light: it would light nothing,
-// or darken. A spot's inner cone at or past its outer one is left alone: exporters write
-// it (Blender's, for a spot with no blend) and it means a hard-edged cone.
+// a closed spot cone, a cone angle outside [0, pi/2]), or empty. The loaders refuse such a
+// light: it would light nothing, or darken, or light behind itself. A spot's inner cone at
+// or past its outer one is only warned about (spot_cone_warning): exporters write it
+// (Blender's, for a spot with no blend) and it means a hard-edged cone.
 std::string light_problem(const Light& light);
+
+// What the loaders warn of a spot whose inner cone is not inside its outer one, else empty.
+std::string spot_cone_warning(const Light& light);
 
 // Whether the light can reach anything: some intensity, and a spot's cone open.
 bool can_light(const Light& light);

@@ -487,8 +487,11 @@ Scene load_json_scene(const fs::path& path, const LoadOptions& options) {
   if (j.contains("replace_lights") && J.boolean(j["replace_lights"], "replace_lights")) scene.lights.clear();
   if (j.contains("lights")) {
     if (!j["lights"].is_array()) J.fail("lights must be an array");
-    for (size_t i = 0; i < j["lights"].size(); ++i)
+    for (size_t i = 0; i < j["lights"].size(); ++i) {
       scene.lights.push_back(parse_light(J, j["lights"][i], "lights[" + std::to_string(i) + "]"));
+      if (const std::string cone = spot_cone_warning(scene.lights.back()); !cone.empty() && !options.quiet)
+        std::fprintf(stderr, "warning: %s: %s\n", path.string().c_str(), cone.c_str());
+    }
   }
 
   if (j.contains("background")) {

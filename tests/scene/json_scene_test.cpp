@@ -147,6 +147,22 @@ TEST(JsonScene, ImpossibleLightsAreErrorsAndDirectionsKeepTheirWay) {
             std::string::npos);
   EXPECT_NE(error(R"({"type": "directional", "direction": [0, 0, 0]})").find("direction must be non-zero"),
             std::string::npos);
+  // 90 degrees is allowed; an inner cone not inside the outer one is warned about, as the
+  // glTF loader warns (exploratory testing: the rig took it silently).
+  testing::internal::CaptureStderr();
+  const Scene wide = r.load(R"({"model": "model.gltf", "lights": [{"type": "spot", "name": "hard", "position": [0, 1, 0],
+                               "direction": [0, -1, 0], "inner_cone_deg": 60, "outer_cone_deg": 90}]})",
+                            LoadOptions{{}, false});
+  const std::string warned = testing::internal::GetCapturedStderr();
+  EXPECT_EQ(wide.lights.back().outer_cone, glm::radians(90.0f));
+  EXPECT_EQ(warned.find("spot light"), std::string::npos) << warned;
+  testing::internal::CaptureStderr();
+  r.load(R"({"model": "model.gltf", "lights": [{"type": "spot", "name": "hard", "position": [0, 1, 0],
+            "direction": [0, -1, 0], "inner_cone_deg": 60, "outer_cone_deg": 10}]})",
+         LoadOptions{{}, false});
+  const std::string hard = testing::internal::GetCapturedStderr();
+  EXPECT_NE(hard.find("spot light 'hard' has an inner cone angle of 1.0472 rad, not below its outer 0.174533 rad"),
+            std::string::npos) << hard;
   EXPECT_NE(error(R"({"position": [0, 1, 0], "intensity": 3e38})").find("within +-1e30"), std::string::npos);
   for (const char* direction : {"[0, -1e20, -3e19]", "[0, -1e-23, -3e-24]"}) {
     SCOPED_TRACE(direction);
