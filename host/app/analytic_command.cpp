@@ -10,6 +10,7 @@
 #include <string>
 
 #include "aa/analytic.h"
+#include "app/json_text.h"
 #include "app/output_paths.h"
 #include "app/render_options.h"
 #include "core/atomic_file.h"
@@ -89,7 +90,7 @@ void run(const AnalyticArgs& a) {
                         {"filter", filter},   {"signature", signature_name(a.adaptive.signature)},
                         {"runs", nlohmann::json::array()}};
     for (const AnalyticRun& r : report.runs) j["runs"].push_back(to_json(r));
-    write_text_atomically(a.json, j.dump(2) + "\n", &outputs);
+    write_text_atomically(a.json, json_text(j, 2) + "\n", &outputs);
   }
   if (!a.out.empty()) {
     // Analytic values are already display values in [0, 1]: quantise without a tone map.

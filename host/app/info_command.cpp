@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "app/json_text.h"
 #include "app/option_checks.h"
 #include "app/commands.h"
 #include "scene/camera_select.h"
@@ -109,7 +110,7 @@ void add_info_command(CLI::App& app, int& exit_code) {
         ++failed;
       }
     }
-    if (o->json) std::printf("%s\n", all.dump(2).c_str());
+    if (o->json) std::printf("%s\n", json_text(all, 2).c_str());
     exit_code = failed > 0 ? 1 : 0;
   });
 }

@@ -20,6 +20,7 @@
 #include "accel/bvh.h"
 #include "app/batch_options.h"
 #include "app/commands.h"
+#include "app/json_text.h"
 #include "app/output_paths.h"
 #include "app/progress.h"
 #include "app/render_stats_json.h"
@@ -429,7 +430,7 @@ void render_camera(const BatchOptions& o, const SceneJob& job, int camera_index,
                  job.name.c_str(), camera_index, static_cast<unsigned long long>(stats.rays.layer_limit),
                  kMaxSeeThroughLayers, kMaxBlendLayers);
   if (!o.stats.empty())
-    write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), j.dump(2) + "\n", &outputs);
+    write_text_atomically(expand_output_pattern(o.stats, key, "--stats"), json_text(j, 2) + "\n", &outputs);
   outputs.commit();
   if (!o.quiet) {
     std::string effects;

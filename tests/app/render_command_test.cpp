@@ -141,6 +141,27 @@ TEST(RenderCommand, BitIdenticalForAnyThreadCount) {
   fs::remove_all(dir);
 }
 
+// A folder whose name is not valid UTF-8 (Linux allows any bytes but '/' and NUL): its
+// stats and `info --json` are written with U+FFFD for the bad byte, where the JSON writer
+// threw (exploratory testing: every farm job rendered into such a folder failed).
+TEST(RenderCommand, StatsAndInfoOfAPathThatIsNotUtf8AreWritten) {
+  const fs::path dir = temp_dir() / "bad\xff";
+  fs::create_directories(dir);
+  for (const char* f : {"default.json", "default.gltf", "default.bin"})
+    fs::copy_file(test::source_path(std::string("scenes/") + f), dir / f, fs::copy_options::overwrite_existing);
+  const fs::path stats = dir / "s.json";
+  const auto r = test::run_command(test::zigzag_binary() + " render '" + (dir / "default.json").string() +
+                                   "' --width 16 --height 16 -q --edges off -o '" + (dir / "o.png").string() +
+                                   "' --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = read_json(stats);
+  EXPECT_NE(j["output"].get<std::string>().find("bad\xef\xbf\xbd"), std::string::npos) << j["output"];
+  const auto info = test::run_command(test::zigzag_binary() + " info --json '" + (dir / "default.json").string() + "'");
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_TRUE(nlohmann::json::accept(info.output)) << info.output;
+  fs::remove_all(dir);
+}
+
 // Without --threads the render takes the cores the process may run on, and --stats says
 // how many: under taskset (as in a cpuset or under Slurm's binding) that is the one core
 // allowed, not the machine's count, which "threads" used to report.
