@@ -79,7 +79,9 @@ void preflight_output(const std::string& option, const std::filesystem::path& pa
       throw Error(where + "unsupported image format '" + path.extension().string() + "'" + formats);
   }
   if (output_is_stream(path)) {  // /dev/stdout, a FIFO: written to, not replaced
-    if (::access(path.c_str(), W_OK) != 0) throw Error(where + "cannot write to it (" + errno_text() + ")");
+    // One of our own descriptors is written through, whatever the file behind it allows.
+    if (!own_descriptor(path) && ::access(path.c_str(), W_OK) != 0)
+      throw Error(where + "cannot write to it (" + errno_text() + ")");
     return;
   }
   if (write_protected(path))

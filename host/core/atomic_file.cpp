@@ -1,6 +1,7 @@
 #include "core/atomic_file.h"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/random.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -129,6 +130,11 @@ void copy_to_stream(const fs::path& temporary, const fs::path& target) {
   for (size_t done = 0; done < bytes.size();) {
     const ssize_t n = ::write(out, bytes.data() + done, bytes.size() - done);
     if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {  // an inherited descriptor left non-blocking
+      pollfd ready{out, POLLOUT, 0};
+      ::poll(&ready, 1, -1);
+      continue;
+    }
     if (n <= 0) throw Error("cannot write " + target.string() + ": " + (n < 0 ? errno_text() : "nothing written"));
     done += size_t(n);
   }
@@ -251,7 +257,7 @@ void OutputSet::stage(const fs::path& given, const std::function<void(const fs::
     fs::create_directories(dir, ec);
     if (ec) throw Error("cannot create directory " + dir.string() + ": " + ec.message());
   }
-  if (write_protected(target))
+  if (!stream && write_protected(target))  // a stream is written into, never replaced
     throw Error("cannot write " + given.string() + ": the file is write-protected (make it writable to replace it)");
   struct stat old {};
   const bool replaces = !stream && ::stat(target.c_str(), &old) == 0 && S_ISREG(old.st_mode);
