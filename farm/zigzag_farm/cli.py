@@ -9,10 +9,12 @@ import signal
 import subprocess
 import sys
 import tempfile
+import threading
+import time
 
 from . import fingerprint
 from .fingerprint import HashCache
-from .job import write_json_atomically, write_protected
+from .job import is_stream, write_json_atomically, write_protected
 from .manifest import Manifest, ManifestBusy, ManifestUnwritable
 from .plan import parse_frames, plan_batch
 from .pass_through import UsageError, render_options
@@ -101,10 +103,21 @@ def _check_numbers(o) -> None:
             raise UsageError(f"{name} {value:g}: must be more than 0")
     if not o.camera:
         raise UsageError("--camera '': expected an index, a camera's name or all")
+    _check_not_empty(o)
+
+
+def _check_not_empty(o) -> None:
+    """An empty value is a mistake (an unset shell variable), not the option left out: tested
+    for truth, `--scheduler ""` ran a local cluster and `--frames ""` the whole range."""
+    for name in ("scheduler", "frames", "output", "stats", "summary", "manifest", "work_dir", "zigzag",
+                 "slurm_queue", "slurm_account", "slurm_walltime", "slurm_memory", "interface"):
+        if getattr(o, name) is not None and not getattr(o, name).strip():
+            raise UsageError(f"--{name.replace('_', '-')} {getattr(o, name)!r}: needs a value "
+                             "(leave the option out for its default)")
 
 
 def _frames(o) -> list[int] | None:
-    if not o.frames:
+    if o.frames is None:
         return None
     try:
         frames = parse_frames(o.frames)
@@ -137,9 +150,16 @@ def _check_outputs_writable(plan, extra: dict[str, str]) -> None:
     """Every file the batch writes (images, stats, parts, summary, manifest) is not a folder,
     and each folder it writes into takes a probe file (once per folder)."""
     seen = set()
+    for f in plan.frames:
+        if is_stream(f.output):
+            raise UsageError(f"-o {f.output}: a device or pipe, not a file: the farm's images are renamed "
+                             "into place on the workers; write them to files (--stats and --summary "
+                             "may be streams)")
     for path, what in [*plan.claims.items(), *extra.items()]:
         if os.path.isdir(path):
             raise UsageError(f"cannot write {what} {path}: it is a folder")
+        if is_stream(path):  # written into, as zigzag render writes streams: no folder to probe
+            continue
         folder = os.path.dirname(path)
         if folder not in seen:
             seen.add(folder)
@@ -203,7 +223,7 @@ def _folders_to_make(folder: str) -> list[str]:
 
 def _client(o):
     from . import cluster
-    if o.scheduler:
+    if o.scheduler is not None:
         return cluster.existing_scheduler(o.scheduler, o.wait)
     if o.slurm is not None:
         return cluster.slurm_cluster(o.slurm, o.wait, queue=o.slurm_queue, account=o.slurm_account,
@@ -213,15 +233,39 @@ def _client(o):
 
 
 _terminated = False
+_stopping = False
+STOP_TIMEOUT_S = 60.0  # the longest the driver takes to stop once signalled (seconds, normally)
 
 
-def _sigterm(signum, frame):
-    # Stopped as on Ctrl-C (jobs cancelled, the cluster closed), then exit 143 (128 + SIGTERM)
-    # as zigzag render does: main() tells the two apart by this flag, as the exception may be
-    # raised again on its way (Dask's sync re-raises what interrupted it).
-    global _terminated
-    _terminated = True
+def _stop(signum, frame):
+    """The first SIGINT or SIGTERM stops the run: jobs cancelled, the cluster closed, then exit
+    130, or 143 (128 + SIGTERM) as zigzag render does: main() tells the two apart by the flag,
+    as the exception may be raised again on its way (Dask's sync re-raises what interrupted
+    it). Later ones are the same request, not acted on: a KeyboardInterrupt raised again inside
+    Dask's teardown broke its locks ("release unlocked lock", a traceback at exit, a hang). A
+    teardown that still hangs is cut short by _stop_or_give_up."""
+    global _terminated, _stopping
+    if _stopping:
+        return
+    _stopping = True
+    _terminated = signum == signal.SIGTERM
+    threading.Thread(target=_stop_or_give_up, daemon=True, name="zigzag-farm stop").start()
     raise KeyboardInterrupt
+
+
+def _stop_or_give_up() -> None:
+    """STOP_TIMEOUT_S after the signal, a driver still stopping (the cluster's close wedged)
+    kills its own processes (workers; their renderers die with them) and exits."""
+    time.sleep(STOP_TIMEOUT_S)
+    import psutil
+    print(f"zigzag-farm: the cluster did not close within {STOP_TIMEOUT_S:g} s; its workers were killed",
+          file=sys.stderr, flush=True)
+    for child in psutil.Process().children(recursive=True):
+        try:
+            child.kill()
+        except psutil.Error:
+            pass
+    os._exit(128 + signal.SIGTERM if _terminated else 130)
 
 
 def _scenes(zigzag: str, paths: list[str], info_args: list[str], hashes: HashCache):
@@ -276,6 +320,9 @@ def render(o) -> int:
     except ValueError as e:
         raise UsageError(f"{e}") from None
     _check_outputs_writable(plan, {})
+    if o.summary and write_protected(o.summary):  # refused once the batch ran, else (exit 1)
+        raise UsageError(f"--summary {o.summary}: the file is write-protected (make it writable to let "
+                         "the farm replace it)")
     _check_with_renderer(zigzag, plan, o, opts)
 
     try:
@@ -284,6 +331,9 @@ def render(o) -> int:
         raise UsageError(f"{e}") from None
     except OSError as e:
         raise UsageError(f"cannot open the manifest {manifest_path}: {e.strerror or e}") from None
+    if manifest.skipped:  # one line, however many: their jobs are simply rendered again
+        print(f"zigzag-farm: warning: {manifest_path}: skipped {manifest.skipped} damaged record(s) "
+              "(what only they proved done is rendered again)", file=sys.stderr)
     hashes.save()
     with manifest, open(os.devnull, "w") as devnull:
         runner = Runner(plan, manifest, RunSettings(zigzag=zigzag, timeout=o.timeout,
@@ -337,13 +387,19 @@ def main(argv: list[str] | None = None) -> int:
         argv, pass_through = argv[:cut], argv[cut + 1:]
     o = _parser().parse_args(argv)
     o.pass_through = pass_through
-    signal.signal(signal.SIGTERM, _sigterm)
+    signal.signal(signal.SIGTERM, _stop)
+    # Only Python's own handler is replaced: an ignored SIGINT (a background job) stays ignored.
+    if signal.getsignal(signal.SIGINT) is signal.default_int_handler:
+        signal.signal(signal.SIGINT, _stop)
     try:
         return render(o)
     except UsageError as e:
         print(f"zigzag-farm: error: {e}", file=sys.stderr)
         return USAGE_ERROR
     except KeyboardInterrupt:
+        if _stopping:  # to the end: Python's exit puts back the default, which would kill it
+            for sig in (signal.SIGINT, signal.SIGTERM):
+                signal.signal(sig, signal.SIG_IGN)
         how, code = ("terminated (SIGTERM)", 128 + signal.SIGTERM) if _terminated else ("interrupted", 130)
         print(f"zigzag-farm: {how}; finished jobs are recorded, a re-run renders the rest", file=sys.stderr)
         return code

@@ -121,6 +121,10 @@ def existing_scheduler(address: str, wait_s: float):
         client = Client(address, timeout=wait_s)
     except (OSError, TimeoutError, ValueError) as e:  # ValueError: not an address
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {e}") from None
+    except Exception as e:  # noqa: BLE001 - a service that is no Dask scheduler answered: its
+        # bytes read as Dask's frames give anything (a MemoryError for a huge frame length)
+        raise ClusterError(f"cannot reach the Dask scheduler at {address}: what answered there is no "
+                           f"Dask scheduler ({type(e).__name__}: {' '.join(str(e).split())[:200]})") from None
     # A lost scheduler is the driver's one line (cli.internal_error_line): Dask's client
     # would log its reconnection attempts, tracebacks included, on the way there.
     with contextlib.ExitStack() as restore, client:

@@ -14,6 +14,8 @@ Standard library only, so a worker's environment needs nothing beyond Dask and t
 from __future__ import annotations
 
 import ctypes
+import errno
+import fcntl
 import hashlib
 import json
 import os
@@ -21,6 +23,7 @@ import signal
 import socket
 import stat
 import subprocess
+import sys
 import time
 import uuid
 
@@ -182,13 +185,16 @@ def _publish_job_output(tmp: str, final: str) -> dict:
     """A job's finished image published over `final`, unless the user write-protected it:
     then refused, not replaced, as zigzag render refuses one (the rename needs only the
     folder's permission)."""
+    if is_stream(final):  # refused before the run (cli); a rename would replace the device
+        raise UsageFailure(f"{final}: a device or pipe, not a file: the farm renames its images into place")
     if write_protected(final):
         raise UsageFailure(f"{final}: the file is write-protected (make it writable to let the farm replace it)")
     return _publish(tmp, final)
 
 
 def _publish(tmp: str, final: str) -> dict:
-    """fsync the finished temporary file and rename it over the final name."""
+    """fsync the finished temporary file and rename it over the final name, with the replaced
+    file's group and permission bits (not setuid/setgid/sticky), as zigzag render keeps them."""
     fd = os.open(tmp, os.O_RDONLY)
     try:
         os.fsync(fd)
@@ -196,23 +202,133 @@ def _publish(tmp: str, final: str) -> dict:
         os.close(fd)
     digest = sha256_of(tmp)
     size = os.path.getsize(tmp)
-    os.replace(tmp, written_path(final))
+    target = written_path(final)
+    _take_mode(tmp, target)
+    os.replace(tmp, target)
     return {"output": final, "size": size, "sha256": digest}
 
 
-def write_json_atomically(path: str, data) -> dict:
+def _take_mode(tmp: str, target: str) -> None:
+    """A 0660 image stays 0660 and a 0600 one is never readable by others: the temporary
+    takes the file it replaces' group (best effort: if ours to give) and mode bits."""
+    try:
+        old = os.stat(target)
+    except FileNotFoundError:
+        return
+    if not stat.S_ISREG(old.st_mode):
+        return
+    try:
+        os.chown(tmp, -1, old.st_gid)
+    except OSError:
+        pass
+    os.chmod(tmp, stat.S_IMODE(old.st_mode) & 0o777)
+
+
+def _refuse_write_protected(path: str) -> None:
+    if write_protected(path):
+        raise PermissionError(errno.EACCES, "the file is write-protected (make it writable to let the "
+                                            "farm replace it)", path)
+
+
+def write_json_atomically(path: str, data) -> dict | None:
     """JSON written whole to a temporary, fsynced and renamed over `path` (a failure keeps
-    what was there and removes the temporary) -> the file as the manifest records it."""
+    what was there and removes the temporary) -> the file as the manifest records it. A
+    stream (a device, pipe, /dev/stdout) gets the bytes instead, as zigzag render writes one
+    -> None: nothing on disk to record (a record no stream could prove would have it written
+    again by every look at the frame). A write-protected file is refused (PermissionError)."""
+    text = json.dumps(data, indent=2) + "\n"
+    if is_stream(path):
+        write_to_stream(path, text.encode())
+        return None
+    _refuse_write_protected(path)
     os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
     tmp = temporary_name(os.path.abspath(written_path(path)))
     try:
-        with open(tmp, "w") as fh:
-            json.dump(data, fh, indent=2)
-            fh.write("\n")
+        # 0600 until _publish gives it the replaced file's mode: never readable meanwhile.
+        with os.fdopen(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL,
+                               0o600 if os.path.isfile(path) else 0o666), "w") as fh:
+            fh.write(text)
         return _publish(tmp, path)
     except BaseException:
         _remove(tmp)
         raise
+
+
+# -- streams: as zigzag render writes them (core/atomic_file) ----------------------------
+
+def own_descriptor(path: str) -> int | None:
+    """The descriptor of this process that `path` names (/dev/stdout, /dev/stderr, /dev/fd/N,
+    /proc/self/fd/N, /proc/PID/fd/N, or a link to one), if open for writing: written through,
+    so that `>> log` appends and a pipe gets the bytes. Its file may be no path at all."""
+    p = path
+    for _ in range(40):  # the kernel's own limit of links
+        name = os.path.normpath(os.path.abspath(p))
+        fd = {"/dev/stdout": 1, "/dev/stderr": 2}.get(name)
+        for folder in ("/dev/fd/", "/proc/self/fd/", f"/proc/{os.getpid()}/fd/"):
+            rest = name[len(folder):]
+            if fd is None and name.startswith(folder) and rest.isdigit() and len(rest) <= 9:
+                fd = int(rest)
+        if fd is not None:
+            try:
+                writable = fcntl.fcntl(fd, fcntl.F_GETFL) & os.O_ACCMODE != os.O_RDONLY
+            except OSError:
+                return None
+            return fd if writable else None
+        if not os.path.islink(p):
+            return None
+        try:
+            to = os.readlink(p)
+        except OSError:
+            return None
+        p = os.path.join(os.path.dirname(p), to)
+    return None
+
+
+def is_stream(path: str) -> bool:
+    """A character device, FIFO or socket, or one of our descriptors: it takes the bytes;
+    a rename would put a regular file in its place (as root even over /dev/null)."""
+    if own_descriptor(path) is not None:
+        return True
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return False
+    return stat.S_ISCHR(mode) or stat.S_ISFIFO(mode) or stat.S_ISSOCK(mode)
+
+
+def write_to_stream(path: str, data: bytes) -> None:
+    """data written into the stream `path`. A FIFO nobody reads fails (ENXIO) instead of
+    hanging the run; a closed pipe fails too (Python ignores SIGPIPE: EPIPE)."""
+    own = own_descriptor(path)
+    if own is not None:
+        for f in (sys.stdout, sys.stderr):  # what Python holds for it goes first
+            try:
+                f.flush()
+            except (OSError, ValueError, AttributeError):
+                pass
+        _write_all(own, data, path)
+        return
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_NONBLOCK | os.O_CLOEXEC)
+    except OSError as e:
+        if e.errno == errno.ENXIO:
+            raise OSError(errno.ENXIO, "no process is reading the pipe", path) from None
+        raise
+    try:
+        # Blocking again: the writes then wait, as a shell's > does, while the reader catches up.
+        fcntl.fcntl(fd, fcntl.F_SETFL, fcntl.fcntl(fd, fcntl.F_GETFL) & ~os.O_NONBLOCK)
+        _write_all(fd, data, path)
+    finally:
+        os.close(fd)
+
+
+def _write_all(fd: int, data: bytes, path: str) -> None:
+    view = memoryview(data)
+    try:
+        while view:
+            view = view[os.write(fd, view):]
+    except OSError as e:  # named: the report says which output failed
+        raise OSError(e.errno, e.strerror, path) from None
 
 
 def _remove(*paths: str) -> None:

@@ -49,13 +49,30 @@ def verified(record: dict | None, image_only: bool = False, hashed: dict | None 
         return False
 
 
+def _file_record(record) -> bool:
+    """{"output": path, "size": bytes, "sha256": hex, ...}: what verified() reads."""
+    return (isinstance(record, dict) and isinstance(record.get("output"), str)
+            and type(record.get("size")) is int and isinstance(record.get("sha256"), str))
+
+
+def well_formed(record) -> bool:
+    """A record as Manifest.record writes it, in the shapes the driver reads: anything else
+    (a hand-edited or damaged line) counts as no record, not as a crash of every re-run."""
+    optional = {"also": list, "stats": dict, "stats_file": str, "seconds": (int, float), "worker": str}
+    return (_file_record(record) and isinstance(record.get("key"), str)
+            and all(record.get(k) is None or isinstance(record[k], t) for k, t in optional.items())
+            and all(_file_record(other) for other in record.get("also") or ()))
+
+
 class Manifest:
     def __init__(self, path: str):
         self.path = path
         self.records: dict[str, dict] = {}
         self._hashed: dict[tuple, str] = {}  # verified()'s memo for this run
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-        self._file = open(path, "a+", encoding="utf-8")
+        # Binary: records are written as encoded bytes (record), and a line of bytes that are
+        # no UTF-8 (a damaged disk) must cost that line only, not the decoding of the file.
+        self._file = open(path, "a+b")
         try:
             fcntl.flock(self._file, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -67,16 +84,24 @@ class Manifest:
                                "and merge the same parts); a batch of other images writing into the "
                                "same output folder can take its own --manifest FILE") from None
         self._file.seek(0)
-        text = self._file.read()
+        data = self._file.read()
         # A tail torn by a crash ends without a newline: the next record starts a fresh line.
-        self._torn = bool(text) and not text.endswith("\n")
-        for line in text.splitlines():
+        self._torn = bool(data) and not data.endswith(b"\n")
+        # Lines that are no records (bytes that are no UTF-8, wrong shapes) are skipped as a
+        # torn line is: their jobs are rendered again. Counted for one warning (the driver's);
+        # a line torn by a crash is no news and is not.
+        self.skipped = 0
+        for line in data.split(b"\n"):
             try:
-                record = json.loads(line)
+                record = json.loads(line.decode("utf-8"))  # as written (json guesses UTF-16 from bytes)
+            except UnicodeDecodeError:
+                record = None
             except json.JSONDecodeError:
                 continue  # a line torn by a crash
-            if isinstance(record, dict) and "key" in record:
+            if well_formed(record):
                 self.records[record["key"]] = record
+            else:
+                self.skipped += 1
 
     def done(self, key: str, image_only: bool = False) -> bool:
         return verified(self.records.get(key), image_only, self._hashed)

@@ -94,6 +94,20 @@ def _aov_files(args: list[str]) -> list[str]:
     return files
 
 
+def _positionals(args: list[str]) -> list[str]:
+    """What zigzag render would take as scene files: words that are no option's value (every
+    option but FLAGS takes one; `--aov NAME FILE`'s FILE is refused by _aov_files first)."""
+    found, value_next = [], False
+    for a in args:
+        if value_next:
+            value_next = False
+        elif a.startswith("-"):  # `--x=v` is split by now but for flags (`--edges-serial=false`)
+            value_next = a not in FLAGS and "=" not in a
+        else:
+            found.append(a)
+    return found
+
+
 @dataclass
 class RenderOptions:
     """The renderer options of a batch, split by their role."""
@@ -126,6 +140,10 @@ def render_options(o, passed: list[str]) -> RenderOptions:
         # region for its own part: AOVs go into the -o EXR as layers instead.
         raise UsageError(f"--aov ... {file} after --: an AOV image of its own is not a farm output; "
                          "give --aov NAME without a file and an .exr -o to get it as layers")
+    for scene in _positionals(passed):
+        # Each job would render it too, into the job's temporaries (every job failed naming
+        # one), and the plan, made from the scenes before --, would not know it.
+        raise UsageError(f"{scene} after --: scenes go before -- (after it, only options for every render)")
     width = _size_option(o.width, passed, "--width")
     height = _size_option(o.height, passed, "--height")
     _positive_float(option_value(passed, "--fps"), "--fps (after --)")

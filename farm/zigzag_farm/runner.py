@@ -207,7 +207,13 @@ class Runner:
         rendered); None: it has jobs to run."""
         if not f.merged and self.manifest.done(f.parts[0].key):
             return "recorded"
-        return "protected" if job.write_protected(f.output) else None
+        return "protected" if self._protected(f) else None
+
+    @staticmethod
+    def _protected(f: FrameJob) -> str | None:
+        """The frame's image or stats file the user write-protected: its stats would be
+        refused after the render (job.write_json_atomically), so it is not rendered."""
+        return next((p for p in (f.output, f.stats) if p and job.write_protected(p)), None)
 
     def _complete(self, f: FrameJob) -> bool:
         """The image and (when asked for) the stats file exist and match the manifest."""
@@ -277,7 +283,7 @@ class Runner:
                 failed_frames.add(f.key)
                 self.outcome.failures.append(Failure(
                     describe(dataclasses.replace(f.parts[0], region=None)), f.key,
-                    f"{f.output}: the file is write-protected (make it writable to let the farm replace it); "
+                    f"{self._protected(f)}: the file is write-protected (make it writable to let the farm replace it); "
                     "not rendered"))
                 continue
             if client is None:  # needs_cluster() saw no job here: the files changed since

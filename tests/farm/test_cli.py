@@ -52,6 +52,12 @@ def test_how_a_job_runs_is_not_part_of_its_key():
     assert r.runtime_args == ["--threads", "2", "-q", "--vk-validate", "--edges-serial", "--vk-device", "1"]
 
 
+def test_option_values_after_dashes_are_no_scenes():
+    assert options(passed=["--eps", "0.1", "-q", "--aov", "depth", "--max-depth", "3",
+                           "--vk-validate", "--edges-serial=false", "--assets", "a"]).key_args == [
+        "--eps", "0.1", "--aov", "depth", "--max-depth", "3", "--edges-serial=false", "--assets", "a"]
+
+
 def test_info_gets_the_options_it_takes_in_either_form():
     r = options(passed=["--assets=/a", "--eps", "0.1", "--fps", "30", "--height=90"])
     pairs = dict(zip(r.info_args[::2], r.info_args[1::2]))
@@ -99,6 +105,20 @@ def usage_error(capsys, *args):
     # zigzag render writes no image with these: every job failed and was retried (review).
     (["--", "--dry-run"], "--dry-run after --: a job that renders nothing cannot be a farm job"),
     (["--", "--eps", "0.1", "-h"], "-h after --: a job that renders nothing"),
+    # Passed the dry-run check (it took it as a second scene); every job then failed naming
+    # its temporary (review).
+    # Tested for truth: a local cluster and the scene's whole range ran instead (review).
+    (["--scheduler", ""], "--scheduler '': needs a value"),
+    (["--frames", ""], "--frames '': needs a value"),
+    (["--frames= "], "--frames ' ': needs a value"),
+    (["--stats", ""], "--stats '': needs a value"),
+    (["--summary", ""], "--summary '': needs a value"),
+    (["--manifest", ""], "--manifest '': needs a value"),
+    (["--work-dir", ""], "--work-dir '': needs a value"),
+    (["--zigzag", ""], "--zigzag '': needs a value"),
+    (["--", "other.json"], "other.json after --: scenes go before --"),
+    (["--", "--eps", "0.1", "-q", "other.json"], "other.json after --: scenes go before --"),
+    (["--", "--edges-serial=false", "other.json", "--spp", "4"], "other.json after --: scenes go before --"),
 ])
 def test_bad_numbers_and_options_are_usage_errors(capsys, workdir, scene, args, message):
     err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG, *args)
@@ -127,6 +147,17 @@ def test_a_summary_onto_an_output_is_a_usage_error(capsys, workdir, scene):
     assert os.listdir(workdir) == ["anim.json"]
 
 
+def test_a_write_protected_summary_is_a_usage_error_before_anything_runs(capsys, workdir, scene):
+    """It was replaced by the rename (and, once refused, only after the whole batch)."""
+    with open(f"{workdir}/summary.json", "w") as f:
+        f.write("MINE")
+    os.chmod(f"{workdir}/summary.json", 0o444)
+    err = usage_error(capsys, scene, "-o", f"{workdir}/out/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--summary", f"{workdir}/summary.json")
+    assert f"--summary {workdir}/summary.json: the file is write-protected" in err
+    assert not os.path.exists(f"{workdir}/out") and open(f"{workdir}/summary.json").read() == "MINE"
+
+
 @pytest.mark.parametrize("where", ["output", "summary", "manifest", "stats"])
 @pytest.mark.parametrize("how", ["parent is a file", "cannot be made"])
 def test_unwritable_places_are_usage_errors_before_anything_runs(capsys, workdir, scene, where, how):
@@ -152,6 +183,15 @@ def test_an_output_that_is_a_folder_is_a_usage_error_wherever_it_comes(capsys, w
     assert f"cannot write the image of anim camera 0 f2 {workdir}/out/f2.png: it is a folder" in err
 
 
+def test_an_image_output_that_is_a_stream_is_a_usage_error(capsys, workdir, scene):
+    """Workers rename their images into place: a FIFO (or a device) as -o became a regular
+    file. Refused before anything runs; --stats and --summary may be streams."""
+    os.mkfifo(f"{workdir}/f1.png")
+    err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG)
+    assert f"-o {workdir}/f1.png: a device or pipe, not a file" in err
+    assert sorted(os.listdir(workdir)) == ["anim.json", "f1.png"] and not os.path.isfile(f"{workdir}/f1.png")
+
+
 def test_layers_of_aovs_after_dashes_are_fine():
     assert options(passed=["--aov", "depth", "--aov=normal", "--eps", "0.1"]).key_args == [
         "--aov", "depth", "--aov", "normal", "--eps", "0.1"]
@@ -161,6 +201,47 @@ def test_a_bad_scheduler_address_is_a_usage_error(capsys, workdir, scene):
     err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
                       "--scheduler", "bogus", "--wait", "2")
     assert "cannot reach the Dask scheduler at bogus" in err
+
+
+@pytest.fixture
+def garbage_server():
+    """A service on 127.0.0.1 that is no Dask scheduler: answers anything with an HTTP 400,
+    as a proxy or load balancer does -> its address."""
+    import socket
+    import threading
+    srv = socket.socket()
+    srv.bind(("127.0.0.1", 0))
+    srv.listen(8)
+    srv.settimeout(0.2)
+    stop = threading.Event()
+
+    def serve():
+        while not stop.is_set():
+            try:
+                conn, _ = srv.accept()
+            except OSError:
+                continue
+            with conn:
+                try:
+                    conn.recv(4096)
+                    conn.sendall(b"HTTP/1.1 400 Bad Request\r\nconnection: close\r\ncontent-length: 0\r\n\r\n")
+                except OSError:
+                    pass
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{srv.getsockname()[1]}"
+    stop.set()
+    thread.join(timeout=5)
+    srv.close()
+
+
+def test_a_scheduler_address_where_another_service_answers_is_a_usage_error(capsys, workdir, scene,
+                                                                              garbage_server):
+    """Its answer read as Dask's frames gave "internal error: MemoryError ...", exit 1."""
+    err = usage_error(capsys, scene, "-o", f"{workdir}/f{{frame}}.png", "--zigzag", FAKE_ZIGZAG,
+                      "--scheduler", garbage_server, "--wait", "3")
+    assert f"cannot reach the Dask scheduler at {garbage_server}: what answered there is no Dask scheduler" in err
 
 
 @pytest.mark.parametrize("regions,message", [
@@ -299,3 +380,17 @@ def test_what_ends_a_run_is_said_in_one_line():
     other = cli.internal_error_line(RuntimeError("first\nsecond " + "x" * 400))
     assert "\n" not in other and other.startswith("internal error: RuntimeError: first second ")
     assert other.endswith("...") and len(other) < 360
+
+
+def test_a_stop_that_hangs_is_cut_short_killing_the_drivers_processes(monkeypatch, capsys):
+    """Signals after the first are not acted on (cli._stop); what still bounds the stop is
+    this: STOP_TIMEOUT_S after the signal, the driver's child processes are killed and it exits
+    with the signal's code."""
+    child = subprocess.Popen([sys.executable, "-c", "import time; time.sleep(60)"])
+    exits = []
+    monkeypatch.setattr(cli.time, "sleep", lambda s: None)
+    monkeypatch.setattr(cli.os, "_exit", exits.append)
+    monkeypatch.setattr(cli, "_terminated", True)
+    cli._stop_or_give_up()
+    assert child.wait(timeout=10) == -9 and exits == [143]
+    assert "did not close within 60 s" in capsys.readouterr().err

@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 
 import psutil
 import pytest
@@ -568,7 +569,9 @@ def test_fake_ctrl_c_while_the_cluster_starts_is_quiet_too(workdir, after_s):
     and one during the driver's Dask imports or its LocalCluster's start a traceback of its
     own (review). Workers are spawned with SIGINT blocked; the driver imports Dask where it
     handles Ctrl-C and takes one during the start once the cluster can be closed."""
-    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 3], sleep=1.0)
+    # 4 s of renders on 2 workers: the batch outlasts the latest signal (with 2 s, a fast
+    # start had finished it at 4.0 s, and the signal came as Python exited: -2).
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 7], sleep=1.0)
     driver = own_group_driver(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame:04}}.png", "--workers", "2"))
 
     def start_up():
@@ -611,3 +614,97 @@ def test_fake_work_dir_removes_exactly_the_folders_the_run_made(workdir):
     assert os.listdir(f"{workdir}/wd3") == ["mine"] and os.listdir(f"{workdir}/wd3/mine") == []
     assert not os.path.exists(f"{workdir}/fresh")
     assert sorted(n for n in os.listdir(f"{workdir}/out") if not n.startswith(".")) == ["0.png", "1.png", "2.png"]
+
+
+def test_fake_stats_into_dev_stdout_reach_a_pipe_and_a_log_unreplaced(workdir):
+    """--stats /dev/stdout: renamed over, it replaced the file `>> log` appends to, and through
+    a pipe every frame failed (FileNotFoundError). Written into, as zigzag render does."""
+    scene = write_scene(workdir, "still")
+    out = os.path.join(workdir, "out")
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--stats", "/dev/stdout"))
+    assert p.returncode == 0, p.stderr
+    assert json.loads(p.stdout)["pixels"] == 48 * 32
+    # Once: the frame is done (no record could prove a stream's bytes, so none is kept; one
+    # that always failed had the stats written at each of the driver's looks at the frame).
+    p = run_farm(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--stats", "/dev/stdout"))
+    assert p.returncode == 0 and p.stdout == "" and "1 already complete" in p.stderr, p.stderr
+    assert run_farm(*fake_farm(scene, "-o", f"{workdir}/later/{{scene}}.png")).returncode == 0
+    p = run_farm(*fake_farm(scene, "-o", f"{workdir}/later/{{scene}}.png", "--stats", "/dev/stdout"))
+    assert p.returncode == 0 and json.loads(p.stdout)["pixels"] == 48 * 32, p.stderr  # asked for later: once
+    assert "0 rendered, 1 already complete" in p.stderr, p.stderr
+    log = os.path.join(workdir, "log.txt")
+    with open(log, "w") as f:
+        f.write("earlier line\n")
+    with open(log, "a") as f:
+        code = subprocess.run(farm_cmd(*fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--stats", "/dev/stdout",
+                                                  "--manifest", f"{workdir}/m.jsonl")),
+                              env=farm_env(), stdout=f, stderr=subprocess.PIPE, timeout=180).returncode
+    assert code == 0
+    first, rest = read(log).split(b"\n", 1)
+    assert first == b"earlier line" and json.loads(rest)["pixels"] == 48 * 32
+
+
+def test_fake_write_protected_stats_are_refused_and_modes_kept(workdir):
+    """A 0444 stats file was replaced (the rename needs only the folder's permission) and
+    every replaced file took 0644: refused like a write-protected image, modes kept."""
+    scene = write_scene(workdir, "still")
+    out = os.path.join(workdir, "out")
+    args = fake_farm(scene, "-o", f"{out}/{{scene}}.png", "--stats", f"{out}/{{scene}}.json")
+    assert run_farm(*args).returncode == 0
+    os.chmod(f"{out}/still.png", 0o660)
+    os.chmod(f"{out}/still.json", 0o600)
+    p = run_farm(*args, "--", "--eps", "0.03")  # other options: rendered again
+    assert p.returncode == 0, p.stderr
+    assert oct(os.stat(f"{out}/still.png").st_mode & 0o7777) == "0o660"
+    assert oct(os.stat(f"{out}/still.json").st_mode & 0o7777) == "0o600"
+    stats = read(f"{out}/still.json")
+    os.chmod(f"{out}/still.json", 0o444)
+    p = run_farm(*args, "--", "--eps", "0.05")
+    assert p.returncode == 1 and "still.json: the file is write-protected" in p.stderr, p.stderr
+    assert "not rendered" in p.stderr and read(f"{out}/still.json") == stats
+    assert oct(os.stat(f"{out}/still.json").st_mode & 0o7777) == "0o444"
+
+
+def test_fake_damaged_manifest_lines_are_one_warning_not_a_failure_of_every_run(workdir):
+    """Bytes that are no UTF-8, or a record of another shape, made every re-run exit 1 with
+    an internal error: skipped, one warning line, and what they alone proved done rendered."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 1])
+    out = os.path.join(workdir, "out")
+    args = fake_farm(scene, "-o", f"{out}/f{{frame}}.png", "--summary", f"{workdir}/summary.json")
+    assert run_farm(*args).returncode == 0
+    manifest = f"{out}/.zigzag-farm-manifest.jsonl"
+    records = [json.loads(line) for line in open(manifest)]
+    frame1 = next(r for r in records if r["kind"] == "frame" and r["output"].endswith("f1.png"))
+    with open(manifest, "wb") as f:
+        f.writelines((json.dumps(r) + "\n").encode() for r in records if r is not frame1)
+        f.write(b"\xff\xfe damaged\n" + json.dumps({**frame1, "also": "x"}).encode() + b"\n")
+    p = run_farm(*args)
+    assert p.returncode == 0, p.stderr
+    assert [line for line in p.stderr.splitlines() if "warning" in line] == [
+        f"zigzag-farm: warning: {manifest}: skipped 2 damaged record(s) (what only they proved done is rendered again)"]
+    assert summary_of(workdir)["rendered"] == 0 and summary_of(workdir)["skipped"] == 2  # f1's job record stands
+
+
+def test_fake_ctrl_c_again_while_the_cluster_closes_is_quiet_and_ends(workdir):
+    """A second Ctrl-C (or `timeout --foreground`'s second SIGINT) while the driver cancelled
+    its jobs and closed the LocalCluster raised KeyboardInterrupt inside Dask's teardown:
+    "internal error: RuntimeError: release unlocked lock" exit 1, a traceback at exit, or a
+    driver hung for good (review: 3 in 60). Further signals are the same request now."""
+    scene = write_scene(workdir, "anim", animated=True, frame_range=[0, 7], sleep=1.0)
+    driver = own_group_driver(*fake_farm(scene, "-o", f"{workdir}/out/f{{frame}}.png", "--workers", "2",
+                                         "--regions", "2"))
+
+    def again_and_again():
+        os.killpg(driver.pid, signal.SIGINT)
+        for _ in range(200):  # through the whole teardown, every 10 ms
+            time.sleep(0.01)
+            try:
+                driver.send_signal(signal.SIGINT)
+            except ProcessLookupError:
+                return
+    tree, err = signalled(driver, again_and_again, until=lambda: two_renderers(driver))
+    assert driver.returncode == 130, err
+    assert "Traceback" not in err and "KeyboardInterrupt" not in err and "internal error" not in err, err
+    assert err.strip().splitlines()[-1].startswith("zigzag-farm: interrupted"), err
+    wait_for(lambda: not any(p.is_running() and p.status() != psutil.STATUS_ZOMBIE for p in tree),
+             20, "the workers and renderers to exit")

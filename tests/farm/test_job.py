@@ -195,3 +195,78 @@ def test_what_a_failed_attempt_wrote_is_removed(workdir):
     with pytest.raises(job.JobError, match="out of memory"):
         job.render(spec(write_scene(workdir, "s"), out, zigzag=fake))
     assert os.listdir(os.path.dirname(out)) == []
+
+
+# -- streams and the replaced files' modes, as zigzag render writes them (core/atomic_file) --
+
+def write_json_in_child(path, stdout):
+    """job.write_json_atomically(path) in a child whose standard output is `stdout`."""
+    code = f"from zigzag_farm import job; job.write_json_atomically({path!r}, {{'a': 1}})"
+    return subprocess.run([sys.executable, "-c", code], stdout=stdout, stderr=subprocess.PIPE,
+                          env={**os.environ, "PYTHONPATH": os.path.join(ROOT, "farm")}, timeout=60)
+
+
+def test_json_into_dev_stdout_appends_to_a_log_and_reaches_a_pipe(workdir):
+    """A rename over /dev/stdout replaced the file `>> log` appends to (review: the log's
+    earlier lines lost), and through a pipe failed with FileNotFoundError."""
+    log = os.path.join(workdir, "log.txt")
+    with open(log, "w") as f:
+        f.write("earlier line\n")
+    with open(log, "a") as f:
+        p = write_json_in_child("/dev/stdout", f)
+    assert p.returncode == 0, p.stderr
+    assert read(log) == b'earlier line\n{\n  "a": 1\n}\n'
+    p = write_json_in_child("/dev/stdout", subprocess.PIPE)
+    assert p.returncode == 0 and p.stdout == b'{\n  "a": 1\n}\n', p.stderr
+
+
+def test_json_into_a_fifo_is_written_into_it_and_one_nobody_reads_fails_at_once(workdir):
+    fifo = os.path.join(workdir, "stats.json")
+    os.mkfifo(fifo)
+    with pytest.raises(OSError, match="no process is reading the pipe"):
+        job.write_json_atomically(fifo, {"a": 1})
+    reader = subprocess.Popen(["cat", fifo], stdout=subprocess.PIPE)
+    try:
+        wait_for(lambda: any(fifo in " ".join(p.cmdline()) for p in psutil.Process().children()), 10, "reader")
+        time.sleep(0.2)  # cat opens the FIFO just after it starts
+        job.write_json_atomically(fifo, {"a": 1})
+    finally:
+        out, _ = reader.communicate(timeout=10)
+    assert out == b'{\n  "a": 1\n}\n'
+    assert os.listdir(workdir) == ["stats.json"] and os.path.exists(fifo) and not os.path.isfile(fifo)
+
+
+@pytest.mark.skipif(os.geteuid() != 0, reason="mknod needs root")
+def test_json_into_a_character_device_keeps_the_device(workdir):
+    """As root, --stats /dev/null replaced the system's /dev/null with a file: here a copy."""
+    null = os.path.join(workdir, "null")
+    os.mknod(null, 0o666 | __import__("stat").S_IFCHR, os.makedev(1, 3))
+    job.write_json_atomically(null, {"a": 1})
+    assert __import__("stat").S_ISCHR(os.stat(null).st_mode) and os.listdir(workdir) == ["null"]
+
+
+def test_a_write_protected_json_is_refused_and_kept(workdir):
+    path = os.path.join(workdir, "s.json")
+    with open(path, "w") as f:
+        f.write("MINE")
+    os.chmod(path, 0o444)
+    with pytest.raises(PermissionError, match="write-protected"):
+        job.write_json_atomically(path, {"a": 1})
+    assert read(path) == b"MINE" and os.listdir(workdir) == ["s.json"]
+
+
+@pytest.mark.parametrize("mode", [0o660, 0o600, 0o444 | 0o200])
+def test_replaced_images_and_json_keep_their_mode(workdir, mode):
+    """os.replace gave every replaced file the temporary's 0644 (a 0600 image became
+    readable by all); zigzag render keeps the mode bits, never setuid/setgid/sticky."""
+    scene = write_scene(workdir, "s")
+    out, stats = os.path.join(workdir, "s.png"), os.path.join(workdir, "s.stats.json")
+    for path in (out, stats):
+        with open(path, "w") as f:
+            f.write("OLD")
+        os.chmod(path, mode | 0o4000)  # setuid: dropped
+    job.render(spec(scene, out))
+    job.write_json_atomically(stats, {"a": 1})
+    for path in (out, stats):
+        assert oct(os.stat(path).st_mode & 0o7777) == oct(mode), path
+    assert read(out) != b"OLD" and read(stats) != b"OLD"

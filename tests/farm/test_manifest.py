@@ -60,6 +60,42 @@ def test_a_torn_last_line_is_ignored_and_the_next_record_starts_fresh(workdir):
     assert json.loads(lines[-1])["key"] == "kb"
 
 
+@pytest.mark.parametrize("bad", [
+    b"\xff\xfe garbage from a damaged disk",
+    b'{"key": "kb", "kind": "frame", "output": "\xff.png", "size": 1, "sha256": "x"}',
+    b'{"key": "kb", "kind": "frame", "output": "b.png", "size": 1, "sha256": "x", "also": "x"}',
+    b'{"key": "kb", "kind": "frame", "output": "b.png", "size": 1, "sha256": "x", "also": [5]}',
+    b'{"key": ["kb"], "kind": "frame", "output": "b.png", "size": 1, "sha256": "x"}',
+    b'{"key": "kb", "kind": "frame", "output": 7, "size": "1", "sha256": null}',
+    b'{"key": "kb", "kind": "frame", "output": "b.png", "size": 1, "sha256": "x", "stats": [1]}',
+    b'[1, 2]',
+])
+def test_a_damaged_record_is_skipped_and_counted_not_a_crash_of_every_run(workdir, bad):
+    """Such a line made every later run exit 1 with an internal error (a strict decode of the
+    file, verified() taking "also" as a list of dicts, a list as a dict key)."""
+    m_path = os.path.join(workdir, "m.jsonl")
+    a = output(workdir, "a.png", b"a")
+    b = output(workdir, "b.png", b"b")
+    with Manifest(m_path) as m:
+        m.record("ka", "frame", a)
+    with open(m_path, "ab") as f:
+        f.write(bad + b"\n")
+    with Manifest(m_path) as m:
+        assert m.done("ka") and not m.done("kb")
+        assert m.skipped == 1  # for the driver's one warning line
+        m.record("kb", "frame", b)
+    with Manifest(m_path) as m:
+        assert m.done("ka") and m.done("kb") and m.skipped == 1
+
+
+def test_a_torn_line_is_not_counted_as_damaged(workdir):
+    m_path = os.path.join(workdir, "m.jsonl")
+    with open(m_path, "w") as f:
+        f.write('{"key": "kb", "kind": "fra\n{"key": "kc"')
+    with Manifest(m_path) as m:
+        assert m.skipped == 0 and m.records == {}
+
+
 def test_one_driver_per_manifest(workdir):
     m_path = os.path.join(workdir, "m.jsonl")
     with Manifest(m_path):
