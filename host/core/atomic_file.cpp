@@ -173,18 +173,22 @@ void sync_directory(const fs::path& dir) {
   ::close(fd);
 }
 
+// `path`, then each name its symbolic links lead to in turn (at most 40 followed: the
+// kernel's own limit); the last is what gets written.
+std::vector<fs::path> link_chain(const fs::path& path) {
+  std::vector<fs::path> chain{path};
+  std::error_code ec;
+  for (int hops = 0; hops < 40 && fs::is_symlink(chain.back(), ec); ++hops) {
+    const fs::path to = fs::read_symlink(chain.back(), ec);
+    if (ec) break;
+    chain.push_back(to.is_absolute() ? to : chain.back().parent_path() / to);
+  }
+  return chain;
+}
+
 }  // namespace
 
-fs::path output_target(const fs::path& path) {
-  fs::path p = path;
-  std::error_code ec;
-  for (int hops = 0; hops < 40 && fs::is_symlink(p, ec); ++hops) {  // 40: the kernel's own limit
-    const fs::path to = fs::read_symlink(p, ec);
-    if (ec) break;
-    p = to.is_absolute() ? to : p.parent_path() / to;
-  }
-  return p;
-}
+fs::path output_target(const fs::path& path) { return link_chain(path).back(); }
 
 bool write_protected(const fs::path& target) {
   struct stat st {};
@@ -202,21 +206,16 @@ std::optional<int> own_descriptor(const fs::path& target) {
     return std::stoi(name.substr(folder.size()));
   };
   std::error_code ec;
-  fs::path p = target;
-  for (int hops = 0; hops < 40; ++hops) {  // each name along the links, as output_target follows them
+  const std::string mine = "/proc/" + std::to_string(::getpid()) + "/fd/";
+  for (const fs::path& p : link_chain(target)) {  // each name along the links, as output_target follows them
     const std::string name = fs::absolute(p, ec).lexically_normal().string();
     std::optional<int> fd = name == "/dev/stdout" ? 1 : name == "/dev/stderr" ? 2 : std::optional<int>();
-    const std::string mine = "/proc/" + std::to_string(::getpid()) + "/fd/";
     for (const std::string& folder : {std::string("/dev/fd/"), std::string("/proc/self/fd/"), mine})
       if (!fd) fd = descriptor(name, folder);
     if (fd) {  // open, and for writing
       const int flags = ::fcntl(*fd, F_GETFL);
       return flags >= 0 && (flags & O_ACCMODE) != O_RDONLY ? fd : std::nullopt;
     }
-    if (!fs::is_symlink(p, ec)) return std::nullopt;
-    const fs::path to = fs::read_symlink(p, ec);
-    if (ec) return std::nullopt;
-    p = to.is_absolute() ? to : p.parent_path() / to;
   }
   return std::nullopt;
 }
