@@ -105,8 +105,6 @@ def usage_error(capsys, *args):
     # zigzag render writes no image with these: every job failed and was retried (review).
     (["--", "--dry-run"], "--dry-run after --: a job that renders nothing cannot be a farm job"),
     (["--", "--eps", "0.1", "-h"], "-h after --: a job that renders nothing"),
-    # Passed the dry-run check (it took it as a second scene); every job then failed naming
-    # its temporary (review).
     # Tested for truth: a local cluster and the scene's whole range ran instead (review).
     (["--scheduler", ""], "--scheduler '': needs a value"),
     (["--frames", ""], "--frames '': needs a value"),
@@ -116,6 +114,8 @@ def usage_error(capsys, *args):
     (["--manifest", ""], "--manifest '': needs a value"),
     (["--work-dir", ""], "--work-dir '': needs a value"),
     (["--zigzag", ""], "--zigzag '': needs a value"),
+    # Passed the dry-run check (it took it as a second scene); every job then failed naming
+    # its temporary (review).
     (["--", "other.json"], "other.json after --: scenes go before --"),
     (["--", "--eps", "0.1", "-q", "other.json"], "other.json after --: scenes go before --"),
     (["--", "--edges-serial=false", "other.json", "--spp", "4"], "other.json after --: scenes go before --"),
